@@ -1,0 +1,306 @@
+"""The `fivebar` command line: parse options, call one library function, write files, report.
+
+Errors become one line on stderr and an exit status: 2 for usage and configuration problems,
+1 for anything else. Set FIVEBAR_DEBUG=1 to see the traceback of an unexpected failure.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import click
+
+from fivebar_cli import __version__
+from fivebar_cli.cli_common import common_options, prepare_out, progress, report, wrote
+from fivebar_cli.errors import FivebarError, InputError
+
+MAX_DEPTH = 20  # quadtrees: beyond this the boundary cells alone need several GiB
+
+CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
+
+
+@click.group(context_settings=CONTEXT)
+@click.version_option(__version__, "-V", "--version", prog_name="fivebar")
+def cli() -> None:
+    """Certified joint space, workspace and aspects of planar parallel robots.
+
+    \b
+    Examples:
+      fivebar jointspace configs/m1.yaml --depth 10
+      fivebar workspace configs/m2.yaml --depth 12 -o out/m2
+      fivebar aspects configs/m1.yaml --depth 10
+      fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
+      fivebar rpr3 synthesize configs/rpr3-table1.yaml
+    """
+
+
+CONFIG = click.Path(path_type=Path, dir_okay=False)
+DEPTH_HELP = f"Maximum depth d of the quadtree (cells are root/2^d wide; 0..{MAX_DEPTH})."
+
+
+def _depth_option(default: int = 10):
+    return click.option("--depth", "-d", type=click.IntRange(0, MAX_DEPTH), default=default,
+                        show_default=True, help=DEPTH_HELP)
+
+
+def _procedure_option(func):
+    return click.option(
+        "--procedure", type=click.Choice(["exact", "paper"]), default="exact", show_default=True,
+        help="Box test: our exact-range tests, or the paper's interval procedure (baseline).",
+    )(func)
+
+
+def _space_command(space: str, m_path: Path, depth: int, procedure: str, out, no_plot: bool, quiet: bool) -> None:
+    from fivebar_cli import config, spaces
+
+    m = config.load_fivebar(m_path)
+    out_dir = prepare_out(out, m.name)
+    with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
+        paving = spaces.pave_space(m, space, depth, procedure, on_level=lambda level, n: advance(1))
+    from fivebar_cli.outputs import write_csv
+
+    row = spaces.summary_row(m, space, procedure, paving)
+    paths = spaces.write_paving(out_dir, m, space, paving, procedure)
+    paths.append(write_csv(out_dir / f"{space}.csv", spaces.SUMMARY_HEADER, [row]))
+    if not no_plot:
+        paths += _plot_paving(out_dir, m.name, space, paving)
+    report(quiet, f"{m.name} {space}, depth {depth} ({procedure} tests): {paving.evaluations} evaluations "
+           f"(K = {paving.evaluations / 4.0**depth:.4%}), certified inside area {paving.inside.area:.10g}, "
+           f"undetermined {paving.undetermined_area:.4g}")
+    wrote(quiet, paths)
+
+
+def _plot_paving(out_dir: Path, name: str, space: str, paving) -> list[Path]:
+    from fivebar_cli import plotting
+    from fivebar_cli.outputs import save_figure
+
+    und = paving.undetermined_tree()
+    paths = []
+    for complement, suffix in ((False, ""), (True, ".complement")):
+        fig = plotting.figure_paving(name, space, paving.inside, paving.outside, und, complement)
+        paths.append(save_figure(fig, out_dir / f"{space}{suffix}.png"))
+        fig.clf()
+    return paths
+
+
+@cli.command()
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@_depth_option()
+@_procedure_option
+@common_options
+def jointspace(config_path, depth, procedure, out, no_plot, quiet):
+    """Certified joint space (th1, th2) of a five-bar, on the torus [-pi, pi]^2.
+
+    Black cells can be assembled (|L3-L4| <= |B1B2| <= L3+L4, B1 != B2) at every point;
+    complement cells at no point. Writes jointspace.qt, jointspace.complement.qt,
+    jointspace.csv and the figures jointspace.png (paper fig. 3) and
+    jointspace.complement.png (fig. 4).
+
+    \b
+    Example:
+      fivebar jointspace configs/m1.yaml --depth 10
+    """
+    _space_command("jointspace", config_path, depth, procedure, out, no_plot, quiet)
+
+
+@cli.command()
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@_depth_option()
+@_procedure_option
+@common_options
+def workspace(config_path, depth, procedure, out, no_plot, quiet):
+    """Certified workspace (x, y) of a five-bar, on the root box [-(L1+L3), L1+L3]^2.
+
+    Black cells are reachable by both legs at every point; complement cells at no point.
+    Writes workspace.qt, workspace.complement.qt, workspace.csv and the figures
+    workspace.png (paper fig. 6) and workspace.complement.png.
+
+    \b
+    Example:
+      fivebar workspace configs/m2.yaml --depth 12 -o out/m2
+    """
+    _space_command("workspace", config_path, depth, procedure, out, no_plot, quiet)
+
+
+def _parse_depths(text: str) -> list[int]:
+    depths: list[int] = []
+    try:
+        for part in text.split(","):
+            lo, sep, hi = part.strip().partition("-")
+            depths += list(range(int(lo), int(hi) + 1)) if sep else [int(lo)]
+    except ValueError:
+        raise click.BadParameter(f"{text!r}: expected a range like 5-10 or a list like 5,8,10") from None
+    if not depths or min(depths) < 0 or max(depths) > MAX_DEPTH:
+        raise click.BadParameter(f"{text!r}: depths must lie in 0..{MAX_DEPTH}")
+    return sorted(set(depths))
+
+
+@cli.command()
+@click.argument("config_paths", metavar="CONFIG...", type=CONFIG, nargs=-1, required=True)
+@click.option("--depths", default="5-10", show_default=True, help="Depths: a range 5-10 or a list 5,8,10.")
+@common_options
+def kratio(config_paths, depths, out, no_plot, quiet):
+    """The paper's Table 1: evaluations K = n / 4^d, ours against the paper's procedure.
+
+    For each space, mechanism and depth: our tight tests, the paper's interval procedure and,
+    for M1 and M2, the K printed in the paper. Writes kratio.csv and kratio.png into --out
+    (default outputs/).
+
+    \b
+    Example:
+      fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
+    """
+    from fivebar_cli import config, tables
+    from fivebar_cli.outputs import ensure_dir, write_csv
+
+    depth_list = _parse_depths(depths)
+    mechanisms = [config.load_fivebar(p) for p in config_paths]
+    out_dir = ensure_dir(out if out is not None else Path("outputs"))
+    with progress(quiet, 2 * len(mechanisms) * len(depth_list), "Table 1") as advance:
+        rows = tables.kratio_rows(mechanisms, depth_list, advance)
+    paths = [write_csv(out_dir / "kratio.csv", tables.HEADER, [[r[k] for k in tables.HEADER] for r in rows])]
+    if not no_plot:
+        from fivebar_cli import plotting
+        from fivebar_cli.outputs import save_figure
+
+        paths.append(save_figure(plotting.figure_kratio(rows), out_dir / "kratio.png"))
+    for r in rows:
+        printed = f"{r['paper_printed_percent']}%" if r["paper_printed_percent"] != "" else "-"
+        report(quiet, f"{r['space']:10s} {r['mechanism']:6s} d={r['depth']:2d}  ours {r['evaluations']:8d} "
+               f"(K {r['K']:.2%})  paper's procedure {r['paper_procedure_evaluations']:8d} "
+               f"(K {r['paper_procedure_K']:.2%}, printed {printed})  saving {r['saving_vs_paper']:.0%}")
+    wrote(quiet, paths)
+
+
+@cli.command()
+@click.argument("tree_path", metavar="TREE.qt", type=click.Path(path_type=Path, dir_okay=False))
+@_depth_option(default=12)
+@common_options
+def refine(tree_path, depth, out, no_plot, quiet):
+    """Deepen a saved paving, testing only its undetermined cells.
+
+    TREE.qt may be either file of a pair (X.qt and X.complement.qt, as written by
+    `jointspace` and `workspace`); the mechanism and box test are read from their headers.
+    The deeper pair replaces the old one (or goes to --out). The result equals a fresh run at
+    the new depth, with fewer evaluations.
+
+    \b
+    Example:
+      fivebar workspace configs/m1.yaml --depth 10
+      fivebar refine outputs/M1/workspace.qt --depth 14
+    """
+    from fivebar_cli import spaces
+    from fivebar_cli.outputs import ensure_dir, write_csv
+
+    saved = spaces.load_saved(tree_path)
+    old_depth = saved.inside.tree.grid.depth
+    if depth < old_depth:
+        raise InputError(str(tree_path), "--depth", f"{depth} is below the saved depth {old_depth}")
+    out_dir = ensure_dir(out if out is not None else spaces.sibling_paths(tree_path)[0].parent)
+    with progress(quiet, depth - old_depth, f"refine to depth {depth}") as advance:
+        paving = spaces.refine_saved(saved, depth, on_level=lambda level, n: advance(1))
+    total = saved.evaluations + paving.evaluations
+    m, space = saved.mechanism, saved.space
+    inside_path, outside_path = spaces.paving_paths(out_dir, space)
+    from fivebar_cli.qtfile import write_qt
+
+    paths = [
+        write_qt(inside_path, paving.inside, **spaces.qt_fields(m, space, "inside", saved.procedure, total)),
+        write_qt(outside_path, paving.outside, **spaces.qt_fields(m, space, "outside", saved.procedure, total)),
+    ]
+    row = list(spaces.summary_row(m, space, saved.procedure, paving))
+    row[4], row[5] = total, total / 4.0**depth
+    paths.append(write_csv(out_dir / f"{space}.csv", spaces.SUMMARY_HEADER, [row]))
+    if not no_plot:
+        paths += _plot_paving(out_dir, m.name, space, paving)
+    report(quiet, f"{m.name} {space}: refined depth {old_depth} -> {depth} with {paving.evaluations} evaluations "
+           f"({saved.evaluations} saved by not retesting; a fresh run needs {total}), "
+           f"certified inside area {paving.inside.area:.10g}, undetermined {paving.undetermined_area:.4g}")
+    wrote(quiet, paths)
+
+
+@cli.command()
+@click.argument("a_path", metavar="A.qt", type=click.Path(path_type=Path, dir_okay=False))
+@click.argument("b_path", metavar="B.qt", type=click.Path(path_type=Path, dir_okay=False))
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing; only the exit status tells.")
+def diff(a_path, b_path, quiet):
+    """Compare two quadtree files as sets: exit 0 when equal, 1 when not, 2 on bad input.
+
+    Prints the cells and the area in A but not in B, and in B but not in A. Trees of different
+    depths are compared on the finer grid; their root boxes must agree.
+
+    \b
+    Example:
+      fivebar diff golden/workspace.qt outputs/M1/workspace.qt
+    """
+    from fivebar_cli.qtfile import read_qt
+
+    a, b = read_qt(a_path), read_qt(b_path)
+    ga, gb = a.tree.grid, b.tree.grid
+    if ga.root != gb.root or ga.periodic != gb.periodic:
+        raise InputError(str(b_path), "root", f"root box or periodic axes differ from {a_path}: "
+                         f"{ga.root} vs {gb.root}")
+    only_a, only_b = a.tree - b.tree, b.tree - a.tree
+    equal = len(only_a) == 0 and len(only_b) == 0
+    if not quiet:
+        if equal:
+            click.echo(f"same set: {len(a.tree)} cells, area {a.tree.area:.10g}")
+        else:
+            click.echo(f"{a_path}: {len(a.tree)} cells, area {a.tree.area:.10g}")
+            click.echo(f"{b_path}: {len(b.tree)} cells, area {b.tree.area:.10g}")
+            click.echo(f"only in A: {len(only_a)} cells, area {only_a.area:.10g}")
+            click.echo(f"only in B: {len(only_b)} cells, area {only_b.area:.10g}")
+            for label, t in (("A", only_a), ("B", only_b)):
+                if len(t):
+                    lo, hi = t.bounds()
+                    bb = " x ".join(f"[{l:.6g}, {h:.6g}]" for l, h in zip(lo.min(0), hi.max(0)))
+                    click.echo(f"  only in {label} lies within {bb}")
+        for key in sorted(set(a.fields) | set(b.fields)):
+            if a.get(key) != b.get(key) and not quiet:
+                click.echo(f"header {key}: {a.get(key)!r} vs {b.get(key)!r}")
+    if not equal:
+        raise click.exceptions.Exit(1)
+
+
+def _register_rpr3() -> None:
+    try:  # TODO(dev): remove the guard once cli_rpr3 lands
+        from fivebar_cli.cli_rpr3 import rpr3
+    except ModuleNotFoundError:
+        return
+    cli.add_command(rpr3)
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Entry point of the console script: run the CLI and map every error to one line."""
+    _register_rpr3()
+    try:
+        status = cli.main(args=argv, prog_name="fivebar", standalone_mode=False)
+    except click.exceptions.NoArgsIsHelpError as exc:  # `fivebar rpr3` alone: show the help
+        click.echo(exc.ctx.get_help() if exc.ctx else str(exc))
+        sys.exit(0)
+    except click.exceptions.UsageError as exc:
+        prefix = exc.ctx.command_path if exc.ctx else "fivebar"
+        click.echo(f"{prefix}: error: {exc.format_message()}", err=True)
+        sys.exit(2)
+    except click.exceptions.Exit as exc:
+        sys.exit(exc.exit_code)
+    except click.exceptions.Abort:
+        click.echo("fivebar: aborted", err=True)
+        sys.exit(1)
+    except FivebarError as exc:
+        click.echo(f"fivebar: error: {exc}", err=True)
+        sys.exit(exc.exit_status)
+    except KeyboardInterrupt:
+        click.echo("fivebar: interrupted (no output was left half-written)", err=True)
+        sys.exit(1)
+    except MemoryError:
+        click.echo("fivebar: error: out of memory (try a smaller --depth)", err=True)
+        sys.exit(1)
+    except Exception as exc:  # noqa: BLE001 - the promise is: no traceback, one line, status 1
+        if os.environ.get("FIVEBAR_DEBUG"):
+            raise
+        click.echo(f"fivebar: internal error: {type(exc).__name__}: {exc}", err=True)
+        sys.exit(1)
+    sys.exit(status if isinstance(status, int) else 0)

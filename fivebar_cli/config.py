@@ -1,0 +1,271 @@
+"""YAML mechanism files -> validated, frozen dataclasses.
+
+Every problem is reported as a `ConfigError` naming the file, the field and what is wrong,
+so the CLI can print one line and exit with status 2. Unknown keys are errors, not ignored:
+a typo such as `lenghts:` must not silently fall back to defaults.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+from fivebar_cli.errors import InputError
+
+
+class ConfigError(InputError):
+    """A problem in a mechanism file: `file: field: message` (exit status 2)."""
+
+
+@dataclass(frozen=True)
+class FiveBar:
+    """Five-bar with A1 = (0, 0), A2 = (L0, 0), crank lengths L1, L2 and coupler lengths L3, L4."""
+
+    name: str
+    L0: float
+    L1: float
+    L2: float
+    L3: float
+    L4: float
+
+    @property
+    def lengths(self) -> dict[str, float]:
+        return {k: getattr(self, k) for k in ("L0", "L1", "L2", "L3", "L4")}
+
+    def describe(self) -> str:
+        """One-line, round-trippable description (used in .qt headers)."""
+        return "fivebar " + " ".join(f"{k}={v!r}" for k, v in self.lengths.items())
+
+
+@dataclass(frozen=True)
+class Rpr3:
+    """3-RPR with base B1 = (0, 0), B2 = (t1, 0), B3 = (t2, t3) and a platform similar to it (ratio k).
+
+    `rho_max` is None for "auto" (largest singularity-free value at the first orientation).
+    `phi_range` holds (phi1, phi2) in degrees; for a single orientation phi1 == phi2.
+    """
+
+    name: str
+    t1: float
+    t2: float
+    t3: float
+    k: float
+    rho_min: float
+    rho_max: float | None
+    phi_range: tuple[float, float]
+
+    @property
+    def phi(self) -> float:
+        return self.phi_range[0]
+
+
+# ---------------------------------------------------------------- loading
+
+
+def load_config(path: str | Path) -> FiveBar | Rpr3:
+    """Read and validate a mechanism file; raise ConfigError on any problem."""
+    source = str(path)
+    data = _read_yaml(Path(path), source)
+    kind = data.get("type")
+    if kind == "fivebar":
+        return parse_fivebar(data, source)
+    if kind == "rpr3":
+        return parse_rpr3(data, source)
+    if kind is None:
+        raise ConfigError(source, "type", "missing (expected 'fivebar' or 'rpr3')")
+    raise ConfigError(source, "type", f"unknown mechanism type {kind!r} (expected 'fivebar' or 'rpr3')")
+
+
+def load_fivebar(path: str | Path) -> FiveBar:
+    """Load a file that must describe a five-bar."""
+    mech = load_config(path)
+    if not isinstance(mech, FiveBar):
+        raise ConfigError(str(path), "type", "this command needs a five-bar ('type: fivebar')")
+    return mech
+
+
+def load_rpr3(path: str | Path) -> Rpr3:
+    """Load a file that must describe a 3-RPR."""
+    mech = load_config(path)
+    if not isinstance(mech, Rpr3):
+        raise ConfigError(str(path), "type", "this command needs a 3-RPR ('type: rpr3')")
+    return mech
+
+
+def _read_yaml(path: Path, source: str) -> dict:
+    import yaml  # imported here: the library never imports yaml at module level
+
+    try:
+        raw = path.read_bytes()
+    except IsADirectoryError:
+        raise ConfigError(source, "", "is a directory, not a YAML file") from None
+    except FileNotFoundError:
+        raise ConfigError(source, "", "no such file") from None
+    except OSError as exc:
+        raise ConfigError(source, "", f"cannot read: {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError:
+        raise ConfigError(source, "", "not a text file (invalid UTF-8)") from None
+    if "\x00" in text:
+        raise ConfigError(source, "", "not a text file (contains NUL bytes)")
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark is not None else "YAML"
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise ConfigError(source, where, f"invalid YAML: {problem}") from None
+    except RecursionError:
+        raise ConfigError(source, "", "invalid YAML: nesting too deep") from None
+    if data is None:
+        raise ConfigError(source, "", "empty file (expected a mapping with 'name' and 'type')")
+    if not isinstance(data, dict):
+        raise ConfigError(source, "", f"expected a mapping at the top level, got {_kind(data)}")
+    return data
+
+
+# ---------------------------------------------------------------- field helpers
+
+
+def _kind(value: Any) -> str:
+    return {list: "a list", dict: "a mapping", str: "a string", bool: "a boolean"}.get(
+        type(value), type(value).__name__
+    )
+
+
+def _check_keys(data: Mapping, allowed: set[str], required: set[str], source: str, prefix: str = "") -> None:
+    for key in data:
+        if not isinstance(key, str) or key not in allowed:
+            raise ConfigError(source, f"{prefix}{key}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+    for key in sorted(required):
+        if key not in data:
+            raise ConfigError(source, f"{prefix}{key}", "missing")
+
+
+def _mapping(data: Mapping, key: str, source: str) -> Mapping:
+    value = data[key]
+    if not isinstance(value, dict):
+        raise ConfigError(source, key, f"expected a mapping, got {_kind(value)}")
+    return value
+
+
+def _number(value: Any, source: str, field: str, *, positive: bool = False, nonnegative: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ConfigError(source, field, f"expected a number, got {_kind(value)} {value!r}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ConfigError(source, field, f"must be finite, got {value!r}")
+    if positive and x <= 0:
+        raise ConfigError(source, field, f"must be positive, got {value!r}")
+    if nonnegative and x < 0:
+        raise ConfigError(source, field, f"must not be negative, got {value!r}")
+    return x
+
+
+def _name(data: Mapping, source: str) -> str:
+    if "name" not in data:
+        raise ConfigError(source, "name", "missing")
+    name = data["name"]
+    if isinstance(name, bool) or not isinstance(name, (str, int, float)):
+        raise ConfigError(source, "name", f"expected a string, got {_kind(name)}")
+    name = str(name)
+    if not name or name.strip() != name or any(c in name for c in '/\\:*?"<>|\n\r\t\x00') or name in (".", ".."):
+        raise ConfigError(source, "name", f"{name!r} is not usable as a folder name")
+    return name
+
+
+# ---------------------------------------------------------------- five-bar
+
+
+def parse_fivebar(data: Mapping, source: str = "<config>") -> FiveBar:
+    _check_keys(data, {"name", "type", "lengths"}, {"name", "type", "lengths"}, source)
+    name = _name(data, source)
+    lengths = _mapping(data, "lengths", source)
+    keys = {"L0", "L1", "L2", "L3", "L4"}
+    _check_keys(lengths, keys, keys, source, "lengths.")
+    values = {k: _number(lengths[k], source, f"lengths.{k}", positive=True) for k in sorted(keys)}
+    return FiveBar(name=name, **values)
+
+
+# ---------------------------------------------------------------- 3-RPR
+
+
+def parse_rpr3(data: Mapping, source: str = "<config>") -> Rpr3:
+    _check_keys(
+        data,
+        {"name", "type", "base", "k", "platform", "legs", "phi", "phi_range"},
+        {"name", "type", "base", "legs"},
+        source,
+    )
+    name = _name(data, source)
+    base = _mapping(data, "base", source)
+    _check_keys(base, {"t1", "t2", "t3"}, {"t1", "t2", "t3"}, source, "base.")
+    t1 = _number(base["t1"], source, "base.t1", positive=True)
+    t2 = _number(base["t2"], source, "base.t2")
+    t3 = _number(base["t3"], source, "base.t3")
+    if abs(t3) <= 1e-12 * max(t1, abs(t2)):
+        raise ConfigError(source, "base.t3", "the base is degenerate: B1, B2, B3 are collinear (t3 = 0)")
+
+    k = _ratio(data, source, t1, t2, t3)
+
+    legs = _mapping(data, "legs", source)
+    _check_keys(legs, {"rho_min", "rho_max"}, {"rho_min"}, source, "legs.")
+    rho_min = _number(legs["rho_min"], source, "legs.rho_min", nonnegative=True)
+    rho_max_raw = legs.get("rho_max", "auto")
+    if rho_max_raw == "auto":
+        rho_max = None
+    else:
+        rho_max = _number(rho_max_raw, source, "legs.rho_max", positive=True)
+        if rho_min >= rho_max:
+            raise ConfigError(source, "legs", f"rho_min ({rho_min!r}) must be smaller than rho_max ({rho_max!r})")
+
+    if ("phi" in data) == ("phi_range" in data):
+        raise ConfigError(source, "phi", "give exactly one of 'phi' (degrees) or 'phi_range: [phi1, phi2]'")
+    if "phi" in data:
+        phi = _number(data["phi"], source, "phi")
+        phi_range = (phi, phi)
+        field = "phi"
+    else:
+        raw = data["phi_range"]
+        if not isinstance(raw, list) or len(raw) != 2:
+            raise ConfigError(source, "phi_range", f"expected a list [phi1, phi2], got {raw!r}")
+        phi_range = (_number(raw[0], source, "phi_range[0]"), _number(raw[1], source, "phi_range[1]"))
+        field = "phi_range"
+        if phi_range[0] >= phi_range[1]:
+            raise ConfigError(source, field, f"phi1 must be smaller than phi2, got {list(phi_range)}")
+    lo, hi = phi_range
+    # The whole plane is singular at phi = i * 180 degrees; a range must not contain such a value.
+    if math.floor(lo / 180.0) != math.floor(hi / 180.0) or lo % 180.0 == 0 or hi % 180.0 == 0:
+        raise ConfigError(
+            source, field, f"{list(phi_range) if lo != hi else lo} contains a multiple of 180 degrees, "
+            "where the whole plane is singular"
+        )
+    return Rpr3(name=name, t1=t1, t2=t2, t3=t3, k=k, rho_min=rho_min, rho_max=rho_max, phi_range=phi_range)
+
+
+def _ratio(data: Mapping, source: str, t1: float, t2: float, t3: float) -> float:
+    """The platform/base ratio k, from `k:` or from an explicit `platform:` that must be similar."""
+    k = _number(data["k"], source, "k", positive=True) if "k" in data else None
+    if "platform" not in data:
+        if k is None:
+            raise ConfigError(source, "k", "missing (the platform/base size ratio)")
+        return k
+    platform = _mapping(data, "platform", source)
+    _check_keys(platform, {"t4", "t5", "t6"}, {"t4", "t5", "t6"}, source, "platform.")
+    t4 = _number(platform["t4"], source, "platform.t4", positive=True)
+    t5 = _number(platform["t5"], source, "platform.t5")
+    t6 = _number(platform["t6"], source, "platform.t6")
+    ratio = t4 / t1
+    tol = 1e-9
+    if abs(t5 - ratio * t2) > tol * max(1.0, abs(t5)) or abs(t6 - ratio * t3) > tol * max(1.0, abs(t6)):
+        raise ConfigError(
+            source, "platform",
+            f"not similar to the base: t4/t1 = {t4 / t1:.6g}, t5/t2 = {t5 / t2 if t2 else float('nan'):.6g}, "
+            f"t6/t3 = {t6 / t3:.6g} must be equal",
+        )
+    if k is not None and abs(k - ratio) > tol * k:
+        raise ConfigError(source, "k", f"{k!r} disagrees with the platform ratio t4/t1 = {ratio!r}")
+    return ratio

@@ -1,0 +1,108 @@
+"""File writing: atomic replacement, CSV tables with one float format, output folder layout.
+
+Every file is written to a temporary sibling and renamed over the target, so an interrupted run
+leaves either the old file or the new one, never a truncated mix. Nothing written here depends on
+the time, the machine or the working directory, so CI can diff outputs byte for byte.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Callable, Iterable, Sequence
+
+from fivebar_cli.errors import OutputError
+
+FLOAT_FORMAT = "%.10g"
+
+
+def output_dir(out: str | Path | None, name: str) -> Path:
+    """The folder for a mechanism's outputs: `--out` if given, else `outputs/<name>/`."""
+    return Path(out) if out is not None else Path("outputs") / name
+
+
+def ensure_dir(path: str | Path) -> Path:
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot create output folder: {exc.strerror or exc}") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise OutputError(f"{path}: output folder is not writable")
+    return path
+
+
+def atomic_write(path: str | Path, write: Callable[[Path], None]) -> Path:
+    """Call `write(tmp_path)` and rename the result over `path` (same folder, so the rename is atomic)."""
+    path = Path(path)
+    ensure_dir(path.parent)
+    try:
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from None
+    os.close(fd)
+    tmp = Path(tmp_name)
+    try:
+        write(tmp)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except OSError as exc:
+        tmp.unlink(missing_ok=True)
+        raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from None
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Atomically write UTF-8 text with `\\n` line ends."""
+    data = text.encode("utf-8")
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+            fh.flush()
+            os.fsync(fh.fileno())
+
+    return atomic_write(path, write)
+
+
+def format_value(value: object) -> str:
+    """One fixed format for every CSV cell: floats as %.10g, everything else as str."""
+    if isinstance(value, float) or type(value).__name__.startswith("float"):
+        v = float(value)  # type: ignore[arg-type]
+        if v == 0.0:
+            return "0"  # no "-0"
+        return FLOAT_FORMAT % v
+    if type(value).__name__.startswith(("int", "uint")):
+        return str(int(value))  # type: ignore[call-overload]
+    return str(value)
+
+
+def csv_text(header: Sequence[str], rows: Iterable[Sequence[object]]) -> str:
+    """A CSV table as text: header row, fixed float format, `\\n` line ends, no quoting needed."""
+    lines = [",".join(header)]
+    for row in rows:
+        cells = [format_value(v) for v in row]
+        if len(cells) != len(header):
+            raise ValueError(f"row has {len(cells)} cells, header has {len(header)}")
+        for cell in cells:
+            if any(c in cell for c in ',"\n\r'):
+                raise ValueError(f"CSV cell {cell!r} would need quoting")
+        lines.append(",".join(cells))
+    return "\n".join(lines) + "\n"
+
+
+def write_csv(path: str | Path, header: Sequence[str], rows: Iterable[Sequence[object]]) -> Path:
+    return write_text(path, csv_text(header, rows))
+
+
+def save_figure(fig, path: str | Path) -> Path:
+    """Atomically save a matplotlib figure as PNG (no timestamp in the metadata)."""
+
+    def write(tmp: Path) -> None:
+        fig.savefig(tmp, format="png", dpi=fig.dpi, metadata={"Software": None})
+
+    return atomic_write(path, write)
