@@ -264,6 +264,141 @@ def diff(a_path, b_path, quiet):
         raise click.exceptions.Exit(1)
 
 
+@cli.command()
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@_depth_option()
+@common_options
+def aspects(config_path, depth, out, no_plot, quiet):
+    """Generalized aspects of a five-bar: singularity-free regions per working and assembly mode.
+
+    Paves the workspace once per working mode and the joint space once per assembly mode,
+    labels the connected regions (the joint space is a torus), matches each parallel aspect
+    (workspace) to its serial aspect (joint space), and finds which aspects touch across a
+    serial singularity. Writes aspects.csv, aspects-adjacency.csv, aspects/aspect-NN.workspace.qt
+    and aspect-NN.jointspace.qt, and the figures aspects-workspace.png (paper figs. 7, 8) and
+    aspects-jointspace-assembly+.png / -.png (figs. 9, 10).
+
+    \b
+    Example:
+      fivebar aspects configs/m1.yaml --depth 10
+    """
+    from fivebar_cli import aspects as asp
+    from fivebar_cli import config
+    from fivebar_cli.outputs import write_csv
+    from fivebar_cli.qtfile import write_qt
+
+    m = config.load_fivebar(config_path)
+    out_dir = prepare_out(out, m.name)
+    with progress(quiet, 7, f"aspects depth {depth}") as advance:
+        analysis = asp.analyse_aspects(m, depth, advance)
+    paths = [
+        write_csv(out_dir / "aspects.csv", asp.ASPECT_HEADER, asp.aspect_rows(analysis)),
+        write_csv(out_dir / "aspects-adjacency.csv", asp.CROSSING_HEADER, asp.crossing_rows(analysis)),
+    ]
+    for a in analysis.aspects:
+        for space, tree in (("workspace", a.workspace), ("jointspace", a.jointspace)):
+            paths.append(write_qt(
+                out_dir / "aspects" / f"aspect-{a.number:02d}.{space}.qt", tree, name=m.name, space=space,
+                region=f"aspect {a.number}", colour="inside", mechanism=m.describe(),
+                working_mode=asp.signs_text(a.working), assembly_mode=asp.signs_text(a.assembly),
+            ))
+    if not no_plot:
+        from fivebar_cli import plotting
+        from fivebar_cli.outputs import save_figure
+
+        paths.append(save_figure(plotting.figure_aspects_workspace(analysis), out_dir / "aspects-workspace.png"))
+        for am in asp.ASSEMBLY_MODES:
+            fig = plotting.figure_aspects_jointspace(analysis, am)
+            paths.append(save_figure(fig, out_dir / f"aspects-jointspace-assembly{asp.signs_text(am)}.png"))
+    report(quiet, f"{m.name}: {len(analysis.aspects)} generalized aspects at depth {depth} "
+           f"({analysis.evaluations} box evaluations; {analysis.fragments_resolved} fragments attached)")
+    for row in asp.aspect_rows(analysis):
+        report(quiet, f"  aspect {row[0]:2d}: working mode {row[1]}, det A {row[2]}, workspace area {row[3]:.6g}, "
+               f"joint-space area {row[4]:.6g}")
+    for c in analysis.crossings:
+        report(quiet, f"  aspects {c.a} and {c.b} (det A {asp.signs_text(c.assembly)}) touch across {c.singularity} = 0")
+    for am in asp.ASSEMBLY_MODES:
+        verdict = "holds" if asp.paper_claim_holds(analysis, am) else "does NOT hold"
+        report(quiet, f"  paper's claim on single working-mode changes (det A {asp.signs_text(am)}): {verdict}")
+    wrote(quiet, paths)
+
+
+def _pairs(values) -> list[tuple[float, float]]:
+    return [tuple(float(v) for v in pair) for pair in values]
+
+
+@cli.command()
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@click.option("--pose", "poses", type=(float, float), multiple=True, metavar="X Y",
+              help="A position of P; all its configurations (working modes) are listed. Repeatable.")
+@click.option("--joints", "joints", type=(float, float), multiple=True, metavar="TH1 TH2",
+              help="Actuated joint values in radians; both assembly modes are listed. Repeatable.")
+@click.option("--working-mode", type=click.Choice(["++", "+-", "-+", "--"]), default=None,
+              help="Keep only configurations of this working mode.")
+@click.option("--assembly-mode", type=click.Choice(["+", "-"]), default=None,
+              help="Keep only configurations of this assembly mode.")
+@_depth_option()
+@click.option("--csv", "as_csv", is_flag=True, help="Print the configurations as CSV.")
+def locate(config_path, poses, joints, working_mode, assembly_mode, depth, as_csv):
+    """Which aspect a configuration lies in, and whether two can be joined without singularity.
+
+    For each --pose (x, y), every configuration reaching it (up to four working modes); for
+    each --joints (th1, th2), every assembly (up to two). Each is reported with its modes and
+    its aspect, or as on/near a singularity. With two or more locations, configurations that
+    share an aspect can be joined by a singularity-free motion; others cannot.
+
+    \b
+    Examples:
+      fivebar locate configs/m1.yaml --pose 4 5
+      fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --working-mode ++
+      fivebar locate configs/m2.yaml --joints 0.1 1.4 --joints 1.5 1.2 --assembly-mode +
+    """
+    from fivebar_cli import aspects as asp
+    from fivebar_cli import config
+    from fivebar_cli.outputs import csv_text
+
+    if not poses and not joints:
+        raise click.UsageError("give at least one --pose X Y or --joints TH1 TH2")
+    m = config.load_fivebar(config_path)
+    analysis = asp.analyse_aspects(m, depth)
+    rows = []
+    locations = [("pose", p) for p in _pairs(poses)] + [("joints", j) for j in _pairs(joints)]
+    for k, (kind, value) in enumerate(locations):
+        space = "workspace" if kind == "pose" else "jointspace"
+        for cfg in asp.locate_configurations(analysis, [value], space):
+            if working_mode and cfg["working_mode"] != working_mode:
+                continue
+            if assembly_mode and cfg["assembly_mode"] != assembly_mode:
+                continue
+            cfg["input"] = k + 1
+            cfg["location"] = f"{kind} {value[0]:g} {value[1]:g}"
+            rows.append(cfg)
+    keys = ("input", "location", "x", "y", "theta1", "theta2", "working_mode", "assembly_mode", "aspect", "singular")
+    if as_csv:
+        click.echo(csv_text(keys, [[("" if r[k] is None else r[k]) for k in keys] for r in rows]), nl=False)
+        return
+    for k, (kind, value) in enumerate(locations, start=1):
+        mine = [r for r in rows if r["input"] == k]
+        click.echo(f"location {k}: {kind} ({value[0]:g}, {value[1]:g}): "
+                   + (f"{len(mine)} configuration(s)" if mine else "no configuration (unreachable / cannot assemble)"))
+        for r in mine:
+            where = f"aspect {r['aspect']}" if r["aspect"] is not None else "on or near a singularity (no certified aspect)"
+            extra = f" [{r['singular']}]" if r["singular"] else ""
+            click.echo(f"  working mode {r['working_mode']}, assembly mode {r['assembly_mode']}: "
+                       f"x = {r['x']:.6g}, y = {r['y']:.6g}, th1 = {r['theta1']:.6g}, th2 = {r['theta2']:.6g} -> {where}{extra}")
+    if len(locations) >= 2:
+        click.echo("singularity-free motions between locations:")
+        for i in range(1, len(locations) + 1):
+            for j in range(i + 1, len(locations) + 1):
+                shared = sorted({r["aspect"] for r in rows if r["input"] == i and r["aspect"] is not None}
+                                & {r["aspect"] for r in rows if r["input"] == j and r["aspect"] is not None})
+                if shared:
+                    click.echo(f"  {i} -> {j}: yes, within aspect(s) {', '.join(map(str, shared))}")
+                else:
+                    click.echo(f"  {i} -> {j}: no: no aspect holds a configuration of both "
+                               "(every motion between them crosses a singularity)")
+
+
 def _register_rpr3() -> None:
     try:  # TODO(dev): remove the guard once cli_rpr3 lands
         from fivebar_cli.cli_rpr3 import rpr3

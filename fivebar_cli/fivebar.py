@@ -113,18 +113,27 @@ def angle_inside(angle, lo, hi, tol: float = ANGLE_TOL) -> np.ndarray:
     return angle + k * TWO_PI <= hi + tol
 
 
-def sinusoid_range(a, b, lo, hi) -> tuple[np.ndarray, np.ndarray]:
-    """Exact range of a cos t + b sin t for t in [lo, hi] (elementwise, any width)."""
+def sinusoid_range(a, b, lo, hi, trig=None) -> tuple[np.ndarray, np.ndarray]:
+    """Exact range of a cos t + b sin t for t in [lo, hi] (elementwise, any width).
+
+    `trig` = (cos lo, sin lo, cos hi, sin hi) when the caller has them already.
+    """
+    c_lo, s_lo, c_hi, s_hi = trig if trig is not None else (np.cos(lo), np.sin(lo), np.cos(hi), np.sin(hi))
     amp = np.hypot(a, b)
     psi = np.arctan2(b, a)
-    f_lo = a * np.cos(lo) + b * np.sin(lo)
-    f_hi = a * np.cos(hi) + b * np.sin(hi)
+    f_lo = a * c_lo + b * s_lo
+    f_hi = a * c_hi + b * s_hi
     top = np.where(angle_inside(psi, lo, hi), amp, np.maximum(f_lo, f_hi))
     bottom = np.where(angle_inside(psi + np.pi, lo, hi), -amp, np.minimum(f_lo, f_hi))
     return bottom, top
 
 
-def crank_distance2_range(m: FiveBar, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def box_trig(lo: np.ndarray, hi: np.ndarray) -> tuple[tuple, tuple]:
+    """(cos, sin) of both ends of both angles of boxes: ((c, s, c, s) of th1, (c, s, c, s) of th2)."""
+    return tuple((np.cos(lo[:, k]), np.sin(lo[:, k]), np.cos(hi[:, k]), np.sin(hi[:, k])) for k in (0, 1))
+
+
+def crank_distance2_range(m: FiveBar, lo: np.ndarray, hi: np.ndarray, trig=None) -> tuple[np.ndarray, np.ndarray]:
     """Exact range of |B1B2|^2 over boxes [th1] x [th2].
 
     d^2 = K - 2 L0 L1 cos th1 + 2 L0 L2 cos th2 - 2 L1 L2 cos(th1 - th2) is smooth, so its extrema
@@ -135,17 +144,16 @@ def crank_distance2_range(m: FiveBar, lo: np.ndarray, hi: np.ndarray) -> tuple[n
     L0, L1, L2 = m.L0, m.L1, m.L2
     k0 = L0 * L0 + L1 * L1 + L2 * L2
     u0, v0, u1, v1 = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
+    t1, t2 = trig if trig is not None else box_trig(lo, hi)
     fmin = np.full(len(lo), np.inf)
     fmax = np.full(len(lo), -np.inf)
-    for u in (u0, u1):  # edges th1 = const: sinusoid in th2
-        cu, su = np.cos(u), np.sin(u)
+    for cu, su in ((t1[0], t1[1]), (t1[2], t1[3])):  # edges th1 = const: sinusoid in th2
         base = k0 - 2 * L0 * L1 * cu
-        bot, top = sinusoid_range(2 * L0 * L2 - 2 * L1 * L2 * cu, -2 * L1 * L2 * su, v0, v1)
+        bot, top = sinusoid_range(2 * L0 * L2 - 2 * L1 * L2 * cu, -2 * L1 * L2 * su, v0, v1, t2)
         fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
-    for v in (v0, v1):  # edges th2 = const: sinusoid in th1
-        cv, sv = np.cos(v), np.sin(v)
+    for cv, sv in ((t2[0], t2[1]), (t2[2], t2[3])):  # edges th2 = const: sinusoid in th1
         base = k0 + 2 * L0 * L2 * cv
-        bot, top = sinusoid_range(-2 * L0 * L1 - 2 * L1 * L2 * cv, -2 * L1 * L2 * sv, u0, u1)
+        bot, top = sinusoid_range(-2 * L0 * L1 - 2 * L1 * L2 * cv, -2 * L1 * L2 * sv, u0, u1, t1)
         fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
     for th1, th2, value in _crank_critical_points(m):
         inside = angle_inside(th1, u0, u1) & angle_inside(th2, v0, v1)
@@ -188,17 +196,21 @@ def joint_space_test(m: FiveBar):
 
     Exact: the box is connected, so |B1B2| takes every value between its exact extrema.
     """
-    lo2, hi2 = (m.L3 - m.L4) ** 2, (m.L3 + m.L4) ** 2
-    delta = DELTA_REL * scale(m) ** 2
 
     def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        dmin, dmax = crank_distance2_range(m, lo, hi)
-        dmin, dmax = dmin - delta, dmax + delta
-        inside = (dmin >= lo2) & (dmax <= hi2) & (dmin > 0)
-        outside = (dmax < lo2) | (dmin > hi2)
-        return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+        return assembly_status(m, *crank_distance2_range(m, lo, hi))
 
     return test
+
+
+def assembly_status(m: FiveBar, dmin: np.ndarray, dmax: np.ndarray) -> np.ndarray:
+    """1 / -1 / 0 from the exact range of |B1B2|^2, widened by the safety margin."""
+    lo2, hi2 = (m.L3 - m.L4) ** 2, (m.L3 + m.L4) ** 2
+    delta = DELTA_REL * scale(m) ** 2
+    dmin, dmax = dmin - delta, dmax + delta
+    inside = (dmin >= lo2) & (dmax <= hi2) & (dmin > 0)
+    outside = (dmax < lo2) | (dmin > hi2)
+    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
 
 
 def _annuli(m: FiveBar) -> list[tuple[float, float, float]]:
@@ -319,3 +331,186 @@ def space_test(m: FiveBar, space: str, procedure: str = "exact"):
         ("workspace", "paper"): fivebar_paper.paper_workspace_test,
     }
     return tests[space, procedure](m)
+
+
+# ---------------------------------------------------------------- mode-restricted box tests
+
+ANGLE_MARGIN = 1e-8  # radians: covers rounding of atan2/arccos where the tests use them (see below)
+
+
+def direction_range(xlo, xhi, ylo, yhi) -> tuple[np.ndarray, np.ndarray]:
+    """Exact range of the direction atan2(y, x) over boxes of vectors (width 2 pi if a box holds 0).
+
+    A box not containing the origin is seen under an angle below pi, spanned by its corners;
+    angles are unwrapped around the direction of the box centre.
+    """
+    centre = np.arctan2(0.5 * (ylo + yhi), 0.5 * (xlo + xhi))
+    lo = np.full(np.shape(xlo), np.inf)
+    hi = np.full(np.shape(xlo), -np.inf)
+    for x in (xlo, xhi):
+        for y in (ylo, yhi):
+            off = (np.arctan2(y, x) - centre + np.pi) % TWO_PI - np.pi
+            lo, hi = np.minimum(lo, off), np.maximum(hi, off)
+    origin = (xlo <= 0) & (xhi >= 0) & (ylo <= 0) & (yhi >= 0)
+    return np.where(origin, centre - np.pi, centre + lo), np.where(origin, centre + np.pi, centre + hi)
+
+
+def triangle_angle_range(side_lo, side_hi, adjacent: float, opposite: float):
+    """Range of the angle between a side of variable length s in [side_lo, side_hi] and the side
+    `adjacent` of a triangle whose third side is `opposite`: arccos((s^2 + a^2 - o^2) / (2 a s)).
+
+    The cosine (s^2 + c) / (2 a s), c = a^2 - o^2, has its only minimum at s = sqrt(c) when c > 0.
+    Only lengths where the triangle closes are meaningful; the caller clips s to them.
+    """
+    c = adjacent * adjacent - opposite * opposite
+
+    def cosine(s):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (s * s + c) / (2.0 * adjacent * s)
+
+    ends = [cosine(side_lo), cosine(side_hi)]
+    cmin, cmax = np.minimum(*ends), np.maximum(*ends)
+    if c > 0:
+        star = np.sqrt(c)
+        inside = (side_lo <= star) & (star <= side_hi)
+        cmin = np.where(inside, np.minimum(cmin, cosine(star)), cmin)
+    cmin = np.where(np.isnan(cmin), -1.0, cmin)
+    cmax = np.where(np.isnan(cmax), 1.0, cmax)
+    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
+
+
+def sin_sign(lo, hi, margin: float = ANGLE_MARGIN) -> np.ndarray:
+    """+1 / -1 where sin is positive / negative on all of [lo - margin, hi + margin], else 0."""
+    lo, hi = lo - margin, hi + margin
+    k = np.floor(lo / np.pi)
+    inside = (lo > k * np.pi) & (hi < (k + 1) * np.pi)
+    even = np.mod(k, 2) == 0
+    return np.where(inside, np.where(even, 1, -1), 0).astype(np.int8)
+
+
+def _strict(dmin, dmax, inner: float, outer: float, delta: float) -> np.ndarray:
+    """Squared distance strictly inside (inner^2, outer^2) and positive on the whole box, with margin."""
+    return (dmin - delta > inner * inner) & (dmax + delta < outer * outer) & (dmin - delta > 0)
+
+
+def _valid_lengths(dmin, dmax, inner: float, outer: float, delta: float):
+    """Length range of the valid part, from a squared-distance range widened by the margin."""
+    lo = np.sqrt(np.maximum(dmin - delta, 0.0))
+    hi = np.sqrt(np.maximum(dmax + delta, 0.0))
+    return np.clip(lo, inner, outer), np.clip(hi, inner, outer)
+
+
+def working_mode_workspace_test(m: FiveBar, working: tuple[int, int]):
+    """Box test in the workspace for one working mode (sign u, sign v).
+
+    1: every P of the box is reachable, non-singular (no serial: strictly inside both annuli;
+    no parallel: det A != 0) in this working mode; -1: no P of the box is reachable; 0 otherwise.
+    The sign of det A is constant on a black cell; `workspace_assembly_sign` reads it.
+
+    With alpha_i the direction of P - A_i and gamma_i the angle at P in triangle A_i B_i P,
+    the legs' directions are th3 = alpha1 + su gamma1 and th4 = alpha2 + sv gamma2, and
+    sign det A = sign sin(th4 - th3): its range is the sum of four exact ranges.
+    """
+    su, sv = working
+    (c1, r1, big1), (c2, r2, big2) = _annuli(m)
+    delta = DELTA_REL * scale(m) ** 2
+    reach = workspace_test(m)
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        status = reach(lo, hi)
+        d1 = point_box_distance2(c1, 0.0, lo, hi)
+        d2 = point_box_distance2(c2, 0.0, lo, hi)
+        strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
+        theta = _leg_direction_range(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, su, delta)
+        theta4 = _leg_direction_range(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, sv, delta)
+        sign = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
+        black = strict & (sign != 0)
+        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+    return test
+
+
+def _leg_direction_range(m, lo, hi, d2range, cx, inner, outer, coupler, crank, s, delta):
+    """Range of the direction of P - B_i over boxes: alpha_i + s gamma_i."""
+    a_lo, a_hi = direction_range(lo[:, 0] - cx, hi[:, 0] - cx, lo[:, 1], hi[:, 1])
+    m_lo, m_hi = _valid_lengths(*d2range, inner, outer, delta)
+    g_lo, g_hi = triangle_angle_range(m_lo, m_hi, coupler, crank)
+    return (a_lo + g_lo, a_hi + g_hi) if s > 0 else (a_lo - g_hi, a_hi - g_lo)
+
+
+def workspace_assembly_sign(m: FiveBar, working: tuple[int, int], points: np.ndarray) -> np.ndarray:
+    """Sign of det A at points of the workspace in a working mode (0 where unreachable)."""
+    th1, th2, ok = ikp(m, points[:, 0], points[:, 1], working)
+    _, _, t = mode_values(m, np.nan_to_num(th1), np.nan_to_num(th2), points)
+    return np.where(ok, np.sign(t), 0).astype(np.int8)
+
+
+def assembly_mode_joint_test(m: FiveBar, assembly: int):
+    """Box test in the joint space for one assembly mode (sign of det A).
+
+    1: every (th1, th2) of the box assembles, non-singular (|L3-L4| < |B1B2| < L3+L4 strictly,
+    B1 != B2, B11 != 0, B22 != 0); -1: no point of the box assembles; 0 otherwise. The working
+    mode is constant on a black cell; `joint_working_mode` reads it.
+
+    With beta the direction of B2 - B1 and alpha, delta the angles of triangle B1 B2 P at B1 and
+    B2: th3 = beta + sa alpha, th4 = beta + pi - sa delta; sign B11 = sign sin(th3 - th1),
+    sign B22 = sign sin(th4 - th2). The range of beta comes from the exact ranges of the two
+    components of B2 - B1 (each a sum of independent sinusoids).
+    """
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        status, strict, u, v = joint_mode_classes(m, assembly, lo, hi)
+        black = strict & (u != 0) & (v != 0)
+        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+    return test
+
+
+def joint_mode_classes(m: FiveBar, assembly: int, lo: np.ndarray, hi: np.ndarray):
+    """Per box: (assembly status 1/-1/0, certified free of parallel singularity, sign B11, sign B22).
+
+    A sign is 0 where it is not constant on the box; the signs are meaningful where the box is
+    free of parallel singularities. `aspects.py` uses the pieces to find the boxes that only a
+    serial singularity crosses.
+    """
+    sa = assembly
+    r, big = abs(m.L3 - m.L4), m.L3 + m.L4
+    delta = DELTA_REL * scale(m) ** 2
+    trig = box_trig(lo, hi)
+    dmin, dmax = crank_distance2_range(m, lo, hi, trig)
+    status = assembly_status(m, dmin, dmax)
+    strict = _strict(dmin, dmax, r, big, delta)
+    d_lo, d_hi = _valid_lengths(dmin, dmax, r, big, delta)
+    d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
+    a_lo, a_hi = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
+    e_lo, e_hi = triangle_angle_range(d_lo, d_hi, m.L4, m.L3)
+    b_lo, b_hi = _crank_direction_range(m, lo, hi, trig)
+    if sa > 0:
+        t3 = (b_lo + a_lo, b_hi + a_hi)
+        t4 = (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
+    else:
+        t3 = (b_lo - a_hi, b_hi - a_lo)
+        t4 = (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
+    u = sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0])
+    v = sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
+    return status, strict, u, v
+
+
+def _crank_direction_range(m: FiveBar, lo, hi, trig):
+    """Range of the direction of B2 - B1 over boxes of (th1, th2), from the exact ranges of its
+    components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1."""
+    ones, zeros = np.ones(len(lo)), np.zeros(len(lo))
+    c1 = sinusoid_range(ones, zeros, lo[:, 0], hi[:, 0], trig[0])
+    s1 = sinusoid_range(zeros, ones, lo[:, 0], hi[:, 0], trig[0])
+    c2 = sinusoid_range(ones, zeros, lo[:, 1], hi[:, 1], trig[1])
+    s2 = sinusoid_range(zeros, ones, lo[:, 1], hi[:, 1], trig[1])
+    x_lo, x_hi = m.L0 + m.L2 * c2[0] - m.L1 * c1[1], m.L0 + m.L2 * c2[1] - m.L1 * c1[0]
+    y_lo, y_hi = m.L2 * s2[0] - m.L1 * s1[1], m.L2 * s2[1] - m.L1 * s1[0]
+    return direction_range(x_lo, x_hi, y_lo, y_hi)
+
+
+def joint_working_mode(m: FiveBar, assembly: int, points: np.ndarray) -> np.ndarray:
+    """Working-mode signs (u, v), shape (n, 2), at joint-space points in an assembly mode (0 if none)."""
+    p, ok = dkp(m, points[:, 0], points[:, 1], assembly)
+    u, v, _ = mode_values(m, points[:, 0], points[:, 1], np.nan_to_num(p))
+    return np.where(ok[:, None], np.sign(np.stack([u, v], axis=1)), 0).astype(np.int8)

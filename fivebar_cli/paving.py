@@ -101,6 +101,19 @@ def refine(inside: Tree, outside: Tree, test: BoxTest, depth: int,
     )
 
 
+def deepen(grid: Grid, test: BoxTest, cells: np.ndarray, extra: int) -> Paving:
+    """Pave the depth-D cells `cells` (undetermined ones, typically) `extra` levels deeper.
+
+    The result lives on the grid of depth D + extra and holds only what the new boxes decided:
+    a local refinement, e.g. to settle whether two pieces of a region connect.
+    """
+    deeper = grid.with_depth(grid.depth + extra)
+    if extra <= 0 or len(cells) == 0:
+        return Paving(deeper, Tree.empty(deeper), Tree.empty(deeper), np.zeros((0, grid.dim), np.int64),
+                      (0,) * (deeper.depth + 1))
+    return _descend(deeper, test, grid.depth + 1, children(cells), [], [], [0] * (grid.depth + 1), None)
+
+
 def undetermined_cells(inside: Tree, outside: Tree) -> np.ndarray:
     """Depth-D coordinates of the cells certified neither inside nor outside."""
     grid = inside.grid

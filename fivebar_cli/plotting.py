@@ -122,3 +122,75 @@ def figure_kratio(rows: list[dict]):
     axes[0].set_ylabel(r"$K = n / 4^d$  (x: paper's Table 1)")
     fig.tight_layout()
     return fig
+
+
+def _aspect_colour(number: int):
+    import matplotlib
+
+    return matplotlib.colormaps["tab10"]((number - 1) % 10)[:3]
+
+
+def _label_aspects(ax, aspects, space: str) -> None:
+    for a in aspects:
+        tree = a.workspace if space == "workspace" else a.jointspace
+        x, y = tree.centres()[int(np.argmin(tree.level))]
+        ax.annotate(str(a.number), (x, y), ha="center", va="center", fontsize=9, fontweight="bold",
+                    color="white", bbox={"boxstyle": "circle,pad=0.2", "fc": "0.15", "ec": "none", "alpha": 0.8})
+
+
+def _aspect_panel(ax, region, aspects, space: str, title: str) -> None:
+    grid = region.paving.grid
+    level = min(grid.depth, MAX_RASTER_LEVEL)
+    pale, black = (0.88, 0.88, 0.88), (0.0, 0.0, 0.0)
+    layers = [(region.paving.outside, pale), (region.paving.undetermined_tree(), black)]
+    layers += [(a.workspace if space == "workspace" else a.jointspace, _aspect_colour(a.number)) for a in aspects]
+    (x0, x1), (y0, y1) = grid.root
+    ax.imshow(_paint(layers, level), origin="lower", extent=(x0, x1, y0, y1), interpolation="nearest")
+    _label_aspects(ax, aspects, space)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal")
+    _axes_labels(ax, space)
+    ax.set_title(title, fontsize=9)
+
+
+def _aspect_legend(fig, aspects) -> None:
+    from matplotlib.patches import Patch
+
+    from fivebar_cli.aspects import signs_text
+
+    handles = [Patch(facecolor=_aspect_colour(a.number), label=f"aspect {a.number}: working mode "
+                     f"{signs_text(a.working)}, det A {signs_text(a.assembly)}") for a in aspects]
+    handles += [Patch(facecolor=(0.88, 0.88, 0.88), label="complement (certified outside)"),
+                Patch(facecolor=(0.0, 0.0, 0.0), label="undetermined (singularities)")]
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7, frameon=False)
+
+
+def figure_aspects_workspace(analysis):
+    """Paper figures 7 and 8: the parallel aspects, one panel per working mode."""
+    from fivebar_cli.aspects import WORKING_MODES, signs_text
+
+    plt = _pyplot()
+    fig, axes = plt.subplots(2, 2, figsize=(10, 10.8), dpi=130)
+    for ax, wm in zip(axes.ravel(), WORKING_MODES):
+        region = analysis.region("workspace", wm)
+        mine = [a for a in analysis.aspects if a.working == wm]
+        _aspect_panel(ax, region, mine, "workspace", f"working mode {signs_text(wm)} (signs of B11, B22)")
+    fig.suptitle(f"{analysis.mechanism.name}: parallel aspects in the workspace, depth {analysis.depth}")
+    _aspect_legend(fig, analysis.aspects)
+    fig.tight_layout(rect=(0, 0.07, 1, 0.97), h_pad=2.0)
+    return fig
+
+
+def figure_aspects_jointspace(analysis, assembly: int):
+    """Paper figures 9 and 10: the serial aspects in the joint space for one sign of det A."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6.8, 7.4), dpi=150)
+    region = analysis.region("jointspace", assembly)
+    mine = [a for a in analysis.aspects if a.assembly == assembly]
+    _aspect_panel(ax, region, mine, "jointspace",
+                  f"{analysis.mechanism.name}: serial aspects, det A {'>' if assembly > 0 else '<'} 0, "
+                  f"depth {analysis.depth}")
+    _aspect_legend(fig, mine)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    return fig

@@ -13,7 +13,7 @@ All hot paths are numpy-vectorised over leaves; nothing recurses per cell in Pyt
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numpy as np
 
@@ -82,15 +82,42 @@ class Grid:
 # ---------------------------------------------------------------- Morton codes
 
 
+@lru_cache(maxsize=None)
+def _spread_table(dim: int, bits: int) -> np.ndarray:
+    """table[c] = the `bits` low bits of c spread to every dim-th bit position."""
+    c = np.arange(1 << bits, dtype=np.int64)
+    out = np.zeros_like(c)
+    for b in range(bits):
+        out |= ((c >> b) & 1) << (b * dim)
+    return out
+
+
+@lru_cache(maxsize=None)
+def _compact_table(dim: int, bits: int) -> np.ndarray:
+    """table[v, axis] = the bits of axis `axis` gathered from a (bits * dim)-bit Morton chunk v."""
+    v = np.arange(1 << (bits * dim), dtype=np.int64)
+    out = np.zeros((v.size, dim), dtype=np.int64)
+    for b in range(bits):
+        for axis in range(dim):
+            out[:, axis] |= ((v >> (b * dim + axis)) & 1) << b
+    return out
+
+
+def _chunk(dim: int) -> int:
+    return 16 // dim  # coordinate bits per table lookup (tables of 2^16 entries at most)
+
+
 def interleave(coords: np.ndarray, level: int | np.ndarray) -> np.ndarray:
     """Morton codes of integer cell coordinates, shape (m, dim) -> (m,), bit j of a child index = axis j."""
     coords = np.asarray(coords, dtype=np.int64)
     m, dim = coords.shape
     bits = int(np.max(level)) if np.size(level) else 0
+    step = _chunk(dim)
+    table = _spread_table(dim, step)
     code = np.zeros(m, dtype=np.int64)
-    for b in range(bits):
+    for k in range(0, bits, step):
         for axis in range(dim):
-            code |= ((coords[:, axis] >> b) & 1) << (b * dim + axis)
+            code |= table[(coords[:, axis] >> k) & ((1 << step) - 1)] << (k * dim + axis)
     return code
 
 
@@ -98,10 +125,11 @@ def deinterleave(code: np.ndarray, level: int | np.ndarray, dim: int) -> np.ndar
     """Inverse of `interleave`: Morton codes -> integer coordinates, shape (m, dim)."""
     code = np.asarray(code, dtype=np.int64)
     bits = int(np.max(level)) if np.size(level) else 0
+    step = _chunk(dim)
+    table = _compact_table(dim, step)
     coords = np.zeros((code.size, dim), dtype=np.int64)
-    for b in range(bits):
-        for axis in range(dim):
-            coords[:, axis] |= ((code >> (b * dim + axis)) & 1) << b
+    for k in range(0, bits, step):
+        coords |= table[(code >> (k * dim)) & ((1 << (step * dim)) - 1)] << k
     return coords
 
 
@@ -260,14 +288,20 @@ class Tree:
 
     # -- adjacency and connected components
 
-    def adjacency(self) -> tuple[np.ndarray, np.ndarray]:
-        """Pairs (i, j) of leaves sharing a face of positive size (corner contact does not count).
+    def adjacency(self, other: "Tree | None" = None) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs (i, j): leaf i of this tree and leaf j of `other` (default: this tree) share a face
+        of positive size (corner contact does not count).
 
-        For each leaf and face, the same-size cell across the face is looked up: the leaf containing
-        it, if any, is a neighbour. A smaller neighbour is found from its own side, so every pair
-        appears once per shared face of the smaller leaf. Periodic axes wrap around.
+        For each leaf and face, the same-size cell across the face is looked up in `other`: the leaf
+        containing it, if any, is a neighbour. A neighbour smaller than leaf i is not found from i
+        but from its own side, so within one tree every pair appears (once per face of the smaller
+        leaf); across two trees, pairs are complete when no leaf of `other` is smaller than its
+        neighbours here. Periodic axes wrap around.
         """
+        target = self if other is None else other
         grid, coords, level = self.grid, self.coords, self.level
+        if target.grid != grid:
+            raise ValueError("trees live on different grids")
         n_side = np.int64(1) << level
         pairs_i, pairs_j = [], []
         for axis in range(grid.dim):
@@ -283,10 +317,11 @@ class Tree:
                 shift = grid.dim * (grid.depth - level[idx])
                 first = interleave(nb[idx], level[idx]) << shift
                 last = first + (np.int64(1) << shift)
-                leaf = np.searchsorted(self.start, first, side="right") - 1
+                leaf = np.searchsorted(target.start, first, side="right") - 1
                 hit = leaf >= 0
-                hit[hit] &= self.end[leaf[hit]] >= last[hit]
-                hit &= leaf != idx  # a root-sized periodic cell touching itself
+                hit[hit] &= target.end[leaf[hit]] >= last[hit]
+                if other is None:
+                    hit &= leaf != idx  # a root-sized periodic cell touching itself
                 pairs_i.append(idx[hit])
                 pairs_j.append(leaf[hit])
         return np.concatenate(pairs_i), np.concatenate(pairs_j)
@@ -294,7 +329,7 @@ class Tree:
     def components(self) -> tuple[np.ndarray, int]:
         """Label leaves by face-connected component; labels are numbered in Morton order of first leaf."""
         i, j = self.adjacency()
-        root = _union_find(len(self), i, j)
+        root = union_find(len(self), i, j)
         _, first, labels = np.unique(root, return_index=True, return_inverse=True)
         order = np.argsort(first, kind="stable")
         rank = np.empty_like(order)
@@ -421,7 +456,7 @@ def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
 # ---------------------------------------------------------------- union-find
 
 
-def _union_find(n: int, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+def union_find(n: int, i: np.ndarray, j: np.ndarray) -> np.ndarray:
     """Connected-component roots (smallest index of each component) by hooking + pointer jumping."""
     parent = np.arange(n, dtype=np.int64)
     while True:
