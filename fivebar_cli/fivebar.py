@@ -236,31 +236,40 @@ def workspace_test(m: FiveBar):
     component of V lies inside the box, in which case it contains the leftmost point of that
     component: a vertex of V or the leftmost or rightmost point of one of the circles.
     """
-    annuli = _annuli(m)
-    s = scale(m)
-    delta, eta = DELTA_REL * s * s, ETA_REL * s
     anchors = _workspace_anchors(m)
 
     def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        inside = np.ones(len(lo), dtype=bool)
-        outside = np.zeros(len(lo), dtype=bool)
-        for cx, r, big_r in annuli:
-            dmin, dmax = point_box_distance2(cx, 0.0, lo, hi)
-            inside &= (dmin - delta >= r * r) & (dmax + delta <= big_r * big_r) & (dmin - delta > 0)
-            outside |= (dmax + delta < r * r) | (dmin - delta > big_r * big_r)
-        maybe = ~outside & ~inside
-        if maybe.any():
-            idx = np.flatnonzero(maybe)
-            meets = _box_meets_annuli(annuli, lo[idx], hi[idx], delta, eta)
-            for px, py in anchors:
-                meets |= (
-                    (lo[idx, 0] - eta <= px) & (px <= hi[idx, 0] + eta)
-                    & (lo[idx, 1] - eta <= py) & (py <= hi[idx, 1] + eta)
-                )
-            outside[idx[~meets]] = True
-        return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+        return reach_status(m, lo, hi, leg_distance2_ranges(m, lo, hi), anchors)
 
     return test
+
+
+def leg_distance2_ranges(m: FiveBar, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Exact ranges of |P - A1|^2 and |P - A2|^2 over boxes."""
+    return [point_box_distance2(cx, 0.0, lo, hi) for cx, _, _ in _annuli(m)]
+
+
+def reach_status(m: FiveBar, lo: np.ndarray, hi: np.ndarray, ranges, anchors) -> np.ndarray:
+    """1 / -1 / 0 of the workspace test from the leg distance ranges (see `workspace_test`)."""
+    annuli = _annuli(m)
+    s = scale(m)
+    delta, eta = DELTA_REL * s * s, ETA_REL * s
+    inside = np.ones(len(lo), dtype=bool)
+    outside = np.zeros(len(lo), dtype=bool)
+    for (dmin, dmax), (_, r, big_r) in zip(ranges, annuli):
+        inside &= (dmin - delta >= r * r) & (dmax + delta <= big_r * big_r) & (dmin - delta > 0)
+        outside |= (dmax + delta < r * r) | (dmin - delta > big_r * big_r)
+    maybe = ~outside & ~inside
+    if maybe.any():
+        idx = np.flatnonzero(maybe)
+        meets = _box_meets_annuli(annuli, lo[idx], hi[idx], delta, eta)
+        for px, py in anchors:
+            meets |= (
+                (lo[idx, 0] - eta <= px) & (px <= hi[idx, 0] + eta)
+                & (lo[idx, 1] - eta <= py) & (py <= hi[idx, 1] + eta)
+            )
+        outside[idx[~meets]] = True
+    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
 
 
 def _box_meets_annuli(annuli, lo, hi, delta, eta) -> np.ndarray:
@@ -414,12 +423,11 @@ def working_mode_workspace_test(m: FiveBar, working: tuple[int, int]):
     su, sv = working
     (c1, r1, big1), (c2, r2, big2) = _annuli(m)
     delta = DELTA_REL * scale(m) ** 2
-    reach = workspace_test(m)
+    anchors = _workspace_anchors(m)
 
     def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        status = reach(lo, hi)
-        d1 = point_box_distance2(c1, 0.0, lo, hi)
-        d2 = point_box_distance2(c2, 0.0, lo, hi)
+        d1, d2 = leg_distance2_ranges(m, lo, hi)
+        status = reach_status(m, lo, hi, (d1, d2), anchors)
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
         theta = _leg_direction_range(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, su, delta)
         theta4 = _leg_direction_range(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, sv, delta)
