@@ -400,10 +400,8 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, as_cs
 
 
 def _register_rpr3() -> None:
-    try:  # TODO(dev): remove the guard once cli_rpr3 lands
-        from fivebar_cli.cli_rpr3 import rpr3
-    except ModuleNotFoundError:
-        return
+    from fivebar_cli.cli_rpr3 import rpr3
+
     cli.add_command(rpr3)
 
 

@@ -239,9 +239,9 @@ def parse_rpr3(data: Mapping, source: str = "<config>") -> Rpr3:
     lo, hi = phi_range
     # The whole plane is singular at phi = i * 180 degrees; a range must not contain such a value.
     if math.floor(lo / 180.0) != math.floor(hi / 180.0) or lo % 180.0 == 0 or hi % 180.0 == 0:
+        what = f"{list(phi_range)} contains" if lo != hi else f"{lo!r} is"
         raise ConfigError(
-            source, field, f"{list(phi_range) if lo != hi else lo} contains a multiple of 180 degrees, "
-            "where the whole plane is singular"
+            source, field, f"{what} a multiple of 180 degrees, where the whole plane is singular"
         )
     return Rpr3(name=name, t1=t1, t2=t2, t3=t3, k=k, rho_min=rho_min, rho_max=rho_max, phi_range=phi_range)
 
