@@ -17,7 +17,7 @@ test: install
 	$(BIN)/python -m pytest
 
 reproduce: install
-	$(BIN)/python -m fivebar_cli reproduce
+	$(BIN)/fivebar reproduce
 
 bench: install
 	$(BIN)/python benchmarks/run_all.py

@@ -218,6 +218,18 @@ def _annuli(m: FiveBar) -> list[tuple[float, float, float]]:
     return [(0.0, abs(m.L1 - m.L3), m.L1 + m.L3), (m.L0, abs(m.L2 - m.L4), m.L2 + m.L4)]
 
 
+def workspace_area(m: FiveBar) -> float:
+    """Exact area of the workspace: the intersection of the two annuli, by Green's theorem on its arcs."""
+    from fivebar_cli import arcs
+
+    centres, radii, sides = [], [], []
+    for cx, r, big_r in _annuli(m):
+        centres += [(cx, 0.0), (cx, 0.0)]
+        radii += [big_r, r]
+        sides += [1, -1]
+    return float(arcs.area(np.array(centres), np.array(radii), np.array(sides)))
+
+
 def point_box_distance2(cx: float, cy: float, lo: np.ndarray, hi: np.ndarray):
     """Exact range of the squared distance from (cx, cy) to the points of each box."""
     nx = np.clip(cx, lo[:, 0], hi[:, 0]) - cx

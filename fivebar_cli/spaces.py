@@ -19,7 +19,7 @@ from fivebar_cli.quadtree import Grid
 REGION = {"jointspace": "assemblable", "workspace": "reachable"}
 SUMMARY_HEADER = (
     "space", "name", "procedure", "depth", "evaluations", "K", "inside_area", "undetermined_area",
-    "outside_area", "inside_cells", "outside_cells", "undetermined_cells",
+    "outside_area", "inside_cells", "outside_cells", "undetermined_cells", "exact_area",
 )
 
 
@@ -61,11 +61,13 @@ def write_paving(out: Path, m: FiveBar, space: str, paving: Paving, procedure: s
 
 
 def summary_row(m: FiveBar, space: str, procedure: str, paving: Paving) -> tuple:
+    """One CSV row; `exact_area` is the closed-form workspace area (none is known for the joint space)."""
     depth = paving.grid.depth
     return (
         space, m.name, procedure, depth, paving.evaluations, paving.evaluations / 4.0**depth,
         paving.inside.area, paving.undetermined_area, paving.outside.area,
         len(paving.inside), len(paving.outside), len(paving.undetermined),
+        fivebar.workspace_area(m) if space == "workspace" else "",
     )
 
 
