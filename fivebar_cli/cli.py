@@ -124,7 +124,8 @@ def workspace(config_path, depth, procedure, out, no_plot, quiet):
     _space_command("workspace", config_path, depth, procedure, out, no_plot, quiet)
 
 
-def _parse_depths(text: str) -> list[int]:
+def _parse_depths(ctx, param, text: str) -> list[int]:
+    """Click callback: '5-10' or '5,8,10' -> sorted depths."""
     depths: list[int] = []
     try:
         for part in text.split(","):
@@ -139,7 +140,8 @@ def _parse_depths(text: str) -> list[int]:
 
 @cli.command()
 @click.argument("config_paths", metavar="CONFIG...", type=CONFIG, nargs=-1, required=True)
-@click.option("--depths", default="5-10", show_default=True, help="Depths: a range 5-10 or a list 5,8,10.")
+@click.option("--depths", default="5-10", show_default=True, callback=_parse_depths,
+              help="Depths: a range 5-10 or a list 5,8,10.")
 @common_options
 def kratio(config_paths, depths, out, no_plot, quiet):
     """The paper's Table 1: evaluations K = n / 4^d, ours against the paper's procedure.
@@ -155,7 +157,7 @@ def kratio(config_paths, depths, out, no_plot, quiet):
     from fivebar_cli import config, tables
     from fivebar_cli.outputs import ensure_dir, write_csv
 
-    depth_list = _parse_depths(depths)
+    depth_list = depths
     mechanisms = [config.load_fivebar(p) for p in config_paths]
     out_dir = ensure_dir(out if out is not None else Path("outputs"))
     with progress(quiet, 2 * len(mechanisms) * len(depth_list), "Table 1") as advance:
@@ -451,8 +453,8 @@ def _register_rpr3() -> None:
 
 def main(argv: list[str] | None = None) -> None:
     """Entry point of the console script: run the CLI and map every error to one line."""
-    _register_rpr3()
     try:
+        _register_rpr3()
         status = cli.main(args=argv, prog_name="fivebar", standalone_mode=False)
     except click.exceptions.NoArgsIsHelpError as exc:  # `fivebar rpr3` alone: show the help
         click.echo(exc.ctx.get_help() if exc.ctx else str(exc))

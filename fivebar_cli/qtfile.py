@@ -78,9 +78,11 @@ def read_qt(path: str | Path) -> QtFile:
     except OSError as exc:
         raise InputError(source, "", f"cannot read: {exc.strerror or exc}") from None
     try:
-        text = raw.decode("ascii")
+        text = raw.decode("utf-8")
     except UnicodeDecodeError:
         raise InputError(source, "", "not a fivebar quadtree file (binary data)") from None
+    if "\x00" in text:
+        raise InputError(source, "", "not a fivebar quadtree file (binary data)")
     return parse_qt(text, source)
 
 
@@ -166,7 +168,7 @@ def _grid(fields: dict[str, str], source: str, lines: list[str]) -> Grid:
     periodic = [False] * dim
     if text != "none":
         for token in text.split():
-            if not token.isdigit() or int(token) >= dim:
+            if not (token.isascii() and token.isdigit()) or int(token) >= dim:
                 raise InputError(source, line_of("periodic"), f"expected 'none' or axis numbers below {dim}, got {text!r}")
             periodic[int(token)] = True
     return Grid(root, depth, tuple(periodic))

@@ -1,0 +1,22 @@
+"""Run every benchmark (what `make bench` does): paving, aspects, 3-RPR. Prints their tables."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_rpr3.py")
+
+
+def main() -> int:
+    status = 0
+    for script in SCRIPTS:
+        print(f"== {script}", flush=True)
+        status |= subprocess.call([sys.executable, str(HERE / script)])
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,291 @@
+"""The paving engine (fivebar_cli.paving) against an independent recursive paving written here
+(the paper's procedure Q(B, d, P), section 2.5), with exact synthetic box tests; and `refine`
+against fresh pavings of the five-bar spaces."""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from conftest import M1, M2, cells_of, tree_to_bool
+from fivebar_cli import spaces
+from fivebar_cli.fivebar import space_test
+from fivebar_cli.paving import box_pad, pave, refine, undetermined_cells
+from fivebar_cli.quadtree import Grid, Tree
+
+
+# ---------------------------------------------------------------- synthetic box tests
+
+
+def ball_test(centre, radius):
+    """Exact test of the closed ball |p - c| <= r on axis-aligned boxes (any dimension)."""
+    c = np.asarray(centre, float)
+    r2 = radius * radius
+
+    def test(lo, hi):
+        near = np.clip(c, lo, hi) - c
+        far = np.maximum(np.abs(lo - c), np.abs(hi - c))
+        dn, df = np.sum(near * near, axis=1), np.sum(far * far, axis=1)
+        return np.where(df <= r2, 1, np.where(dn > r2, -1, 0)).astype(np.int8)
+
+    return test
+
+
+def annulus_test(centre, r_in, r_out):
+    """Exact test of the closed annulus r_in <= |p - c| <= r_out (2-D)."""
+    c = np.asarray(centre, float)
+
+    def test(lo, hi):
+        near = np.clip(c, lo, hi) - c
+        far = np.maximum(np.abs(lo - c), np.abs(hi - c))
+        dn, df = np.sum(near * near, axis=1), np.sum(far * far, axis=1)
+        inside = (dn >= r_in**2) & (df <= r_out**2)
+        outside = (df < r_in**2) | (dn > r_out**2)
+        return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+
+    return test
+
+
+def ref_pave(grid: Grid, test):
+    """Depth-first recursive paving, one box at a time (paper, section 2.5)."""
+    dim, depth = grid.dim, grid.depth
+    lo0, size = grid.lo, grid.size
+    pad = box_pad(grid)
+    found = {1: [], -1: []}
+    undetermined = []
+    evaluations = [0] * (depth + 1)
+    zeros_above = [0]
+
+    def rec(level, coords):
+        width = size / 2.0**level
+        c = np.asarray(coords, float)
+        lo, hi = lo0 + c * width - pad, lo0 + (c + 1) * width + pad
+        evaluations[level] += 1
+        status = int(test(lo[None, :], hi[None, :])[0])
+        if status != 0:
+            found[status].append((level, coords))
+        elif level == depth:
+            undetermined.append(coords)
+        else:
+            zeros_above[0] += 1
+            for k in range(1 << dim):
+                rec(level + 1, tuple(2 * x + ((k >> j) & 1) for j, x in enumerate(coords)))
+
+    rec(0, (0,) * dim)
+    return found[1], found[-1], undetermined, evaluations, zeros_above[0]
+
+
+def raster(cells, depth, dim):
+    n = 1 << depth
+    arr = np.zeros((n,) * dim, dtype=bool)
+    for level, c in cells:
+        s = 1 << (depth - level)
+        arr[tuple(slice(x * s, (x + 1) * s) for x in c)] = True
+    return arr
+
+
+def check_against_reference(grid, test):
+    paving = pave(grid, test)
+    ins, outs, und, evals, zeros_above = ref_pave(grid, test)
+    dim, depth = grid.dim, grid.depth
+    # n = 1 + 2^dim * (undetermined boxes above the maximum depth), level by level as well
+    assert paving.evaluations == sum(evals) == 1 + (1 << dim) * zeros_above
+    assert list(paving.per_level) == evals
+    assert np.array_equal(tree_to_bool(paving.inside), raster(ins, depth, dim))
+    assert np.array_equal(tree_to_bool(paving.outside), raster(outs, depth, dim))
+    assert sorted(map(tuple, paving.undetermined.tolist())) == sorted(und)
+    return paving
+
+
+# ---------------------------------------------------------------- counts against the reference
+
+
+@pytest.mark.parametrize("depth", [0, 1, 2, 5, 7])
+def test_disc_paving_matches_the_recursive_reference(depth):
+    grid = Grid(((-1.0, 1.0), (-1.0, 1.0)), depth, (False, False))
+    check_against_reference(grid, ball_test((0.3, -0.17), 0.61))
+    check_against_reference(grid, annulus_test((0.1, 0.05), 0.2, 0.9))
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.floats(-1.5, 1.5), st.floats(-1.5, 1.5), st.floats(0.01, 2.5), st.integers(0, 6),
+    st.tuples(st.floats(-3, 0), st.floats(0.5, 3), st.floats(-3, 0), st.floats(0.5, 3)),
+)
+def test_random_disc_pavings_match_the_reference(cx, cy, r, depth, root):
+    grid = Grid(((root[0], root[1]), (root[2], root[3])), depth, (False, False))
+    paving = check_against_reference(grid, ball_test((cx, cy), r))
+    # soundness of the exact disc test, checked at the leaf corners computed here
+    lo, size = grid.lo, grid.size
+    for tree, want in ((paving.inside, True), (paving.outside, False)):
+        for lev, c in zip(tree.level.tolist(), tree.coords.tolist()):
+            w = size / 2.0**lev
+            for corner in ((0, 0), (1, 0), (0, 1), (1, 1), (0.5, 0.5)):
+                p = lo + (np.array(c) + np.array(corner)) * w
+                inside = (p[0] - cx) ** 2 + (p[1] - cy) ** 2 <= r * r
+                assert inside == want or abs(np.hypot(p[0] - cx, p[1] - cy) - r) < 1e-12
+
+
+@pytest.mark.parametrize("depth", [0, 1, 3, 4])
+def test_octree_ball_paving_matches_the_reference(depth):
+    grid = Grid(((-1.0, 1.0), (-1.0, 1.0), (0.0, 2.0)), depth, (False, False, False))
+    check_against_reference(grid, ball_test((0.2, -0.1, 0.9), 0.7))
+
+
+def test_constant_tests():
+    grid = Grid(((0.0, 1.0), (0.0, 1.0)), 4, (False, False))
+    const = lambda v: (lambda lo, hi: np.full(len(lo), v, dtype=np.int8))  # noqa: E731
+    p = pave(grid, const(1))
+    assert p.evaluations == 1 and p.inside == Tree.full(grid) and len(p.outside) == 0 and len(p.undetermined) == 0
+    p = pave(grid, const(-1))
+    assert p.evaluations == 1 and p.outside == Tree.full(grid) and len(p.inside) == 0
+    p = pave(grid, const(0))
+    assert p.per_level == tuple(4**k for k in range(5))
+    assert p.evaluations == sum(4**k for k in range(5)) == 1 + 4 * sum(4**k for k in range(4))
+    assert len(p.undetermined) == 4**4 and len(p.inside) == len(p.outside) == 0
+    assert sorted(map(tuple, p.undetermined.tolist())) == [(x, y) for x in range(16) for y in range(16)]
+    grid3 = Grid(((0.0, 1.0),) * 3, 3, (False,) * 3)
+    assert pave(grid3, const(0)).evaluations == 1 + 8 + 64 + 512
+
+
+# ---------------------------------------------------------------- partition of the root
+
+
+@pytest.mark.parametrize("name", ["M1", "M2"])
+@pytest.mark.parametrize("space", ["jointspace", "workspace"])
+@pytest.mark.parametrize("procedure", ["exact", "paper"])
+def test_inside_outside_undetermined_partition_the_root(name, space, procedure):
+    m = {"M1": M1, "M2": M2}[name]
+    for depth in (3, 7, 9):
+        p = spaces.pave_space(m, space, depth, procedure)
+        und = p.undetermined_tree()
+        assert len(p.inside & p.outside) == 0
+        assert len(p.inside & und) == 0
+        assert len(p.outside & und) == 0
+        assert (p.inside | p.outside | und) == Tree.full(p.grid)
+        root_area = float(np.prod(p.grid.size))
+        assert p.inside.area + p.outside.area + p.undetermined_area == pytest.approx(root_area, rel=1e-14)
+        assert p.undetermined_area == pytest.approx(len(p.undetermined) * root_area / 4**depth, rel=1e-14)
+        # the undetermined cells are exactly the gaps between the two trees
+        assert sorted(map(tuple, undetermined_cells(p.inside, p.outside).tolist())) == sorted(
+            map(tuple, p.undetermined.tolist()))
+        # evaluations: root plus four per undetermined box above the maximum depth
+        assert p.per_level[0] == 1
+        for level in range(depth):
+            tested_next = p.per_level[level + 1]
+            assert tested_next % 4 == 0
+        assert p.evaluations == 1 + sum(p.per_level[1:])
+
+
+# ---------------------------------------------------------------- refine
+
+
+REFINE_PAIRS = [(0, 4), (3, 7), (5, 8), (6, 6), (2, 9), (7, 10)]
+
+
+@pytest.mark.parametrize("name", ["M1", "M2"])
+@pytest.mark.parametrize("space", ["jointspace", "workspace"])
+def test_refine_equals_a_fresh_paving(name, space):
+    m = {"M1": M1, "M2": M2}[name]
+    test = space_test(m, space, "exact")
+    for d1, d2 in REFINE_PAIRS:
+        old = spaces.pave_space(m, space, d1)
+        new = refine(old.inside, old.outside, test, d2)
+        fresh = spaces.pave_space(m, space, d2)
+        assert new.grid == fresh.grid
+        assert new.inside == fresh.inside
+        assert new.outside == fresh.outside
+        assert sorted(map(tuple, new.undetermined.tolist())) == sorted(map(tuple, fresh.undetermined.tolist()))
+        assert new.evaluations + old.evaluations == fresh.evaluations
+        assert new.per_level[: d1 + 1] == (0,) * (d1 + 1)
+        assert new.per_level[d1 + 1:] == fresh.per_level[d1 + 1:]
+
+
+def test_refine_with_the_paper_procedure_and_twice_in_a_row():
+    test = space_test(M1, "workspace", "paper")
+    a = spaces.pave_space(M1, "workspace", 4, "paper")
+    b = refine(a.inside, a.outside, test, 6)
+    c = refine(b.inside, b.outside, test, 9)
+    fresh = spaces.pave_space(M1, "workspace", 9, "paper")
+    assert c.inside == fresh.inside and c.outside == fresh.outside
+    assert a.evaluations + b.evaluations + c.evaluations == fresh.evaluations
+
+
+def test_refine_of_a_disc_paving_matches_the_reference():
+    test = ball_test((0.3, -0.17), 0.61)
+    grid = Grid(((-1.0, 1.0), (-1.0, 1.0)), 3, (False, False))
+    old = pave(grid, test)
+    new = refine(old.inside, old.outside, test, 7)
+    ins, outs, und, evals, _ = ref_pave(grid.with_depth(7), test)
+    assert np.array_equal(tree_to_bool(new.inside), raster(ins, 7, 2))
+    assert np.array_equal(tree_to_bool(new.outside), raster(outs, 7, 2))
+    assert new.evaluations == sum(evals[4:]) and old.evaluations == sum(evals[:4])
+
+
+def test_refine_with_nothing_or_everything_undetermined():
+    grid = Grid(((0.0, 1.0), (0.0, 1.0)), 2, (False, False))
+    const = lambda v: (lambda lo, hi: np.full(len(lo), v, dtype=np.int8))  # noqa: E731
+    done = pave(grid, const(1))
+    again = refine(done.inside, done.outside, const(1), 6)
+    assert again.evaluations == 0 and again.inside == Tree.full(grid.with_depth(6)) and len(again.undetermined) == 0
+    # all 16 depth-2 cells open: the gap tree is one root leaf, expanded back to 16 cells
+    open_ = pave(grid, const(0))
+    assert len(undetermined_cells(open_.inside, open_.outside)) == 16
+    deeper = refine(open_.inside, open_.outside, const(0), 4)
+    assert deeper.per_level == (0, 0, 0, 4**3, 4**4)
+    assert open_.evaluations + deeper.evaluations == pave(grid.with_depth(4), const(0)).evaluations
+    # refining to the same depth tests nothing and keeps the pair
+    same = refine(open_.inside, open_.outside, const(1), 2)
+    assert same.evaluations == 0 and len(same.undetermined) == 16
+
+
+def test_refine_rejects_bad_input():
+    test = ball_test((0.0, 0.0), 0.5)
+    grid = Grid(((-1.0, 1.0), (-1.0, 1.0)), 4, (False, False))
+    p = pave(grid, test)
+    with pytest.raises(ValueError):
+        refine(p.inside, p.outside, test, 3)  # shallower
+    with pytest.raises(ValueError):
+        refine(p.inside, p.inside, test, 6)  # overlapping pair
+    other = Tree.empty(grid.with_depth(5))
+    with pytest.raises(ValueError):
+        refine(p.inside, other, test, 6)
+
+
+# ---------------------------------------------------------------- rounding pad
+
+
+def test_every_tested_box_contains_its_exact_dyadic_cell():
+    """The computed cell bounds are widened by box_pad: checked in exact rational arithmetic."""
+    root = ((-np.pi, np.pi), (-13.0 / 3.0, 7.1))
+    grid = Grid(root, 9, (False, False))
+    pad = box_pad(grid)
+    assert 0 < pad < 1e-13
+    seen = []
+
+    def recording(lo, hi):
+        seen.append((lo.copy(), hi.copy()))
+        return np.zeros(len(lo), dtype=np.int8)  # everything undetermined: every cell is tested
+
+    pave(grid.with_depth(6), recording)
+    rng = np.random.default_rng(0)
+    checked = 0
+    for level, (lo, hi) in enumerate(seen):
+        n = 1 << level
+        # boxes of a level are tested in child order; recover their coordinates from the bounds
+        w = grid.size / n
+        coords = np.rint((0.5 * (lo + hi) - grid.lo) / w - 0.5).astype(int)
+        assert np.all((coords >= 0) & (coords < n))
+        for i in rng.choice(len(lo), size=min(len(lo), 60), replace=False):
+            for axis in range(2):
+                a, b = (Fraction(v) for v in root[axis])
+                exact_lo = a + (b - a) * Fraction(int(coords[i, axis]), n)
+                exact_hi = a + (b - a) * Fraction(int(coords[i, axis]) + 1, n)
+                assert Fraction(lo[i, axis]) <= exact_lo
+                assert Fraction(hi[i, axis]) >= exact_hi
+                checked += 1
+    assert checked > 500
