@@ -1,6 +1,8 @@
 """The paper's own interval procedures (Chablat 2010, sections 3.2-3.4), as a baseline for Table 1.
 
-They use plain interval arithmetic (`interval.py`, outward rounded), so they are sound but loose;
+They use plain interval arithmetic (`interval.py`, outward rounded), so they are sound but loose
+(the det A check uses arccos/atan2 ranges without outward rounding: it can only withhold a 1, and
+the property certified, "can be assembled", rests on the outward-rounded |B1B2| and C(alpha));
 the tight tests of `fivebar.py` certify the same sets with fewer evaluations. Implemented as
 printed, with the corrections listed in DESIGN.md where the print is a typo (no sqrt in C(alpha),
 atan2 for beta). With these choices every K of the paper's Table 1 is reproduced after truncation
