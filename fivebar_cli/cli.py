@@ -31,8 +31,10 @@ def cli() -> None:
       fivebar jointspace configs/m1.yaml --depth 10
       fivebar workspace configs/m2.yaml --depth 12 -o out/m2
       fivebar aspects configs/m1.yaml --depth 10
+      fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
+      fivebar reproduce
     """
 
 
@@ -85,7 +87,7 @@ def _plot_paving(out_dir: Path, name: str, space: str, paving) -> list[Path]:
     return paths
 
 
-@cli.command()
+@cli.command(short_help="Certified joint space (th1, th2) of a five-bar (figs. 3, 4).")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @_depth_option()
 @_procedure_option
@@ -105,7 +107,7 @@ def jointspace(config_path, depth, procedure, out, no_plot, quiet):
     _space_command("jointspace", config_path, depth, procedure, out, no_plot, quiet)
 
 
-@cli.command()
+@cli.command(short_help="Certified workspace (x, y) of a five-bar (fig. 6).")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @_depth_option()
 @_procedure_option
@@ -138,7 +140,7 @@ def _parse_depths(ctx, param, text: str) -> list[int]:
     return sorted(set(depths))
 
 
-@cli.command()
+@cli.command(short_help="The paper's Table 1: evaluation counts K = n / 4^d.")
 @click.argument("config_paths", metavar="CONFIG...", type=CONFIG, nargs=-1, required=True)
 @click.option("--depths", default="5-10", show_default=True, callback=_parse_depths,
               help="Depths: a range 5-10 or a list 5,8,10.")
@@ -176,7 +178,7 @@ def kratio(config_paths, depths, out, no_plot, quiet):
     wrote(quiet, paths)
 
 
-@cli.command()
+@cli.command(short_help="Deepen a saved paving, testing only undetermined cells.")
 @click.argument("tree_path", metavar="TREE.qt", type=click.Path(path_type=Path, dir_okay=False))
 @_depth_option(default=12)
 @common_options
@@ -223,7 +225,7 @@ def refine(tree_path, depth, out, no_plot, quiet):
     wrote(quiet, paths)
 
 
-@cli.command()
+@cli.command(short_help="Compare two .qt files as sets (exit 0 equal, 1 different).")
 @click.argument("a_path", metavar="A.qt", type=click.Path(path_type=Path, dir_okay=False))
 @click.argument("b_path", metavar="B.qt", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing; only the exit status tells.")
@@ -266,7 +268,7 @@ def diff(a_path, b_path, quiet):
         raise click.exceptions.Exit(1)
 
 
-@cli.command()
+@cli.command(short_help="Generalized aspects, their matching and crossings (figs. 7-10).")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @_depth_option()
 @common_options
@@ -329,7 +331,7 @@ def _pairs(values) -> list[tuple[float, float]]:
     return [tuple(float(v) for v in pair) for pair in values]
 
 
-@cli.command()
+@cli.command(short_help="Aspect of a configuration; singularity-free motion or not.")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @click.option("--pose", "poses", type=(float, float), multiple=True, metavar="X Y",
               help="A position of P; all its configurations (working modes) are listed. Repeatable.")
@@ -419,7 +421,7 @@ REPRODUCTION = (  # (what, arguments); {configs} and {out} are filled in
 )
 
 
-@cli.command()
+@cli.command(short_help="Regenerate every table and figure of both papers.")
 @click.option("--configs", type=click.Path(file_okay=False, path_type=Path), default=Path("configs"),
               show_default=True, help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml cases.")
 @click.option("--out", "-o", type=click.Path(file_okay=False, path_type=Path), default=Path("outputs"),
