@@ -41,6 +41,7 @@ ASSEMBLY_MODES = (1, -1)
 SMALL_COMPONENT = 64  # components with at most this many leaves are sampled densely when linking
 DENSE = 4  # samples per axis and leaf for small components
 REFINE_STEPS = ((2, 4), (4, 16), (8, 32), (10, 64))  # fragment refinement: (extra levels, radius in cells)
+SINGULAR_TOL = 1e-9  # `locate`: |u|, |v| or |det A| below this times scale^2 is a singularity
 
 
 class AspectError(FivebarError):
@@ -415,46 +416,48 @@ def adjacency_matrix(analysis: AspectAnalysis, assembly: int) -> tuple[list[int]
 
 def locate_configurations(analysis: AspectAnalysis, points: np.ndarray, space: str) -> list[dict]:
     """Every configuration at the given poses (workspace) or joint values (joint space), with its
-    modes and the aspect containing it (None when on or near a singularity at this depth)."""
+    modes and the aspect containing it (None when on or near a singularity at this depth).
+
+    On a singularity two branches coincide (a stretched leg has one elbow): such a configuration is
+    listed once, with the sign that vanishes written 0.
+    """
     m = analysis.mechanism
     out = []
     for k, point in enumerate(np.atleast_2d(points)):
+        seen: list[np.ndarray] = []
         if space == "workspace":
-            for wm in WORKING_MODES:
-                th1, th2, ok = fivebar.ikp(m, point[:1], point[1:], wm)
-                if ok[0]:
-                    out.append(_configuration(analysis, k, point, np.array([th1[0], th2[0]])))
+            candidates = [(point, np.array([th1[0], th2[0]]))
+                          for th1, th2, ok in (fivebar.ikp(m, point[:1], point[1:], wm) for wm in WORKING_MODES) if ok[0]]
         else:
-            for am in ASSEMBLY_MODES:
-                p, ok = fivebar.dkp(m, point[:1], point[1:], am)
-                if ok[0]:
-                    out.append(_configuration(analysis, k, p[0], point))
+            candidates = [(p[0], point) for p, ok in (fivebar.dkp(m, point[:1], point[1:], am) for am in ASSEMBLY_MODES)
+                          if ok[0]]
+        for pose, joints in candidates:
+            key = np.concatenate([pose, np.cos(joints), np.sin(joints)])
+            if any(np.allclose(key, other, rtol=0, atol=1e-9 * fivebar.scale(m)) for other in seen):
+                continue
+            seen.append(key)
+            out.append(_configuration(analysis, k, pose, joints))
     return out
 
 
 def _configuration(analysis: AspectAnalysis, index: int, pose: np.ndarray, joints: np.ndarray) -> dict:
     m = analysis.mechanism
-    u, v, t = fivebar.mode_values(m, joints[:1], joints[1:], pose[None, :])
-    su, sv, sa = int(np.sign(u[0])), int(np.sign(v[0])), int(np.sign(t[0]))
+    u, v, t = (float(x[0]) for x in fivebar.mode_values(m, joints[:1], joints[1:], pose[None, :]))
+    tol = SINGULAR_TOL * fivebar.scale(m) ** 2
+    su, sv, sa = (0 if abs(x) <= tol else int(np.sign(x)) for x in (u, v, t))
     joints = (joints + np.pi) % (2 * np.pi) - np.pi
     number = None
     for a in analysis.aspects:
         if (a.working, a.assembly) == ((su, sv), sa):
             if a.workspace.locate(pose[None, :])[0] >= 0 and a.jointspace.locate(joints[None, :])[0] >= 0:
                 number = a.number
-    scale = fivebar.scale(m)
-    singular = []
-    if abs(u[0]) <= 1e-9 * scale**2:
-        singular.append("serial (B11 = 0)")
-    if abs(v[0]) <= 1e-9 * scale**2:
-        singular.append("serial (B22 = 0)")
-    if abs(t[0]) <= 1e-9 * scale**2:
-        singular.append("parallel (det A = 0)")
+    singular = [what for value, what in ((su, "serial (B11 = 0)"), (sv, "serial (B22 = 0)"), (sa, "parallel (det A = 0)"))
+                if value == 0]
     return {
         "input": index, "x": float(pose[0]), "y": float(pose[1]),
         "theta1": float(joints[0]), "theta2": float(joints[1]),
-        "working_mode": signs_text((su, sv)) if su and sv else "0",
-        "assembly_mode": signs_text(sa) if sa else "0",
+        "working_mode": "".join({1: "+", -1: "-", 0: "0"}[s] for s in (su, sv)),
+        "assembly_mode": {1: "+", -1: "-", 0: "0"}[sa],
         "aspect": number, "singular": ", ".join(singular),
     }
 

@@ -321,8 +321,14 @@ def aspects(config_path, depth, out, no_plot, quiet):
                f"joint-space area {row[4]:.6g}")
     for c in analysis.crossings:
         report(quiet, f"  aspects {c.a} and {c.b} (det A {asp.signs_text(c.assembly)}) touch across {c.singularity} = 0")
+    if not analysis.aspects:
+        report(quiet, "  no aspect can be certified at this depth: try --depth 8 or more")
     for am in asp.ASSEMBLY_MODES:
-        verdict = "holds" if asp.paper_claim_holds(analysis, am) else "does NOT hold"
+        count = sum(a.assembly == am for a in analysis.aspects)
+        if count != 5:
+            verdict = f"not comparable ({count} aspects, the paper has 5)"
+        else:
+            verdict = "holds" if asp.paper_claim_holds(analysis, am) else "does NOT hold"
         report(quiet, f"  paper's claim on single working-mode changes (det A {asp.signs_text(am)}): {verdict}")
     wrote(quiet, paths)
 
