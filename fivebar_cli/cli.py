@@ -16,7 +16,8 @@ from fivebar_cli import __version__
 from fivebar_cli.cli_common import common_options, prepare_out, progress, report, wrote
 from fivebar_cli.errors import FivebarError, InputError
 
-MAX_DEPTH = 20  # quadtrees: beyond this the boundary cells alone need several GiB
+MAX_DEPTH = 20  # one paving: beyond this the boundary cells alone need several GiB
+MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -39,12 +40,11 @@ def cli() -> None:
 
 
 CONFIG = click.Path(path_type=Path, dir_okay=False)
-DEPTH_HELP = f"Maximum depth d of the quadtree (cells are root/2^d wide; 0..{MAX_DEPTH})."
 
 
-def _depth_option(default: int = 10):
-    return click.option("--depth", "-d", type=click.IntRange(0, MAX_DEPTH), default=default,
-                        show_default=True, help=DEPTH_HELP)
+def _depth_option(default: int = 10, limit: int = MAX_DEPTH):
+    return click.option("--depth", "-d", type=click.IntRange(0, limit), default=default, show_default=True,
+                        help=f"Maximum depth d of the quadtree (cells are root/2^d wide; 0..{limit}).")
 
 
 def _procedure_option(func):
@@ -128,16 +128,17 @@ def workspace(config_path, depth, procedure, out, no_plot, quiet):
 
 def _parse_depths(ctx, param, text: str) -> list[int]:
     """Click callback: '5-10' or '5,8,10' -> sorted depths."""
-    depths: list[int] = []
+    depths: set[int] = set()
     try:
         for part in text.split(","):
             lo, sep, hi = part.strip().partition("-")
-            depths += list(range(int(lo), int(hi) + 1)) if sep else [int(lo)]
+            first, last = int(lo), int(hi) if sep else int(lo)
+            if not 0 <= first <= last <= MAX_DEPTH:
+                raise click.BadParameter(f"{text!r}: depths must lie in 0..{MAX_DEPTH}, ranges ascending")
+            depths.update(range(first, last + 1))
     except ValueError:
         raise click.BadParameter(f"{text!r}: expected a range like 5-10 or a list like 5,8,10") from None
-    if not depths or min(depths) < 0 or max(depths) > MAX_DEPTH:
-        raise click.BadParameter(f"{text!r}: depths must lie in 0..{MAX_DEPTH}")
-    return sorted(set(depths))
+    return sorted(depths)
 
 
 @cli.command(short_help="The paper's Table 1: evaluation counts K = n / 4^d.")
@@ -270,7 +271,7 @@ def diff(a_path, b_path, quiet):
 
 @cli.command(short_help="Generalized aspects, their matching and crossings (figs. 7-10).")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
-@_depth_option()
+@_depth_option(limit=MAX_ASPECT_DEPTH)
 @common_options
 def aspects(config_path, depth, out, no_plot, quiet):
     """Generalized aspects of a five-bar: singularity-free regions per working and assembly mode.
@@ -347,7 +348,7 @@ def _pairs(values) -> list[tuple[float, float]]:
               help="Keep only configurations of this working mode.")
 @click.option("--assembly-mode", type=click.Choice(["+", "-"]), default=None,
               help="Keep only configurations of this assembly mode.")
-@_depth_option()
+@_depth_option(limit=MAX_ASPECT_DEPTH)
 @click.option("--csv", "as_csv", is_flag=True, help="Print the configurations as CSV.")
 def locate(config_path, poses, joints, working_mode, assembly_mode, depth, as_csv):
     """Which aspect a configuration lies in, and whether two can be joined without singularity.
@@ -459,8 +460,22 @@ def _register_rpr3() -> None:
     cli.add_command(rpr3)
 
 
+class Interrupted(FivebarError):
+    """Ctrl-C. Raised from the SIGINT handler so that click does not turn it into its own Abort."""
+
+
+def _on_sigint(signum, frame):
+    raise Interrupted("interrupted (no output was left half-written)")
+
+
 def main(argv: list[str] | None = None) -> None:
     """Entry point of the console script: run the CLI and map every error to one line."""
+    import signal
+    import warnings
+
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _on_sigint)
+    warnings.simplefilter("ignore", RuntimeWarning)  # numpy noise must not break the one-line promise
     try:
         _register_rpr3()
         status = cli.main(args=argv, prog_name="fivebar", standalone_mode=False)
@@ -469,7 +484,7 @@ def main(argv: list[str] | None = None) -> None:
         sys.exit(0)
     except click.exceptions.UsageError as exc:
         prefix = exc.ctx.command_path if exc.ctx else "fivebar"
-        click.echo(f"{prefix}: error: {exc.format_message()}", err=True)
+        click.echo(f"{prefix}: error: {' '.join(exc.format_message().split())}", err=True)
         sys.exit(2)
     except click.exceptions.Exit as exc:
         sys.exit(exc.exit_code)
@@ -477,7 +492,7 @@ def main(argv: list[str] | None = None) -> None:
         click.echo("fivebar: aborted", err=True)
         sys.exit(1)
     except FivebarError as exc:
-        click.echo(f"fivebar: error: {exc}", err=True)
+        click.echo(f"fivebar: error: {' '.join(str(exc).split())}", err=True)
         sys.exit(exc.exit_status)
     except KeyboardInterrupt:
         click.echo("fivebar: interrupted (no output was left half-written)", err=True)
@@ -488,6 +503,6 @@ def main(argv: list[str] | None = None) -> None:
     except Exception as exc:  # noqa: BLE001 - the promise is: no traceback, one line, status 1
         if os.environ.get("FIVEBAR_DEBUG"):
             raise
-        click.echo(f"fivebar: internal error: {type(exc).__name__}: {exc}", err=True)
+        click.echo(f"fivebar: internal error: {type(exc).__name__}: {' '.join(str(exc).split())}", err=True)
         sys.exit(1)
     sys.exit(status if isinstance(status, int) else 0)

@@ -44,6 +44,8 @@ def _figure(make, path: Path, paths: list) -> None:
 
 def _check_phis(values, where: str) -> None:
     """Orientations (degrees) must avoid the multiples of 180, where the whole plane is singular."""
+    if not all(math.isfinite(v) for v in values):
+        raise click.BadParameter("orientations must be finite numbers", param_hint=where)
     lo, hi = min(values), max(values)
     if math.floor(lo / 180.0) != math.floor(hi / 180.0) or any(v % 180.0 == 0 for v in values):
         raise click.BadParameter("orientations must not reach a multiple of 180 degrees (singular everywhere)",
@@ -145,6 +147,8 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
       fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over t2 --angles 30,90,150
     """
     mechs = [load_rpr3(c) for c in configs]
+    if span is not None and not all(math.isfinite(v) and abs(v) <= 1e6 for v in span):
+        raise click.BadParameter(f"LO and HI must be finite numbers, got {span[0]:g} {span[1]:g}", param_hint="--range")
     if span is not None and not span[0] < span[1]:
         raise click.BadParameter(f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}", param_hint="--range")
     folder = prepare_out(out, "+".join(dict.fromkeys(m.name for m in mechs)))

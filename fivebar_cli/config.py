@@ -112,7 +112,7 @@ def _read_yaml(path: Path, source: str) -> dict:
     if "\x00" in text:
         raise ConfigError(source, "", "not a text file (contains NUL bytes)")
     try:
-        data = yaml.safe_load(text)
+        data = yaml.load(text, Loader=_strict_loader())
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}" if mark is not None else "YAML"
@@ -120,6 +120,8 @@ def _read_yaml(path: Path, source: str) -> dict:
         raise ConfigError(source, where, f"invalid YAML: {problem}") from None
     except RecursionError:
         raise ConfigError(source, "", "invalid YAML: nesting too deep") from None
+    except ValueError as exc:  # e.g. an integer beyond Python's digit limit
+        raise ConfigError(source, "", f"invalid YAML value: {str(exc).splitlines()[0]}") from None
     if data is None:
         raise ConfigError(source, "", "empty file (expected a mapping with 'name' and 'type')")
     if not isinstance(data, dict):
@@ -127,7 +129,38 @@ def _read_yaml(path: Path, source: str) -> dict:
     return data
 
 
+def _strict_loader():
+    """PyYAML's safe loader, refusing duplicate keys (the last one would silently win)."""
+    import yaml
+
+    class StrictLoader(yaml.SafeLoader):
+        def construct_yaml_int(self, node):  # beyond Python's digit limit: as good as infinite
+            try:
+                return super().construct_yaml_int(node)
+            except ValueError:
+                return math.inf
+
+        def construct_mapping(self, node, deep=False):
+            keys = [k.value for k, _ in node.value if isinstance(k, yaml.ScalarNode)]
+            for index, key_node in enumerate(k for k, _ in node.value if isinstance(k, yaml.ScalarNode)):
+                if key_node.value in keys[:index]:
+                    raise yaml.constructor.ConstructorError(
+                        None, None, f"duplicate key {key_node.value!r}", key_node.start_mark)
+            return super().construct_mapping(node, deep=deep)
+
+    StrictLoader.add_constructor("tag:yaml.org,2002:int", StrictLoader.construct_yaml_int)
+    return StrictLoader
+
+
 # ---------------------------------------------------------------- field helpers
+
+LIMIT = 1e50  # magnitude bound on every number: products of a few lengths (and their squares) stay finite
+
+
+def _field(prefix: str, key: object) -> str:
+    """A key as it appears in a message: printable, on one line."""
+    text = key if isinstance(key, str) and key.isprintable() else repr(key)
+    return f"{prefix}{text}"
 
 
 def _kind(value: Any) -> str:
@@ -139,7 +172,7 @@ def _kind(value: Any) -> str:
 def _check_keys(data: Mapping, allowed: set[str], required: set[str], source: str, prefix: str = "") -> None:
     for key in data:
         if not isinstance(key, str) or key not in allowed:
-            raise ConfigError(source, f"{prefix}{key}", f"unknown key (allowed: {', '.join(sorted(allowed))})")
+            raise ConfigError(source, _field(prefix, key), f"unknown key (allowed: {', '.join(sorted(allowed))})")
     for key in sorted(required):
         if key not in data:
             raise ConfigError(source, f"{prefix}{key}", "missing")
@@ -153,16 +186,35 @@ def _mapping(data: Mapping, key: str, source: str) -> Mapping:
 
 
 def _number(value: Any, source: str, field: str, *, positive: bool = False, nonnegative: bool = False) -> float:
+    """A finite float of magnitude at most LIMIT (and at least 1/LIMIT when positive)."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ConfigError(source, field, f"expected a number, got {_kind(value)} {value!r}")
-    x = float(value)
-    if not math.isfinite(x):
-        raise ConfigError(source, field, f"must be finite, got {value!r}")
+        hint = ""
+        if isinstance(value, str):
+            try:
+                float(value)
+                hint = " (YAML reads 1e-3 as text: write 1.0e-3)"
+            except ValueError:
+                pass
+        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."
+        raise ConfigError(source, field, f"expected a number, got {_kind(value)} {shown}{hint}")
+    try:
+        x = float(value)
+    except OverflowError:
+        x = math.inf
+    if not math.isfinite(x) or abs(x) > LIMIT:
+        raise ConfigError(source, field, f"must be finite and at most {LIMIT:g} in magnitude, got {_short(value)}")
     if positive and x <= 0:
-        raise ConfigError(source, field, f"must be positive, got {value!r}")
+        raise ConfigError(source, field, f"must be positive, got {_short(value)}")
+    if positive and x < 1.0 / LIMIT:
+        raise ConfigError(source, field, f"must be at least {1.0 / LIMIT:g}, got {_short(value)}")
     if nonnegative and x < 0:
-        raise ConfigError(source, field, f"must not be negative, got {value!r}")
+        raise ConfigError(source, field, f"must not be negative, got {_short(value)}")
     return x
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
 
 
 def _name(data: Mapping, source: str) -> str:
@@ -172,8 +224,13 @@ def _name(data: Mapping, source: str) -> str:
     if isinstance(name, bool) or not isinstance(name, (str, int, float)):
         raise ConfigError(source, "name", f"expected a string, got {_kind(name)}")
     name = str(name)
-    if not name or name.strip() != name or any(c in name for c in '/\\:*?"<>|\n\r\t\x00') or name in (".", ".."):
-        raise ConfigError(source, "name", f"{name!r} is not usable as a folder name")
+    try:
+        name.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ConfigError(source, "name", f"{name!r} is not valid text") from None
+    if (not name or name.strip() != name or not name.isprintable() or any(c in name for c in '/\\:*?"<>|')
+            or name in (".", "..") or len(name) > 100):
+        raise ConfigError(source, "name", f"{_short(name)} is not usable as a folder name")
     return name
 
 
@@ -259,8 +316,10 @@ def _ratio(data: Mapping, source: str, t1: float, t2: float, t3: float) -> float
     t5 = _number(platform["t5"], source, "platform.t5")
     t6 = _number(platform["t6"], source, "platform.t6")
     ratio = t4 / t1
-    tol = 1e-9
-    if abs(t5 - ratio * t2) > tol * max(1.0, abs(t5)) or abs(t6 - ratio * t3) > tol * max(1.0, abs(t6)):
+    if not (1.0 / LIMIT <= ratio <= LIMIT):
+        raise ConfigError(source, "platform.t4", f"the ratio k = t4 / t1 = {ratio!r} is out of range")
+    tol = 1e-9 * max(t4, abs(t5), abs(t6))
+    if abs(t5 - ratio * t2) > tol or abs(t6 - ratio * t3) > tol:
         raise ConfigError(
             source, "platform",
             f"not similar to the base: t4/t1 = {t4 / t1:.6g}, t5/t2 = {t5 / t2 if t2 else float('nan'):.6g}, "

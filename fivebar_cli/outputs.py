@@ -8,7 +8,7 @@ the time, the machine or the working directory, so CI can diff outputs byte for 
 from __future__ import annotations
 
 import os
-import tempfile
+import secrets
 from pathlib import Path
 from typing import Callable, Iterable, Sequence
 
@@ -34,26 +34,30 @@ def ensure_dir(path: str | Path) -> Path:
 
 
 def atomic_write(path: str | Path, write: Callable[[Path], None]) -> Path:
-    """Call `write(tmp_path)` and rename the result over `path` (same folder, so the rename is atomic)."""
+    """Call `write(tmp_path)` and rename the result over `path` (same folder, so the rename is atomic).
+
+    On any failure or interruption the temporary file is removed and `path` is untouched. Only a
+    SIGKILL can leave a `.<name>.*.tmp` file behind (never in place of `path`).
+    """
     path = Path(path)
     ensure_dir(path.parent)
-    try:
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    except OSError as exc:
-        raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from None
-    os.close(fd)
-    tmp = Path(tmp_name)
-    try:
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp")  # named before it exists, so
+    try:  # an interruption at any point below can remove it
+        os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644))
         write(tmp)
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
     except OSError as exc:
-        tmp.unlink(missing_ok=True)
+        _discard(tmp)
         raise OutputError(f"{path}: cannot write: {exc.strerror or exc}") from None
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        _discard(tmp)
         raise
     return path
+
+
+def _discard(tmp: Path) -> None:
+    tmp.unlink(missing_ok=True)
 
 
 def write_text(path: str | Path, text: str) -> Path:

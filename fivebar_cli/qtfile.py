@@ -41,7 +41,12 @@ class QtFile:
         return self.fields.get(key, default)
 
 
-def format_qt(tree: Tree, **fields: object) -> str:
+def valid_key(key: str) -> bool:
+    """Header keys: printable, without spaces or ':' (the reader and the writer agree, so round trips hold)."""
+    return bool(key) and key.isprintable() and ":" not in key and not any(c.isspace() for c in key)
+
+
+def format_qt(tree: Tree, /, **fields: object) -> str:
     """The file text for `tree`; `fields` are header keys (name, space, region, colour, extras)."""
     grid = tree.grid
     values = {k: str(v) for k, v in fields.items() if v is not None}
@@ -53,7 +58,7 @@ def format_qt(tree: Tree, **fields: object) -> str:
     lines = [MAGIC]
     for key in order:
         value = values[key]
-        if "\n" in value or not key.replace("_", "").replace("-", "").isalnum():
+        if "\n" in value or "\r" in value or not valid_key(key):
             raise ValueError(f"bad header field {key!r}: {value!r}")
         lines.append(f"# {key}: {value}")
     body = tree.to_bwg()
@@ -61,7 +66,7 @@ def format_qt(tree: Tree, **fields: object) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_qt(path: str | Path, tree: Tree, **fields: object) -> Path:
+def write_qt(path: str | Path, tree: Tree, /, **fields: object) -> Path:
     """Atomically write a `.qt` file."""
     return write_text(path, format_qt(tree, **fields))
 
@@ -104,7 +109,7 @@ def parse_qt(text: str, source: str = "<qt>") -> QtFile:
         line = lines[n]
         key, sep, value = line[1:].strip().partition(":")
         key = key.strip()
-        if not sep or not key or " " in key:
+        if not sep or not valid_key(key):
             raise InputError(source, f"line {n + 1}", f"malformed header line {line!r} (expected '# key: value')")
         if key in fields:
             raise InputError(source, f"line {n + 1}", f"duplicate header key {key!r}")

@@ -330,7 +330,7 @@ def mean_area(t1, t2, t3, k, phi1, phi2, rho_min, rho_max, n0: int = 25, rtol: f
         merged[0::2], merged[1::2] = a, area(t1, t2, t3, k, mids, rho_min, rho_max)
         phis2[0::2], phis2[1::2] = phis, mids
         new, a, phis, n = _trapezoid_mean(merged), merged, phis2, 2 * n
-        if abs(new - est) < rtol * abs(new):
+        if abs(new - est) <= rtol * abs(new):  # '<=': an empty W (area 0) has converged
             return MeanArea(float(new), float(np.mean(np.abs(a - new))), n, phis, a)
         est = new
 

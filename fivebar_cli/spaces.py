@@ -81,6 +81,7 @@ class SavedPaving:
     evaluations: int
     inside: QtFile
     outside: QtFile
+    source: str = ""
 
 
 def sibling_paths(path: Path) -> tuple[Path, Path]:
@@ -114,7 +115,10 @@ def mechanism_from_fields(qt: QtFile, source: str) -> FiveBar:
 def refine_saved(saved: SavedPaving, depth: int, on_level=None) -> Paving:
     """Deepen a saved paving, testing only its undetermined cells."""
     test = fivebar.space_test(saved.mechanism, saved.space, saved.procedure)
-    return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level)
+    try:
+        return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level)
+    except ValueError as exc:  # the two trees do not form a paving (overlap, gaps above the depth)
+        raise InputError(saved.source, "", f"{exc}") from None
 
 
 def load_saved(path: str | Path) -> SavedPaving:
@@ -148,4 +152,5 @@ def load_saved(path: str | Path) -> SavedPaving:
         evaluations = int(inside.get("evaluations", "0"))
     except ValueError:
         raise InputError(source, "evaluations", f"expected an integer, got {inside.get('evaluations')!r}") from None
-    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside)
+    pair = f"{inside_path} + {outside_path.name}"
+    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair)
