@@ -11,6 +11,7 @@ chunks, vectorised). Above --grid-max it is timed on 1/16 of the rows and scaled
 from __future__ import annotations
 
 import argparse
+import os
 import platform
 import time
 import tracemalloc
@@ -24,6 +25,16 @@ from fivebar_cli.spaces import grid as space_grid
 from fivebar_cli.spaces import pave_space
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
+
+
+def cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "cpu"
 
 
 def measured(func):
@@ -62,7 +73,7 @@ def main() -> None:
     parser.add_argument("--grid-max", type=int, default=14, help="largest depth with a full dense grid")
     args = parser.parse_args()
     depths = [int(d) for d in args.depths.split(",")]
-    print(f"machine: {platform.machine()}, {platform.processor() or 'cpu'}, python {platform.python_version()}, "
+    print(f"machine: {platform.machine()}, {cpu_model()}, {os.cpu_count()} cores, python {platform.python_version()}, "
           f"numpy {np.__version__}")
     print(f"{'mech':4s} {'space':10s} {'d':>2s} {'evaluations':>11s} {'pave s':>8s} {'peak MiB':>8s} "
           f"{'grid points':>13s} {'grid s':>8s} {'grid/pave':>9s}")
