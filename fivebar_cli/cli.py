@@ -61,17 +61,24 @@ def _space_command(space: str, m_path: Path, depth: int, procedure: str, out, no
     out_dir = prepare_out(out, m.name)
     with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
         paving = spaces.pave_space(m, space, depth, procedure, on_level=lambda level, n: advance(1))
-    from fivebar_cli.outputs import write_csv
-
-    row = spaces.summary_row(m, space, procedure, paving)
-    paths = spaces.write_paving(out_dir, m, space, paving, procedure)
-    paths.append(write_csv(out_dir / f"{space}.csv", spaces.SUMMARY_HEADER, [row]))
-    if not no_plot:
-        paths += _plot_paving(out_dir, m.name, space, paving)
+    paths = _write_space(out_dir, m, space, paving, procedure, paving.evaluations, no_plot)
     report(quiet, f"{m.name} {space}, depth {depth} ({procedure} tests): {paving.evaluations} evaluations "
            f"(K = {paving.evaluations / 4.0**depth:.4%}), certified inside area {paving.inside.area:.10g}, "
            f"undetermined {paving.undetermined_area:.4g}")
     wrote(quiet, paths)
+
+
+def _write_space(out_dir: Path, m, space: str, paving, procedure: str, evaluations: int, no_plot: bool) -> list[Path]:
+    """The .qt pair, the summary CSV and (unless --no-plot) the figures of a paving."""
+    from fivebar_cli import spaces
+    from fivebar_cli.outputs import write_csv
+
+    paths = spaces.write_paving(out_dir, m, space, paving, procedure, evaluations)
+    row = spaces.summary_row(m, space, procedure, paving, evaluations)
+    paths.append(write_csv(out_dir / f"{space}.csv", spaces.SUMMARY_HEADER, [row]))
+    if not no_plot:
+        paths += _plot_paving(out_dir, m.name, space, paving)
+    return paths
 
 
 def _plot_paving(out_dir: Path, name: str, space: str, paving) -> list[Path]:
@@ -197,7 +204,7 @@ def refine(tree_path, depth, out, no_plot, quiet):
       fivebar refine outputs/M1/workspace.qt --depth 14
     """
     from fivebar_cli import spaces
-    from fivebar_cli.outputs import ensure_dir, write_csv
+    from fivebar_cli.outputs import ensure_dir
 
     saved = spaces.load_saved(tree_path)
     old_depth = saved.inside.tree.grid.depth
@@ -208,18 +215,7 @@ def refine(tree_path, depth, out, no_plot, quiet):
         paving = spaces.refine_saved(saved, depth, on_level=lambda level, n: advance(1))
     total = saved.evaluations + paving.evaluations
     m, space = saved.mechanism, saved.space
-    inside_path, outside_path = spaces.paving_paths(out_dir, space)
-    from fivebar_cli.qtfile import write_qt
-
-    paths = [
-        write_qt(inside_path, paving.inside, **spaces.qt_fields(m, space, "inside", saved.procedure, total)),
-        write_qt(outside_path, paving.outside, **spaces.qt_fields(m, space, "outside", saved.procedure, total)),
-    ]
-    row = list(spaces.summary_row(m, space, saved.procedure, paving))
-    row[4], row[5] = total, total / 4.0**depth
-    paths.append(write_csv(out_dir / f"{space}.csv", spaces.SUMMARY_HEADER, [row]))
-    if not no_plot:
-        paths += _plot_paving(out_dir, m.name, space, paving)
+    paths = _write_space(out_dir, m, space, paving, saved.procedure, total, no_plot)
     report(quiet, f"{m.name} {space}: refined depth {old_depth} -> {depth} with {paving.evaluations} evaluations "
            f"({saved.evaluations} saved by not retesting; a fresh run needs {total}), "
            f"certified inside area {paving.inside.area:.10g}, undetermined {paving.undetermined_area:.4g}")

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from fivebar_cli.errors import InputError
+from fivebar_cli.inputs import read_user_text
 
 
 class ConfigError(InputError):
@@ -97,20 +98,7 @@ def load_rpr3(path: str | Path) -> Rpr3:
 def _read_yaml(path: Path, source: str) -> dict:
     import yaml  # imported here: the library never imports yaml at module level
 
-    try:
-        raw = path.read_bytes()
-    except IsADirectoryError:
-        raise ConfigError(source, "", "is a directory, not a YAML file") from None
-    except FileNotFoundError:
-        raise ConfigError(source, "", "no such file") from None
-    except OSError as exc:
-        raise ConfigError(source, "", f"cannot read: {exc.strerror or exc}") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise ConfigError(source, "", "not a text file (invalid UTF-8)") from None
-    if "\x00" in text:
-        raise ConfigError(source, "", "not a text file (contains NUL bytes)")
+    text = read_user_text(path, ConfigError, "a YAML file")
     try:
         data = yaml.load(text, Loader=_strict_loader())
     except yaml.YAMLError as exc:

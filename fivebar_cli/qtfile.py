@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from fivebar_cli.errors import InputError
+from fivebar_cli.inputs import read_user_text
 from fivebar_cli.outputs import write_text
 from fivebar_cli.quadtree import MAX_INDEX_BITS, BodyError, Grid, Tree
 
@@ -74,20 +75,7 @@ def write_qt(path: str | Path, tree: Tree, /, **fields: object) -> Path:
 def read_qt(path: str | Path) -> QtFile:
     """Read and validate a `.qt` file; raises InputError naming the file and line."""
     source = str(path)
-    try:
-        raw = Path(path).read_bytes()
-    except FileNotFoundError:
-        raise InputError(source, "", "no such file") from None
-    except IsADirectoryError:
-        raise InputError(source, "", "is a directory, not a .qt file") from None
-    except OSError as exc:
-        raise InputError(source, "", f"cannot read: {exc.strerror or exc}") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError:
-        raise InputError(source, "", "not a fivebar quadtree file (binary data)") from None
-    if "\x00" in text:
-        raise InputError(source, "", "not a fivebar quadtree file (binary data)")
+    text = read_user_text(path, InputError, "a fivebar quadtree file")
     return parse_qt(text, source)
 
 

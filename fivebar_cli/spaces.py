@@ -50,21 +50,24 @@ def paving_paths(out: Path, space: str) -> tuple[Path, Path]:
     return out / f"{space}.qt", out / f"{space}.complement.qt"
 
 
-def write_paving(out: Path, m: FiveBar, space: str, paving: Paving, procedure: str) -> list[Path]:
-    """Write `<space>.qt` (certified inside) and `<space>.complement.qt` (certified outside)."""
+def write_paving(out: Path, m: FiveBar, space: str, paving: Paving, procedure: str, evaluations: int) -> list[Path]:
+    """Write `<space>.qt` (certified inside) and `<space>.complement.qt` (certified outside).
+
+    `evaluations` counts every box tested to reach this paving (with those of a refined run).
+    """
     inside_path, outside_path = paving_paths(out, space)
-    n = paving.evaluations
+    n = evaluations
     return [
         write_qt(inside_path, paving.inside, **qt_fields(m, space, "inside", procedure, n)),
         write_qt(outside_path, paving.outside, **qt_fields(m, space, "outside", procedure, n)),
     ]
 
 
-def summary_row(m: FiveBar, space: str, procedure: str, paving: Paving) -> tuple:
+def summary_row(m: FiveBar, space: str, procedure: str, paving: Paving, evaluations: int) -> tuple:
     """One CSV row; `exact_area` is the closed-form workspace area (none is known for the joint space)."""
     depth = paving.grid.depth
     return (
-        space, m.name, procedure, depth, paving.evaluations, paving.evaluations / 4.0**depth,
+        space, m.name, procedure, depth, evaluations, evaluations / 4.0**depth,
         paving.inside.area, paving.undetermined_area, paving.outside.area,
         len(paving.inside), len(paving.outside), len(paving.undetermined),
         fivebar.workspace_area(m) if space == "workspace" else "",
