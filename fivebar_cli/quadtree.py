@@ -228,10 +228,6 @@ class Tree:
         lo, hi = self.bounds()
         return 0.5 * (lo + hi)
 
-    def level_counts(self) -> np.ndarray:
-        """Number of leaves per level 0..D."""
-        return np.bincount(self.level, minlength=self.grid.depth + 1)
-
     # -- changing the grid
 
     def with_depth(self, depth: int) -> "Tree":
