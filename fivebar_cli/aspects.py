@@ -33,7 +33,7 @@ from fivebar_cli import fivebar
 from fivebar_cli.config import FiveBar
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.paving import Paving, deepen, pave
-from fivebar_cli.quadtree import Tree, interleave, union_find
+from fivebar_cli.quadtree import Tree, union_find
 from fivebar_cli.spaces import grid as space_grid
 
 WORKING_MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))

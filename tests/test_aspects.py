@@ -26,6 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 import pytest
+from reference_kinematics import ref_dkp, ref_ikp
 
 from fivebar_cli import aspects as asp
 from fivebar_cli import fivebar, spaces
@@ -45,47 +46,6 @@ MIN_PIXELS = 64  # grid components below this (1/4096 of the root box) are discr
 
 
 # ---------------------------------------------------------------- independent point kinematics
-
-
-def _cross(ax, ay, bx, by):
-    return ax * by - ay * bx
-
-
-def _circle_point(cx, cy, r, qx, qy, rq, side):
-    """Intersection of circles (c, r) and (q, rq) on side `side` (+1 left) of c -> q; and |q - c|."""
-    dx, dy = qx - cx, qy - cy
-    d = np.hypot(dx, dy)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = (r * r - rq * rq + d * d) / (2 * d)
-        h = np.sqrt(r * r - a * a)
-        ex, ey = dx / d, dy / d
-    return cx + a * ex - side * h * ey, cy + a * ey + side * h * ex, d
-
-
-def ref_ikp(m: FiveBar, x, y, working):
-    """(th1, th2, u, v, t, ok): u = (b1 - a1) x (p - b1) = -s h |A1P| for B1 on side s of A1 -> P."""
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    b1x, b1y, d1 = _circle_point(0.0, 0.0, m.L1, x, y, m.L3, -working[0])
-    b2x, b2y, d2 = _circle_point(m.L0, 0.0, m.L2, x, y, m.L4, -working[1])
-    ok = ((d1 > 0) & (d1 <= m.L1 + m.L3) & (d1 >= abs(m.L1 - m.L3))
-          & (d2 > 0) & (d2 <= m.L2 + m.L4) & (d2 >= abs(m.L2 - m.L4)))
-    u = _cross(b1x, b1y, x - b1x, y - b1y)
-    v = _cross(b2x - m.L0, b2y, x - b2x, y - b2y)
-    t = _cross(x - b1x, y - b1y, x - b2x, y - b2y)
-    return np.arctan2(b1y, b1x), np.arctan2(b2y, b2x - m.L0), u, v, t, ok
-
-
-def ref_dkp(m: FiveBar, th1, th2, assembly):
-    """(x, y, u, v, t, ok): t = (p - b1) x (p - b2) = s h |B1B2| for P on side s of B1 -> B2."""
-    th1, th2 = np.asarray(th1, float), np.asarray(th2, float)
-    b1x, b1y = m.L1 * np.cos(th1), m.L1 * np.sin(th1)
-    b2x, b2y = m.L0 + m.L2 * np.cos(th2), m.L2 * np.sin(th2)
-    x, y, d = _circle_point(b1x, b1y, m.L3, b2x, b2y, m.L4, assembly)
-    ok = (d > 0) & (d <= m.L3 + m.L4) & (d >= abs(m.L3 - m.L4))
-    u = _cross(b1x, b1y, x - b1x, y - b1y)
-    v = _cross(b2x - m.L0, b2y, x - b2x, y - b2y)
-    t = _cross(x - b1x, y - b1y, x - b2x, y - b2y)
-    return x, y, u, v, t, ok
 
 
 def lens_minus_holes(m: FiveBar) -> float:

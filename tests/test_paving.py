@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from conftest import M1, M2, cells_of, tree_to_bool
+from conftest import M1, M2, tree_to_bool
 from fivebar_cli import spaces
 from fivebar_cli.fivebar import space_test
 from fivebar_cli.paving import box_pad, pave, refine, undetermined_cells
