@@ -10,7 +10,7 @@ import numpy as np
 
 from fivebar_cli import rpr3 as geo
 from fivebar_cli.cli_common import common_options, prepare_out, progress, report, wrote
-from fivebar_cli.config import ConfigError, Rpr3, load_rpr3
+from fivebar_cli.config import ConfigError, Rpr3, load_rpr3, reaches_singular_orientation
 from fivebar_cli.outputs import save_figure, write_csv
 
 CONFIG = click.Path(path_type=Path)
@@ -46,8 +46,7 @@ def _check_phis(values, where: str) -> None:
     """Orientations (degrees) must avoid the multiples of 180, where the whole plane is singular."""
     if not all(math.isfinite(v) for v in values):
         raise click.BadParameter("orientations must be finite numbers", param_hint=where)
-    lo, hi = min(values), max(values)
-    if math.floor(lo / 180.0) != math.floor(hi / 180.0) or any(v % 180.0 == 0 for v in values):
+    if reaches_singular_orientation(min(values), max(values)):
         raise click.BadParameter("orientations must not reach a multiple of 180 degrees (singular everywhere)",
                                  param_hint=where)
 

@@ -282,13 +282,17 @@ def parse_rpr3(data: Mapping, source: str = "<config>") -> Rpr3:
         if phi_range[0] >= phi_range[1]:
             raise ConfigError(source, field, f"phi1 must be smaller than phi2, got {list(phi_range)}")
     lo, hi = phi_range
-    # The whole plane is singular at phi = i * 180 degrees; a range must not contain such a value.
-    if math.floor(lo / 180.0) != math.floor(hi / 180.0) or lo % 180.0 == 0 or hi % 180.0 == 0:
+    if reaches_singular_orientation(lo, hi):
         what = f"{list(phi_range)} contains" if lo != hi else f"{lo!r} is"
         raise ConfigError(
             source, field, f"{what} a multiple of 180 degrees, where the whole plane is singular"
         )
     return Rpr3(name=name, t1=t1, t2=t2, t3=t3, k=k, rho_min=rho_min, rho_max=rho_max, phi_range=phi_range)
+
+
+def reaches_singular_orientation(lo: float, hi: float) -> bool:
+    """Whether [lo, hi] (degrees) holds a multiple of 180, where the whole plane is singular."""
+    return math.floor(lo / 180.0) != math.floor(hi / 180.0) or lo % 180.0 == 0 or hi % 180.0 == 0
 
 
 def _ratio(data: Mapping, source: str, t1: float, t2: float, t3: float) -> float:

@@ -92,7 +92,7 @@ def mode_values(m: FiveBar, th1, th2, p) -> tuple[np.ndarray, np.ndarray, np.nda
 def in_joint_space(m: FiveBar, th1, th2) -> np.ndarray:
     """Point test: the mechanism can be assembled with finitely many solutions (B1 != B2)."""
     b1, b2 = cranks(m, th1, th2)
-    d = np.hypot(*(b2 - b1).T) if np.ndim(b1) == 2 else np.hypot(*(b2 - b1))
+    d = np.hypot(b2[..., 0] - b1[..., 0], b2[..., 1] - b1[..., 1])
     return (d > 0) & (d <= m.L3 + m.L4) & (d >= abs(m.L3 - m.L4))
 
 

@@ -21,25 +21,13 @@ from __future__ import annotations
 import numpy as np
 
 from fivebar_cli.config import FiveBar
+from fivebar_cli.fivebar import direction_range
 from fivebar_cli.interval import Interval, cos, hypot, sin, sqr
 
 
 def _acos(c: Interval) -> Interval:
     """arccos of an interval clipped to [-1, 1] (decreasing, so the bounds swap)."""
     return Interval(np.arccos(np.clip(c.hi, -1, 1)), np.arccos(np.clip(c.lo, -1, 1)))
-
-
-def _direction(dx: Interval, dy: Interval) -> Interval:
-    """Range of atan2(dy, dx) over a box of vectors (from its corners; [-pi, pi] if it holds 0)."""
-    cx, cy = 0.5 * (dx.lo + dx.hi), 0.5 * (dy.lo + dy.hi)
-    centre = np.arctan2(cy, cx)
-    offsets = []
-    for x in (dx.lo, dx.hi):
-        for y in (dy.lo, dy.hi):
-            offsets.append((np.arctan2(y, x) - centre + np.pi) % (2 * np.pi) - np.pi)
-    lo, hi = centre + np.minimum.reduce(offsets), centre + np.maximum.reduce(offsets)
-    zero = (dx.lo <= 0) & (dx.hi >= 0) & (dy.lo <= 0) & (dy.hi >= 0)
-    return Interval(np.where(zero, -np.pi, lo), np.where(zero, np.pi, hi))
 
 
 def paper_joint_space_test(m: FiveBar):
@@ -55,7 +43,7 @@ def paper_joint_space_test(m: FiveBar):
         with np.errstate(divide="ignore", invalid="ignore"):
             c = (sqr(dist) + (m.L3**2 - m.L4**2)) / (2 * m.L3 * dist)
         inside = (dist.lo > 0) & (c.lo >= -1) & (c.hi <= 1)
-        angle = _direction(dx, dy) + _acos(c)
+        angle = Interval(*direction_range(dx.lo, dx.hi, dy.lo, dy.hi)) + _acos(c)
         px, py = b1x + m.L3 * cos(angle), b1y + m.L3 * sin(angle)
         det = (b1x - px) * (b2y - py) - (b1y - py) * (b2x - px)
         inside &= (det.lo > 0) | (det.hi < 0)

@@ -150,8 +150,6 @@ def _trailing_zeros(x: np.ndarray, cap: int) -> np.ndarray:
 class Tree:
     """A set of cells of a `Grid`, as canonical black leaves sorted in Morton (preorder) order."""
 
-    __slots__ = ("grid", "level", "code", "__dict__")
-
     def __init__(self, grid: Grid, level: np.ndarray, code: np.ndarray, *, canonical: bool = False):
         self.grid = grid
         level = np.asarray(level, dtype=np.int64).ravel()
