@@ -4,7 +4,7 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 
-.PHONY: install test reproduce bench clean
+.PHONY: install test reproduce golden bench clean
 
 install: $(STAMP)
 
@@ -18,6 +18,9 @@ test: install
 
 reproduce: install
 	$(BIN)/fivebar reproduce
+
+golden: install   # regenerate the reference outputs the tests compare against (after an intended change)
+	$(BIN)/fivebar reproduce -o tests/golden --no-plot --quiet
 
 bench: install
 	$(BIN)/python benchmarks/run_all.py

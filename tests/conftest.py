@@ -24,7 +24,12 @@ M2_YAML = CONFIGS / "m2.yaml"
 if str(REPO) not in sys.path:  # the package is installed editable; this only helps a bare checkout
     sys.path.insert(0, str(REPO))
 
-from fivebar_cli.config import FiveBar, load_fivebar  # noqa: E402
+from fivebar_cli.mechanisms.fivebar.model import FiveBar  # noqa: E402
+from fivebar_cli.mechanisms.registry import load_config  # noqa: E402
+
+
+def load_fivebar(path) -> FiveBar:
+    return load_config(path, kind="fivebar")
 
 
 # ---------------------------------------------------------------- mechanisms

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.config import FiveBar
+from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
 
 def _cross(ax, ay, bx, by):

@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from shapely.geometry import Point, box
 
-from fivebar_cli import arcs
+from fivebar_cli.numerics import arcs
 
 
 def shapely_area(centres, radii, sides, quad_segs=1024):

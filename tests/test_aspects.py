@@ -28,11 +28,14 @@ import numpy as np
 import pytest
 from reference_kinematics import ref_dkp, ref_ikp
 
-from fivebar_cli import aspects as asp
-from fivebar_cli import fivebar, spaces
-from fivebar_cli.config import FiveBar
-from fivebar_cli.paving import pave
-from fivebar_cli.quadtree import Grid
+from fivebar_cli.analyses import aspect_files, crossings, spaces
+from fivebar_cli.analyses import aspects as asp
+from fivebar_cli.analyses.locate import locate_configurations
+from fivebar_cli.mechanisms.fivebar import kinematics as kin
+from fivebar_cli.mechanisms.fivebar import modes
+from fivebar_cli.mechanisms.fivebar.model import FiveBar
+from fivebar_cli.paving.engine import pave
+from fivebar_cli.paving.grid import Grid
 
 M1 = FiveBar("M1", 9.0, 8.0, 5.0, 5.0, 8.0)  # section 3 of the paper
 M2 = FiveBar("M2", 2.55, 2.3, 2.3, 2.3, 2.3)
@@ -241,8 +244,8 @@ def test_aspect_count_is_stable_from_depth_8_to_12(name):
 def test_numbering_is_deterministic():
     again = asp.analyse_aspects(M1, DEPTH)
     first = analysis("M1")
-    assert asp.aspect_rows(again) == asp.aspect_rows(first)
-    assert asp.crossing_rows(again) == asp.crossing_rows(first)
+    assert aspect_files.aspect_rows(again) == aspect_files.aspect_rows(first)
+    assert aspect_files.crossing_rows(again) == aspect_files.crossing_rows(first)
     for a, b in zip(again.aspects, first.aspects):
         assert a.workspace == b.workspace and a.jointspace == b.jointspace
 
@@ -556,7 +559,7 @@ def test_crossings_change_exactly_one_sign(name):
         assert len(changed) == 1
         assert c.singularity == ("B11" if changed[0] == 0 else "B22")
         assert c.band_cells > 0
-    rows = asp.crossing_rows(a)
+    rows = aspect_files.crossing_rows(a)
     assert [(r[0], r[1]) for r in rows] == [(c.a, c.b) for c in a.crossings]
     for r in rows:
         assert r[4] == sign_text(by_number[r[0]].working) and r[5] == sign_text(by_number[r[1]].working)
@@ -593,8 +596,8 @@ def test_crossing_graph_is_complete_bipartite_two_three(name):
         # the two-aspect side: working modes ++ and -- (each edge changes one sign)
         small = part0 if len(part0) == 2 else part1
         assert sorted(sign_text(x.working) for x in a.aspects if x.number in small) in (["++", "--"], ["+-", "-+"])
-        assert asp.paper_claim_holds(a, am)
-        numbers, adj = asp.adjacency_matrix(a, am)
+        assert crossings.is_complete_bipartite_2_3(a.aspects, a.crossings, am)
+        numbers, adj = crossings.adjacency_matrix(a.aspects, a.crossings, am)
         assert numbers == nodes
         assert adj.sum() == 12 and np.array_equal(adj, adj.T)
 
@@ -667,12 +670,12 @@ def test_m2_leg_swap_maps_aspects_to_aspects():
 def test_locate_reports_the_aspect_of_its_representative(name):
     a = analysis(name)
     for x in a.aspects:
-        rows = asp.locate_configurations(a, np.array([x.pose]), "workspace")
+        rows = locate_configurations(a.mechanism, a.aspects, np.array([x.pose]), "workspace")
         mine = [r for r in rows if r["working_mode"] == sign_text(x.working)]
         assert len(mine) == 1
         assert mine[0]["aspect"] == x.number and mine[0]["assembly_mode"] == sign_text([x.assembly])
         assert mine[0]["singular"] == ""
-        rows = asp.locate_configurations(a, np.array([x.joints]), "jointspace")
+        rows = locate_configurations(a.mechanism, a.aspects, np.array([x.joints]), "jointspace")
         mine = [r for r in rows if r["assembly_mode"] == sign_text([x.assembly])]
         assert len(mine) == 1
         assert mine[0]["aspect"] == x.number and mine[0]["working_mode"] == sign_text(x.working)
@@ -691,7 +694,7 @@ def test_locate_random_poses_agrees_with_independent_grid(name):
     rng = np.random.default_rng(16)
     r = m.L1 + m.L3
     pts = rng.uniform(-r, r, (300, 2))
-    rows = asp.locate_configurations(a, pts, "workspace")
+    rows = locate_configurations(a.mechanism, a.aspects, pts, "workspace")
     placed = 0
     for row in rows:
         k = row["aspect"]
@@ -717,8 +720,8 @@ def test_locate_joints_wrap_around_the_torus():
     """Joint values are angles: th and th + 2 k pi are the same configuration, same aspect."""
     a = analysis("M1")
     for x in a.aspects:
-        base = asp.locate_configurations(a, np.array([x.joints]), "jointspace")
-        shifted = asp.locate_configurations(a, np.array([x.joints]) + [TWO_PI, -2 * TWO_PI], "jointspace")
+        base = locate_configurations(a.mechanism, a.aspects, np.array([x.joints]), "jointspace")
+        shifted = locate_configurations(a.mechanism, a.aspects, np.array([x.joints]) + [TWO_PI, -2 * TWO_PI], "jointspace")
         assert [r["aspect"] for r in base] == [r["aspect"] for r in shifted]
         assert x.number in [r["aspect"] for r in shifted]
 
@@ -727,9 +730,9 @@ def test_locate_outside_the_workspace_gives_no_configuration():
     a = analysis("M1")
     # beyond both outer circles; in the hole |P - A1| < |L1 - L3| = 3; the point A1 itself
     for pose in ([30.0, 0.0], [0.0, 20.0], [1.0, 1.0], [0.0, 0.0]):
-        assert asp.locate_configurations(a, np.array([pose]), "workspace") == []
+        assert locate_configurations(a.mechanism, a.aspects, np.array([pose]), "workspace") == []
     # joints that cannot be assembled: th1 = pi, th2 = 0 gives |B1B2| = 22 > L3 + L4
-    assert asp.locate_configurations(a, np.array([[math.pi, 0.0]]), "jointspace") == []
+    assert locate_configurations(a.mechanism, a.aspects, np.array([[math.pi, 0.0]]), "jointspace") == []
 
 
 def test_locate_on_a_serial_singularity_reports_no_aspect():
@@ -738,7 +741,7 @@ def test_locate_on_a_serial_singularity_reports_no_aspect():
     a = analysis("M1")
     p = 13.0 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
     assert 3 < math.hypot(p[0] - 9, p[1]) < 13
-    rows = asp.locate_configurations(a, p[None, :], "workspace")
+    rows = locate_configurations(a.mechanism, a.aspects, p[None, :], "workspace")
     assert rows
     for row in rows:
         assert row["aspect"] is None
@@ -750,7 +753,7 @@ def test_locate_lists_each_configuration_once_on_a_serial_singularity():
     (one per branch of leg 2), not four; each should be listed once."""
     a = analysis("M1")
     p = 13.0 * np.array([math.cos(math.pi / 3), math.sin(math.pi / 3)])
-    rows = asp.locate_configurations(a, p[None, :], "workspace")
+    rows = locate_configurations(a.mechanism, a.aspects, p[None, :], "workspace")
     joints = [(round(r["theta1"], 9), round(r["theta2"], 9)) for r in rows]
     assert len(set(joints)) == 2
     assert len(joints) == len(set(joints))
@@ -770,7 +773,7 @@ def test_locate_on_a_parallel_singularity_reports_no_aspect():
     b2 = np.array([m.L0 + m.L2 * math.cos(th2), m.L2 * math.sin(th2)])
     assert np.hypot(*(b2 - b1)) == pytest.approx(13.0)
     p = b1 + m.L3 * (b2 - b1) / np.hypot(*(b2 - b1))
-    rows = asp.locate_configurations(a, p[None, :], "workspace")
+    rows = locate_configurations(a.mechanism, a.aspects, p[None, :], "workspace")
     aligned = [r for r in rows if abs(math.remainder(r["theta1"] - th1, TWO_PI)) < 1e-5
                and abs(math.remainder(r["theta2"] - th2, TWO_PI)) < 1e-5]
     assert aligned
@@ -787,10 +790,10 @@ def test_locate_m2_with_coincident_cranks_reports_no_aspect():
     h = math.sqrt(m.L1 ** 2 - x0 * x0)
     for s in (1, -1):
         joints = np.array([[math.atan2(s * h, x0), math.atan2(s * h, x0 - m.L0)]])
-        for row in asp.locate_configurations(a, joints, "jointspace"):
+        for row in locate_configurations(a.mechanism, a.aspects, joints, "jointspace"):
             assert row["aspect"] is None
         # nearby joints (off the point) do belong to aspects
-        near = asp.locate_configurations(a, joints + 0.3, "jointspace")
+        near = locate_configurations(a.mechanism, a.aspects, joints + 0.3, "jointspace")
         assert any(r["aspect"] is not None for r in near)
 
 
@@ -811,7 +814,7 @@ def test_components_of_a_depth_12_paving_agree_with_raster_labelling():
     m = M1
     r = m.L1 + m.L3
     grid = Grid(((-r, r), (-r, r)), 12, (False, False))
-    tree = pave(grid, fivebar.working_mode_workspace_test(m, (1, -1))).inside
+    tree = pave(grid, modes.working_mode_workspace_test(m, (1, -1))).inside
     assert len(tree) > 20000
     labels, count = tree.components()
     raster = tree.coverage(12) == 1.0
@@ -830,7 +833,7 @@ def test_components_honour_the_torus_wrap():
     the wrap matters (without it there are more components)."""
     m = M1
     grid = Grid(((-math.pi, math.pi), (-math.pi, math.pi)), 10, (True, True))
-    tree = pave(grid, fivebar.assembly_mode_joint_test(m, 1)).inside
+    tree = pave(grid, modes.assembly_mode_joint_test(m, 1)).inside
     labels, count = tree.components()
     raster = (tree.coverage(10) == 1.0).astype(np.int8)
     wrapped = label_runs(raster, wrap=True)

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fivebar_cli.qtfile import read_qt
+from fivebar_cli.io.qtfile import read_qt
 
 REPO = Path(__file__).resolve().parents[1]
 M1_YAML = REPO / "configs" / "m1.yaml"

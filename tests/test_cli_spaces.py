@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from conftest import M1, M1_YAML, M2, M2_YAML, REPO, leaf_bounds, lens_area, tree_to_bool, upsample, valid_joint, valid_work
-from fivebar_cli.qtfile import read_qt
+from fivebar_cli.io.qtfile import read_qt
 
 CSV_HEADER = ("space,name,procedure,depth,evaluations,K,inside_area,undetermined_area,outside_area,"
               "inside_cells,outside_cells,undetermined_cells,exact_area")

@@ -34,8 +34,9 @@ from conftest import (
     workspace_area_closed_form,
     workspace_boundary_points,
 )
-from fivebar_cli import fivebar, spaces
-from fivebar_cli.fivebar import space_root, space_test
+from fivebar_cli.analyses import spaces
+from fivebar_cli.mechanisms.fivebar import boxtests
+from fivebar_cli.mechanisms.fivebar import kinematics as kin
 
 CASES = [(n, s, p) for n in ("M1", "M2") for s in ("jointspace", "workspace") for p in ("exact", "paper")]
 DEPTHS = range(6, 11)
@@ -44,10 +45,10 @@ DEPTHS = range(6, 11)
 def point_valid(m, space, pts: np.ndarray) -> np.ndarray:
     """The library's point test, cross-checked against the geometry written in conftest."""
     if space == "jointspace":
-        got = fivebar.in_joint_space(m, pts[:, 0], pts[:, 1])
+        got = kin.in_joint_space(m, pts[:, 0], pts[:, 1])
         ref = valid_joint(m, pts[:, 0], pts[:, 1])
     else:
-        got = fivebar.in_workspace(m, pts[:, 0], pts[:, 1])
+        got = kin.in_workspace(m, pts[:, 0], pts[:, 1])
         ref = valid_work(m, pts[:, 0], pts[:, 1])
     assert np.array_equal(got, ref)
     return got
@@ -164,7 +165,7 @@ def test_m2_singular_points_stay_undetermined_at_every_depth(space, procedure):
                            if (dx, dy) != (0, 0)])
         assert np.all(point_valid(m, space, around))  # valid all around the singular point
         if space == "jointspace":
-            b1, b2 = fivebar.cranks(m, sx, sy)
+            b1, b2 = kin.cranks(m, sx, sy)
             assert np.hypot(*(b2 - b1)) < 1e-12 <= m.L3 + m.L4  # B1 = B2: |B1B2| = 0 <= L3 + L4
         probes = np.array([[sx, sy]] + [[sx + dx, sy + dy] for dx in (-1e-12, 1e-12) for dy in (-1e-12, 1e-12)])
         for depth in range(1, 13):
@@ -190,7 +191,7 @@ def test_a1_is_a_grid_corner_in_the_m2_workspace():
 
 
 def random_boxes(m, space, rng, n, kind, log_width):
-    (x0, x1), (y0, y1) = space_root(m, space)
+    (x0, x1), (y0, y1) = m.spaces()[space].root
     size = x1 - x0
     if kind == "uniform":
         margin = 0.3 * size
@@ -215,7 +216,7 @@ def box_samples(lo, hi, rng, grid: int = 9, extra: int = 40) -> np.ndarray:
 
 
 def check_boxes(m, space, procedure, lo, hi, rng) -> np.ndarray:
-    status = space_test(m, space, procedure)(lo, hi)
+    status = m.box_test(space, procedure)(lo, hi)
     assert status.dtype == np.int8 and set(np.unique(status).tolist()) <= {-1, 0, 1}
     pts = box_samples(lo, hi, rng)
     valid = point_valid(m, space, pts.reshape(-1, 2)).reshape(pts.shape[:2])
@@ -258,7 +259,7 @@ def test_boxes_around_a_singular_point_are_undetermined(space, procedure):
     """A box holding B1 = B2 (or A1, A2 for the M2 workspace) holds an invalid point and valid ones."""
     m = M2
     rng = np.random.default_rng(5)
-    test = space_test(m, space, procedure)
+    test = m.box_test(space, procedure)
     for sx, sy in special_points(m, space):
         w = 10.0 ** rng.uniform(-9, 0, (500, 2))
         a = rng.uniform(0.05, 0.95, (500, 2))

@@ -1,44 +1,51 @@
-"""Golden outputs: `fivebar reproduce` regenerates every committed .qt and CSV file byte for byte.
+"""Golden outputs: `fivebar reproduce` regenerates every .qt and CSV file of tests/golden/.
 
-The committed files under outputs/ were written by `make reproduce` from the repository root; the
-test regenerates them from another working directory, so it also checks that nothing depends on
-the working directory, the time or the run. A changed tree is reported by `fivebar diff` (cells and
-area), a changed CSV by a unified diff.
+The golden files were written by `make golden` (`fivebar reproduce -o tests/golden --no-plot`);
+no command writes there by default, so running the documented examples cannot change them. The
+test regenerates them in-process from another working directory, so it also checks that nothing
+depends on the working directory, the time or the run.
+
+Trees must be byte-identical. CSV cells must be identical too, with one allowance: numbers may
+differ by a relative 1e-6 where the machine's libm differs (numpy's sin/cos take other SIMD paths
+on AVX-512 and AVX2 CPUs and differ in the last ulp). Only the 3-RPR optimisers feel it: the
+argmin of a flat objective is determined to about sqrt(machine epsilon), so rho_min_opt and what
+follows from it move by up to 1.3e-7 relative between an Intel AVX-512 and an AMD AVX2 machine.
+Every other column matches to the last digit; a real change moves numbers far more than 1e-6.
 """
 
 from __future__ import annotations
 
+import csv
 import difflib
-import subprocess
-import sys
+import math
 from pathlib import Path
 
 import pytest
+from click.testing import CliRunner
+
+from fivebar_cli.analyses.compare import compare
+from fivebar_cli.cli import cli
+from fivebar_cli.io.qtfile import read_qt
 
 ROOT = Path(__file__).resolve().parents[1]
-GOLDEN = ROOT / "outputs"
-GOLDEN_FILES = sorted(
-    p.relative_to(GOLDEN).as_posix() for p in GOLDEN.rglob("*") if p.suffix in (".qt", ".csv")
-)
-
-
-def fivebar(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "fivebar_cli", *args], cwd=cwd, capture_output=True, text=True)
+GOLDEN = ROOT / "tests" / "golden"
+GOLDEN_FILES = sorted(p.relative_to(GOLDEN).as_posix() for p in GOLDEN.rglob("*") if p.suffix in (".qt", ".csv"))
+RTOL = 1e-6
 
 
 @pytest.fixture(scope="module")
 def regenerated(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("reproduce")
     elsewhere = tmp_path_factory.mktemp("another-working-directory")
-    run = fivebar("reproduce", "--configs", str(ROOT / "configs"), "-o", str(out), "--no-plot", "--quiet", cwd=elsewhere)
-    assert run.returncode == 0, run.stderr
-    assert run.stdout == "" and run.stderr == ""  # --quiet: errors only
+    runner = CliRunner()
+    with pytest.MonkeyPatch.context() as mp:
+        mp.chdir(elsewhere)
+        result = runner.invoke(cli, ["reproduce", "--configs", str(ROOT / "configs"), "-o", str(out), "--no-plot",
+                                     "--quiet"], catch_exceptions=False)
+    assert result.exit_code == 0, result.output
+    assert result.output == ""  # --quiet: errors only
+    assert not list(elsewhere.iterdir())  # nothing written to the working directory
     return out
-
-
-def test_golden_outputs_are_committed():
-    assert len([f for f in GOLDEN_FILES if f.endswith(".qt")]) >= 48
-    assert "kratio.csv" in GOLDEN_FILES and "rpr3-table1/synthesis.csv" in GOLDEN_FILES
 
 
 def test_same_set_of_files(regenerated: Path):
@@ -47,15 +54,29 @@ def test_same_set_of_files(regenerated: Path):
     assert not list(regenerated.rglob("*.tmp")) and not list(regenerated.rglob(".*.tmp"))
 
 
+def _numbers_differ(old: str, new: str) -> bool:
+    try:
+        a, b = float(old), float(new)
+    except ValueError:
+        return old != new
+    return not math.isclose(a, b, rel_tol=RTOL, abs_tol=1e-12)
+
+
 @pytest.mark.parametrize("name", GOLDEN_FILES)
 def test_golden_file_unchanged(regenerated: Path, name: str):
     old, new = GOLDEN / name, regenerated / name
     if old.read_bytes() == new.read_bytes():
         return
     if name.endswith(".qt"):
-        report = fivebar("diff", str(old), str(new), cwd=ROOT)
-        pytest.fail(f"{name} changed (fivebar diff exit {report.returncode}):\n{report.stdout}{report.stderr}")
-    lines = difflib.unified_diff(
-        old.read_text().splitlines(), new.read_text().splitlines(), f"golden/{name}", f"new/{name}", lineterm=""
-    )
-    pytest.fail(f"{name} changed:\n" + "\n".join(list(lines)[:60]))
+        result = compare(read_qt(old), read_qt(new))
+        pytest.fail(f"{name} changed:\n" + "\n".join(result.report(f"golden/{name}", f"new/{name}")))
+    a, b = list(csv.reader(old.open())), list(csv.reader(new.open()))
+    bad = [] if len(a) == len(b) and a[0] == b[0] else [(1, "header or row count")]
+    for line, (ra, rb) in enumerate(zip(a[1:], b[1:]), start=2):
+        if len(ra) != len(rb):
+            bad.append((line, "cell count"))
+        bad += [(line, column) for column, x, y in zip(a[0], ra, rb) if _numbers_differ(x, y)]
+    if bad:
+        lines = difflib.unified_diff(old.read_text().splitlines(), new.read_text().splitlines(),
+                                     f"golden/{name}", f"new/{name}", lineterm="")
+        pytest.fail(f"{name} changed beyond rtol {RTOL} (line, column: {bad[:5]}):\n" + "\n".join(list(lines)[:60]))

@@ -16,7 +16,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from mpmath import iv, mp
 
-from fivebar_cli.interval import Interval, cos, hull, hypot, sin, sqr, sqrt
+from fivebar_cli.numerics.interval import Interval, cos, hull, hypot, sin, sqr, sqrt
 
 SETTINGS = settings(max_examples=150, deadline=None)
 INF = math.inf

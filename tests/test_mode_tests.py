@@ -24,10 +24,12 @@ from reference_kinematics import ref_dkp, ref_ikp, ref_reachable
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from fivebar_cli import fivebar
-from fivebar_cli.config import FiveBar
-from fivebar_cli.paving import pave
-from fivebar_cli.quadtree import Grid
+from fivebar_cli.mechanisms.fivebar import kinematics as kin
+from fivebar_cli.mechanisms.fivebar import modes
+from fivebar_cli.mechanisms.fivebar.model import FiveBar
+from fivebar_cli.numerics import ranges
+from fivebar_cli.paving.engine import pave
+from fivebar_cli.paving.grid import Grid
 
 M1 = FiveBar("M1", 9.0, 8.0, 5.0, 5.0, 8.0)  # section 3 of the paper
 M2 = FiveBar("M2", 2.55, 2.3, 2.3, 2.3, 2.3)
@@ -122,19 +124,19 @@ def test_library_point_kinematics_agree_with_reference(name):
     x, y = rng.uniform(-r, r, 20000), rng.uniform(-r, r, 20000)
     for wm in WORKING_MODES:
         th1, th2, u, v, t, ok = ref_ikp(m, x, y, wm)
-        l1, l2, lok = fivebar.ikp(m, x, y, wm)
+        l1, l2, lok = kin.ikp(m, x, y, wm)
         assert np.array_equal(lok, ok)
         wrap = lambda a: (a + math.pi) % TWO_PI - math.pi  # noqa: E731
         assert np.allclose(wrap(l1[ok] - th1[ok]), 0, atol=1e-7)
         assert np.allclose(wrap(l2[ok] - th2[ok]), 0, atol=1e-7)
-        lu, lv, lt = fivebar.mode_values(m, l1[ok], l2[ok], np.stack([x[ok], y[ok]], 1))
+        lu, lv, lt = kin.mode_values(m, l1[ok], l2[ok], np.stack([x[ok], y[ok]], 1))
         clear = (np.abs(u[ok]) > 1e-6) & (np.abs(v[ok]) > 1e-6) & (np.abs(t[ok]) > 1e-6)
         assert np.all(np.sign(lu[clear]) == wm[0]) and np.all(np.sign(lv[clear]) == wm[1])
         assert np.all(np.sign(lt[clear]) == np.sign(t[ok][clear]))
     th1, th2 = rng.uniform(-math.pi, math.pi, (2, 20000))
     for am in ASSEMBLY_MODES:
         x, y, u, v, t, ok = ref_dkp(m, th1, th2, am)
-        p, lok = fivebar.dkp(m, th1, th2, am)
+        p, lok = kin.dkp(m, th1, th2, am)
         assert np.array_equal(lok, ok)
         assert np.allclose(p[ok], np.stack([x, y], 1)[ok], atol=1e-7)
         assert np.all(np.sign(t[ok][np.abs(t[ok]) > 1e-6]) == am)
@@ -157,8 +159,8 @@ def mode_paving(name, space, mode):
     key = (name, space, mode)
     if key not in _PAVINGS:
         m = MECHS[name]
-        test = (fivebar.working_mode_workspace_test(m, mode) if space == "workspace"
-                else fivebar.assembly_mode_joint_test(m, mode))
+        test = (modes.working_mode_workspace_test(m, mode) if space == "workspace"
+                else modes.assembly_mode_joint_test(m, mode))
         _PAVINGS[key] = pave(_grid(m, space, DEPTH), test)
     return _PAVINGS[key]
 
@@ -185,12 +187,12 @@ def test_working_mode_black_cells_are_sound(name, wm):
     centre_t = ref_ikp(m, 0.5 * (lo[:, 0] + hi[:, 0]), 0.5 * (lo[:, 1] + hi[:, 1]), wm)[4]
     assert np.all(np.sign(t) == np.sign(centre_t)[owner])
     # the library's reading of the cell's assembly mode agrees
-    lib = fivebar.workspace_assembly_sign(m, wm, 0.5 * (lo + hi))
+    lib = modes.workspace_assembly_sign(m, wm, 0.5 * (lo + hi))
     assert np.array_equal(lib, np.sign(centre_t).astype(lib.dtype))
     # and so do its IKP and mode values, at every sample
-    l1, l2, lok = fivebar.ikp(m, pts[:, 0], pts[:, 1], wm)
+    l1, l2, lok = kin.ikp(m, pts[:, 0], pts[:, 1], wm)
     assert lok.all()
-    lu, lv, lt = fivebar.mode_values(m, l1, l2, pts)
+    lu, lv, lt = kin.mode_values(m, l1, l2, pts)
     assert np.all(np.sign(lu) == wm[0]) and np.all(np.sign(lv) == wm[1]) and np.all(np.sign(lt) == np.sign(t))
 
 
@@ -226,11 +228,11 @@ def test_assembly_mode_black_cells_are_sound(name, am):
     _, _, cu, cv, _, cok = ref_dkp(m, c[:, 0], c[:, 1], am)
     assert cok.all()
     assert np.all(np.sign(u) == np.sign(cu)[owner]) and np.all(np.sign(v) == np.sign(cv)[owner])
-    lib = fivebar.joint_working_mode(m, am, c)
+    lib = modes.joint_working_mode(m, am, c)
     assert np.array_equal(lib, np.stack([np.sign(cu), np.sign(cv)], 1).astype(lib.dtype))
-    p, lok = fivebar.dkp(m, pts[:, 0], pts[:, 1], am)
+    p, lok = kin.dkp(m, pts[:, 0], pts[:, 1], am)
     assert lok.all()
-    lu, lv, lt = fivebar.mode_values(m, pts[:, 0], pts[:, 1], p)
+    lu, lv, lt = kin.mode_values(m, pts[:, 0], pts[:, 1], p)
     assert np.all(np.sign(lt) == am) and np.all(np.sign(lu) == np.sign(u)) and np.all(np.sign(lv) == np.sign(v))
 
 
@@ -321,7 +323,7 @@ def boxes(draw, space):
 @given(box=boxes("workspace"), wm=st.sampled_from(WORKING_MODES))
 def test_working_mode_test_on_random_boxes(box, wm):
     m, lo, hi = box
-    status = int(fivebar.working_mode_workspace_test(m, wm)(lo, hi)[0])
+    status = int(modes.working_mode_workspace_test(m, wm)(lo, hi)[0])
     pts = _dense(lo[0], hi[0])
     th1, th2, u, v, t, ok = ref_ikp(m, pts[:, 0], pts[:, 1], wm)
     if status == 1:
@@ -339,7 +341,7 @@ def test_working_mode_test_on_random_boxes(box, wm):
 @given(box=boxes("jointspace"), am=st.sampled_from(ASSEMBLY_MODES))
 def test_assembly_mode_test_on_random_boxes(box, am):
     m, lo, hi = box
-    status = int(fivebar.assembly_mode_joint_test(m, am)(lo, hi)[0])
+    status = int(modes.assembly_mode_joint_test(m, am)(lo, hi)[0])
     pts = _dense(lo[0], hi[0])
     x, y, u, v, t, ok = ref_dkp(m, pts[:, 0], pts[:, 1], am)
     if status == 1:
@@ -357,15 +359,15 @@ def test_mode_tests_reach_both_verdicts_on_small_boxes():
     """The random-box properties are not vacuous: small boxes well inside get 1, far outside -1."""
     m = M1
     lo, hi = np.array([[4.8, 4.8]]), np.array([[4.9, 4.9]])  # the ++ configuration of (4.85, 4.85)
-    assert fivebar.working_mode_workspace_test(m, (1, 1))(lo, hi)[0] == 1
+    assert modes.working_mode_workspace_test(m, (1, 1))(lo, hi)[0] == 1
     lo, hi = np.array([[12.0, 12.0]]), np.array([[12.5, 12.5]])  # |P - A1| > 13
-    assert fivebar.working_mode_workspace_test(m, (1, 1))(lo, hi)[0] == -1
+    assert modes.working_mode_workspace_test(m, (1, 1))(lo, hi)[0] == -1
     # th1 = th2 = pi: B1 = (-8, 0), B2 = (4, 0), |B1B2| = 12 < 13, a non-degenerate triangle
     lo, hi = np.array([[3.1, 3.1]]), np.array([[3.12, 3.12]])
-    assert fivebar.assembly_mode_joint_test(m, 1)(lo, hi)[0] == 1
+    assert modes.assembly_mode_joint_test(m, 1)(lo, hi)[0] == 1
     # th1 = pi, th2 = 0: |B1B2| = 22 > 13
     lo, hi = np.array([[3.1, -0.01]]), np.array([[3.12, 0.01]])
-    assert fivebar.assembly_mode_joint_test(m, 1)(lo, hi)[0] == -1
+    assert modes.assembly_mode_joint_test(m, 1)(lo, hi)[0] == -1
 
 
 def test_isolated_parallel_singularity_of_m2_is_never_black():
@@ -379,7 +381,7 @@ def test_isolated_parallel_singularity_of_m2_is_never_black():
         for k in range(2, 30, 3):
             w = 2.0 ** -k
             for am in ASSEMBLY_MODES:
-                assert fivebar.assembly_mode_joint_test(m, am)(q[None] - w, q[None] + w)[0] == 0
+                assert modes.assembly_mode_joint_test(m, am)(q[None] - w, q[None] + w)[0] == 0
 
 
 # ---------------------------------------------------------------- helpers against brute force
@@ -399,7 +401,7 @@ def test_direction_range_against_sampled_atan2(a, b, c, d):
     xlo, xhi = min(a, b), max(a, b)
     ylo, yhi = min(c, d), max(c, d)
     assume(xhi - xlo > 1e-6 and yhi - ylo > 1e-6)
-    lo, hi = fivebar.direction_range(np.array([xlo]), np.array([xhi]), np.array([ylo]), np.array([yhi]))
+    lo, hi = ranges.direction_range(np.array([xlo]), np.array([xhi]), np.array([ylo]), np.array([yhi]))
     lo, hi = float(lo[0]), float(hi[0])
     contains_origin = xlo <= 0 <= xhi and ylo <= 0 <= yhi
     if contains_origin:
@@ -421,13 +423,13 @@ def test_direction_range_against_sampled_atan2(a, b, c, d):
 
 def test_direction_range_across_the_negative_x_axis():
     """A box straddling theta = +-pi: the range is one interval through pi, not [-pi, pi]."""
-    lo, hi = fivebar.direction_range(np.array([-2.0]), np.array([-1.0]), np.array([-0.5]), np.array([0.5]))
+    lo, hi = ranges.direction_range(np.array([-2.0]), np.array([-1.0]), np.array([-0.5]), np.array([0.5]))
     width = 2 * math.atan2(0.5, 1.0)  # seen from the origin under 2 atan(1/2)
     assert hi[0] - lo[0] == pytest.approx(width)
     mid = 0.5 * (lo[0] + hi[0])
     assert math.cos(mid) == pytest.approx(-1.0) and abs(math.sin(mid)) < 1e-12
     # a box touching the origin sees every direction
-    lo, hi = fivebar.direction_range(np.array([0.0]), np.array([1.0]), np.array([-1.0]), np.array([1.0]))
+    lo, hi = ranges.direction_range(np.array([0.0]), np.array([1.0]), np.array([-1.0]), np.array([1.0]))
     assert hi[0] - lo[0] == pytest.approx(TWO_PI)
 
 
@@ -439,7 +441,7 @@ def test_triangle_angle_range_against_law_of_cosines(adj, opp, f0, f1):
     s_lo = smin + min(f0, f1) * (smax - smin)
     s_hi = smin + max(f0, f1) * (smax - smin)
     assume(s_lo > 1e-6)
-    lo, hi = fivebar.triangle_angle_range(np.array([s_lo]), np.array([s_hi]), adj, opp)
+    lo, hi = ranges.triangle_angle_range(np.array([s_lo]), np.array([s_hi]), adj, opp)
     s = np.linspace(s_lo, s_hi, 2001)
     c = adj * adj - opp * opp
     if c > 0 and s_lo <= math.sqrt(c) <= s_hi:
@@ -455,16 +457,16 @@ def test_triangle_angle_range_against_law_of_cosines(adj, opp, f0, f1):
 
 def test_triangle_angle_range_closed_forms():
     # equilateral: the angle is pi/3 at s = adj = opp
-    lo, hi = fivebar.triangle_angle_range(np.array([2.0]), np.array([2.0]), 2.0, 2.0)
+    lo, hi = ranges.triangle_angle_range(np.array([2.0]), np.array([2.0]), 2.0, 2.0)
     assert lo[0] == pytest.approx(math.pi / 3) and hi[0] == pytest.approx(math.pi / 3)
     # right angle opposite to opp when s^2 + adj^2 = opp^2 (3-4-5)
-    lo, hi = fivebar.triangle_angle_range(np.array([4.0]), np.array([4.0]), 3.0, 5.0)
+    lo, hi = ranges.triangle_angle_range(np.array([4.0]), np.array([4.0]), 3.0, 5.0)
     assert lo[0] == pytest.approx(math.pi / 2)
     # s over the whole closing range |a - o| .. a + o with a < o: from pi (folded) to 0 (stretched)
-    lo, hi = fivebar.triangle_angle_range(np.array([2.0]), np.array([8.0]), 3.0, 5.0)
+    lo, hi = ranges.triangle_angle_range(np.array([2.0]), np.array([8.0]), 3.0, 5.0)
     assert lo[0] == pytest.approx(0.0, abs=1e-7) and hi[0] == pytest.approx(math.pi)
     # a > o: the largest angle is asin(o / a), reached at s = sqrt(a^2 - o^2) (tangent)
-    lo, hi = fivebar.triangle_angle_range(np.array([3.0]), np.array([13.0]), 8.0, 5.0)
+    lo, hi = ranges.triangle_angle_range(np.array([3.0]), np.array([13.0]), 8.0, 5.0)
     assert hi[0] == pytest.approx(math.asin(5 / 8)) and lo[0] == pytest.approx(0.0, abs=1e-7)
 
 
@@ -476,7 +478,7 @@ def test_sin_sign_against_brute_force(lo, width, margin):
     # stay clear of the ambiguous case where an end is within rounding of a multiple of pi
     for end in (a, b):
         assume(abs(end / math.pi - round(end / math.pi)) > 1e-9)
-    got = int(fivebar.sin_sign(np.array([lo]), np.array([hi]), margin)[0])
+    got = int(ranges.sin_sign(np.array([lo]), np.array([hi]), margin)[0])
     k = math.ceil(a / math.pi)
     contains_zero = k * math.pi <= b
     if contains_zero:
@@ -491,7 +493,7 @@ def test_sin_sign_against_brute_force(lo, width, margin):
 def test_sin_sign_examples():
     lo = np.array([0.1, 3.2, -3.0, 3.0, -0.1, 6.4, 1.0])
     hi = np.array([3.0, 6.2, -0.2, 3.3, 0.1, 9.3, 1.0])
-    assert fivebar.sin_sign(lo, hi).tolist() == [1, -1, -1, 0, 0, 1, 1]
+    assert ranges.sin_sign(lo, hi).tolist() == [1, -1, -1, 0, 0, 1, 1]
     # the margin reaches across pi
-    assert fivebar.sin_sign(np.array([0.1]), np.array([math.pi - 1e-9]), 1e-8)[0] == 0
-    assert fivebar.sin_sign(np.array([0.1]), np.array([math.pi - 1e-6]), 1e-8)[0] == 1
+    assert ranges.sin_sign(np.array([0.1]), np.array([math.pi - 1e-9]), 1e-8)[0] == 0
+    assert ranges.sin_sign(np.array([0.1]), np.array([math.pi - 1e-6]), 1e-8)[0] == 1

@@ -12,10 +12,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import M1, M2, tree_to_bool
-from fivebar_cli import spaces
-from fivebar_cli.fivebar import space_test
-from fivebar_cli.paving import box_pad, pave, refine, undetermined_cells
-from fivebar_cli.quadtree import Grid, Tree
+from fivebar_cli.analyses import spaces
+from fivebar_cli.paving.engine import box_pad, pave, refine, undetermined_cells
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree
 
 
 # ---------------------------------------------------------------- synthetic box tests
@@ -191,7 +191,7 @@ REFINE_PAIRS = [(0, 4), (3, 7), (5, 8), (6, 6), (2, 9), (7, 10)]
 @pytest.mark.parametrize("space", ["jointspace", "workspace"])
 def test_refine_equals_a_fresh_paving(name, space):
     m = {"M1": M1, "M2": M2}[name]
-    test = space_test(m, space, "exact")
+    test = m.box_test(space, "exact")
     for d1, d2 in REFINE_PAIRS:
         old = spaces.pave_space(m, space, d1)
         new = refine(old.inside, old.outside, test, d2)
@@ -206,7 +206,7 @@ def test_refine_equals_a_fresh_paving(name, space):
 
 
 def test_refine_with_the_paper_procedure_and_twice_in_a_row():
-    test = space_test(M1, "workspace", "paper")
+    test = M1.box_test("workspace", "paper")
     a = spaces.pave_space(M1, "workspace", 4, "paper")
     b = refine(a.inside, a.outside, test, 6)
     c = refine(b.inside, b.outside, test, 9)

@@ -13,8 +13,9 @@ from hypothesis import strategies as st
 
 from conftest import cells_of, ref_encode, tree_to_bool
 from fivebar_cli.errors import InputError
-from fivebar_cli.qtfile import QtFile, format_qt, parse_qt, read_qt, write_qt
-from fivebar_cli.quadtree import Grid, Tree
+from fivebar_cli.io.qtfile import QtFile, format_qt, parse_qt, read_qt, write_qt
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree
 
 WS_ROOT = ((-13.0, 13.0), (-13.0, 13.0))
 JS_ROOT = ((-math.pi, math.pi), (-math.pi, math.pi))

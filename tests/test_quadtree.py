@@ -19,7 +19,8 @@ from conftest import (
     tree_to_bool,
     upsample,
 )
-from fivebar_cli.quadtree import BodyError, Grid, Tree
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import BodyError, Tree
 
 SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 DYADIC_ROOT = ((-13.0, 13.0), (-13.0, 13.0))  # 26^2 / 4^D is exact: areas compare with ==

@@ -43,9 +43,12 @@ import yaml
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from fivebar_cli.config import ConfigError, FiveBar, Rpr3, load_config
 from fivebar_cli.errors import InputError
-from fivebar_cli.qtfile import MAGIC, WRAP, format_qt, parse_qt, read_qt
+from fivebar_cli.io.qtfile import MAGIC, WRAP, format_qt, parse_qt, read_qt
+from fivebar_cli.io.schema import ConfigError
+from fivebar_cli.mechanisms.fivebar.model import FiveBar
+from fivebar_cli.mechanisms.registry import load_config
+from fivebar_cli.mechanisms.rpr3.model import Rpr3
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIGS = REPO / "configs"
@@ -60,7 +63,7 @@ ENV.update(PYTHONPATH=str(REPO), MPLBACKEND="Agg")
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 PNG_END = b"IEND\xaeB`\x82"
-TMP_NAME = re.compile(r"^\.(?P<target>.+)\.[A-Za-z0-9_]+\.tmp$")  # outputs.atomic_write: .<name>.<hex>.tmp
+TMP_NAME = re.compile(r"^\.(?P<target>.+)\.[A-Za-z0-9_]+\.tmp$")  # files.atomic_write: .<name>.<hex>.tmp
 
 
 def tiny_png() -> bytes:
@@ -960,10 +963,10 @@ def test_sigkill_keeps_the_old_trees_until_replaced(killed_aspects):
 
 @pytest.fixture(scope="module")
 def killed_reproduce(tmp_path_factory):
-    """`reproduce` (with figures) SIGKILLed while it rewrites a copy of the committed outputs/."""
+    """`reproduce` (with figures) SIGKILLed while it rewrites a copy of the golden outputs (tests/golden)."""
     root = tmp_path_factory.mktemp("killed-reproduce")
     old = root / "old"
-    shutil.copytree(REPO / "outputs", old, ignore=shutil.ignore_patterns(".*"))
+    shutil.copytree(REPO / "tests" / "golden", old, ignore=shutil.ignore_patterns(".*"))
     before = snapshot(old)
 
     def one(i_trigger):
@@ -1038,22 +1041,22 @@ def test_ctrl_c_prints_exactly_one_line(interrupted_by_ctrl_c):
 
 def test_ctrl_c_while_writing_removes_the_temporary_file(tmp_path, monkeypatch):
     """KeyboardInterrupt inside the write (here: in fsync) leaves the old file and no temporary file."""
-    from fivebar_cli import outputs
+    from fivebar_cli.io import files
 
     def interrupted_fsync(fd):
         raise KeyboardInterrupt
 
     target = tmp_path / "table.csv"
     target.write_text("old\n")
-    monkeypatch.setattr(outputs.os, "fsync", interrupted_fsync)
+    monkeypatch.setattr(files.os, "fsync", interrupted_fsync)
     with pytest.raises(KeyboardInterrupt):
-        outputs.write_text(target, "new\n")
+        files.write_text(target, "new\n")
     monkeypatch.undo()
     assert target.read_text() == "old\n" and [p.name for p in tmp_path.iterdir()] == ["table.csv"]
 
 
 def test_ctrl_c_right_after_the_temporary_file_is_created(tmp_path, monkeypatch):
-    from fivebar_cli import outputs
+    from fivebar_cli.io import files
 
     real_open = os.open
 
@@ -1064,9 +1067,9 @@ def test_ctrl_c_right_after_the_temporary_file_is_created(tmp_path, monkeypatch)
 
     target = tmp_path / "table.csv"
     target.write_text("old\n")
-    monkeypatch.setattr(outputs.os, "open", open_then_ctrl_c)
+    monkeypatch.setattr(files.os, "open", open_then_ctrl_c)
     with pytest.raises(KeyboardInterrupt):
-        outputs.write_text(target, "new\n")
+        files.write_text(target, "new\n")
     monkeypatch.undo()
     assert target.read_text() == "old\n"
     assert [p.name for p in tmp_path.iterdir()] == ["table.csv"], "a temporary file was left"

@@ -10,8 +10,10 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from fivebar_cli import rpr3
-from fivebar_cli.cli_rpr3 import rpr3 as group
+from fivebar_cli.cli.rpr3 import rpr3 as group
+from fivebar_cli.mechanisms.rpr3 import closed_form as rpr3
+from fivebar_cli.mechanisms.rpr3 import paper as rpr3_paper
+from fivebar_cli.mechanisms.rpr3 import synthesis
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = ROOT / "configs"
@@ -89,7 +91,7 @@ def test_area_csv_values_and_determinism(tmp_path):
     header, rows = read(tmp_path / "a" / "area.csv")
     assert header == ["phi_deg", "rho_min", "rho_max", "area"]
     phi, rho_min, rho_max, area = map(float, rows[0])
-    t = rpr3.PAPER_SETUP[:3]
+    t = rpr3_paper.PAPER_SETUP[:3]
     assert (phi, rho_min) == (45.0, 0.2)
     assert rho_max == pytest.approx(float(rpr3.rho_max_auto(*t, 0.6, math.radians(45), 0.2)), rel=1e-9)
     assert area == pytest.approx(float(rpr3.area(*t, 0.6, math.radians(45), 0.2, rho_max)), rel=1e-9)
@@ -103,9 +105,9 @@ def test_area_over_a_range_uses_one_rho_max_and_default_folder(tmp_path, monkeyp
     result = invoke("area", CONFIGS / "rpr3-table1.yaml", "--no-plot")
     header, rows = read(tmp_path / "outputs" / "rpr3-table1" / "area.csv")
     assert [float(r[0]) for r in rows] == [100.0, 165.0]
-    assert rows[0][2] == rows[1][2] and float(rows[0][2]) == pytest.approx(rpr3.PAPER_TABLE1[1][1], abs=1e-6)
-    assert float(rows[0][3]) == pytest.approx(rpr3.PAPER_TABLE1[1][2], abs=1.5e-6)
-    assert float(rows[1][3]) == pytest.approx(rpr3.PAPER_TABLE1[1][3], abs=1.5e-6)
+    assert rows[0][2] == rows[1][2] and float(rows[0][2]) == pytest.approx(rpr3_paper.PAPER_TABLE1[1][1], abs=1e-6)
+    assert float(rows[0][3]) == pytest.approx(rpr3_paper.PAPER_TABLE1[1][2], abs=1.5e-6)
+    assert float(rows[1][3]) == pytest.approx(rpr3_paper.PAPER_TABLE1[1][3], abs=1.5e-6)
     assert "singularity circle" in result.output
 
 

@@ -6,10 +6,9 @@ from __future__ import annotations
 import pytest
 
 from conftest import M1, M2
-from fivebar_cli import tables
-from fivebar_cli.paving import pave
-from fivebar_cli.spaces import grid as space_grid
-from fivebar_cli.fivebar import space_test
+from fivebar_cli.analyses import kratio
+from fivebar_cli.mechanisms.fivebar import paper as fb_paper
+from fivebar_cli.paving.engine import pave
 
 # Chablat (2010), Table 1, typed from the paper (percent, depths 5..10)
 PRINTED = {
@@ -25,7 +24,7 @@ TARGETS_D10 = {("workspace", "M1"): 22_500, ("jointspace", "M1"): 19_700,
 
 @pytest.fixture(scope="module")
 def rows():
-    return tables.kratio_rows([M1, M2], DEPTHS)
+    return kratio.kratio_rows([M1, M2], DEPTHS)
 
 
 def row(rows, space, name, depth):
@@ -35,17 +34,17 @@ def row(rows, space, name, depth):
 
 def test_paper_table_constant_is_the_printed_table():
     lengths = {"M1": (9.0, 8.0, 5.0, 5.0, 8.0), "M2": (2.55, 2.3, 2.3, 2.3, 2.3)}
-    assert tables.PAPER_DEPTHS == tuple(DEPTHS)
+    assert fb_paper.PAPER_DEPTHS == tuple(DEPTHS)
     for (space, name), values in PRINTED.items():
-        assert tables.PAPER_TABLE1[space, lengths[name]] == values
-    assert len(tables.PAPER_TABLE1) == 4
+        assert fb_paper.PAPER_TABLE1[space, lengths[name]] == values
+    assert len(fb_paper.PAPER_TABLE1) == 4
 
 
 def test_rows_cover_spaces_mechanisms_depths_in_order(rows):
     keys = [(r["space"], r["mechanism"], r["depth"]) for r in rows]
     assert keys == [(s, n, d) for s in ("jointspace", "workspace") for n in ("M1", "M2") for d in DEPTHS]
     for r in rows:
-        assert set(r) == set(tables.HEADER)
+        assert set(r) == set(kratio.HEADER)
         assert r["discretization"] == 4 ** r["depth"]
         assert r["K"] == r["evaluations"] / 4 ** r["depth"]
         assert r["paper_procedure_K"] == r["paper_procedure_evaluations"] / 4 ** r["depth"]
@@ -59,7 +58,7 @@ def test_the_papers_procedure_reproduces_every_printed_percent(rows, space, name
     for depth, printed in zip(DEPTHS, PRINTED[space, name]):
         r = row(rows, space, name, depth)
         assert r["paper_printed_percent"] == printed
-        assert tables.printed_form(r["paper_procedure_evaluations"] / 4**depth) == printed
+        assert kratio.printed_form(r["paper_procedure_evaluations"] / 4**depth) == printed
         assert r["paper_procedure_percent"] == printed
 
 
@@ -68,13 +67,13 @@ def test_paper_count_for_the_m1_workspace_at_depth_10(rows):
     assert row(rows, "workspace", "M1", 10)["paper_procedure_evaluations"] == 36893
     # recount with a counting wrapper around the paper's box test: every call's boxes add up
     calls = []
-    inner = space_test(M1, "workspace", "paper")
+    inner = M1.box_test("workspace", "paper")
 
     def counting(lo, hi):
         calls.append(len(lo))
         return inner(lo, hi)
 
-    assert pave(space_grid(M1, "workspace", 10), counting).evaluations == sum(calls) == 36893
+    assert pave(M1.spaces()["workspace"].grid(10), counting).evaluations == sum(calls) == 36893
 
 
 @pytest.mark.parametrize("space, name", list(PRINTED))
@@ -92,21 +91,21 @@ def test_depth_10_targets(rows, space, name):
 
 def test_printed_form_rule():
     """Percent to one decimal, decimal dropped: 8.97 % prints as 9, 25.91 % as 25, 111.3 % as 111."""
-    assert tables.printed_form(0.0897) == 9
-    assert tables.printed_form(0.2591) == 25
-    assert tables.printed_form(1.113) == 111
-    assert tables.printed_form(0.0294) == 2
-    assert tables.printed_form(0.0299) == 3  # 2.99 rounds to 3.0 first
-    assert tables.printed_form(0.03) == 3
-    assert tables.printed_form(0.0) == 0
+    assert kratio.printed_form(0.0897) == 9
+    assert kratio.printed_form(0.2591) == 25
+    assert kratio.printed_form(1.113) == 111
+    assert kratio.printed_form(0.0294) == 2
+    assert kratio.printed_form(0.0299) == 3  # 2.99 rounds to 3.0 first
+    assert kratio.printed_form(0.03) == 3
+    assert kratio.printed_form(0.0) == 0
 
 
 def test_printed_percent_only_for_the_papers_mechanisms():
-    from fivebar_cli.config import FiveBar
+    from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
-    assert tables.printed_percent(M1, "workspace", 10) == 3
-    assert tables.printed_percent(M2, "jointspace", 5) == 111
-    assert tables.printed_percent(M1, "workspace", 11) is None
-    assert tables.printed_percent(FiveBar("X", 9.0, 8.0, 5.0, 5.0, 7.0), "workspace", 10) is None
-    rows = tables.kratio_rows([FiveBar("X", 9.0, 8.0, 5.0, 5.0, 7.0)], [4])
+    assert fb_paper.printed_percent(M1, "workspace", 10) == 3
+    assert fb_paper.printed_percent(M2, "jointspace", 5) == 111
+    assert fb_paper.printed_percent(M1, "workspace", 11) is None
+    assert fb_paper.printed_percent(FiveBar("X", 9.0, 8.0, 5.0, 5.0, 7.0), "workspace", 10) is None
+    rows = kratio.kratio_rows([FiveBar("X", 9.0, 8.0, 5.0, 5.0, 7.0)], [4])
     assert [r["paper_printed_percent"] for r in rows] == ["", ""]

@@ -1,0 +1,103 @@
+"""Crossings: which generalized aspects of one assembly mode touch across one serial singularity.
+
+Undetermined joint-space cells certified free of parallel singularities and of every serial
+singularity but one (B22 != 0, say) are crossed only by that one (B11 = 0); a face-connected band
+of them touching two aspects is a motion between these aspects that changes the working mode once
+(one sign of the diagonal of B).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from dataclasses import dataclass
+
+from fivebar_cli.mechanisms.base import AspectModel
+from fivebar_cli.paving.tree import Tree
+
+
+@dataclass(frozen=True)
+class Crossing:
+    """Aspects `a` < `b` (same assembly mode) joined across the serial singularity `singularity`."""
+
+    a: int
+    b: int
+    assembly: int
+    singularity: str  # the name of the serial singularity crossed, e.g. "B11"
+    band_cells: int
+
+
+def find_crossings(model: AspectModel, regions, aspects, node_aspect: np.ndarray) -> list[Crossing]:
+    """Aspect pairs joined by a band of cells crossed by one serial singularity only (`regions`:
+    the mode regions of `aspects.py`, `node_aspect`: the aspect number of each of their components)."""
+    modes = {a.number: (*a.working, a.assembly) for a in aspects}
+    found: dict[tuple, int] = {}
+    for region in regions:
+        if region.space != "jointspace" or not len(region.paving.undetermined):
+            continue
+        grid, cells = region.paving.grid, region.paving.undetermined
+        lo, hi = grid.boxes(grid.depth, cells)
+        strict, signs = model.serial_band_signs(region.assembly, lo, hi)
+        for changing, name in enumerate(model.serial_names):  # the one sign that changes across the band
+            others = np.delete(signs, changing, axis=1)
+            band = strict & (signs[:, changing] == 0) & np.all(others != 0, axis=1)
+            if not band.any():
+                continue
+            band_tree = Tree.from_cells(grid, grid.depth, cells[band])
+            labels, count = band_tree.components()
+            size = np.bincount(labels, minlength=count)
+            i, j = band_tree.adjacency(region.tree)
+            touched = np.unique(np.column_stack([labels[i], node_aspect[region.offset + region.labels[j]]]), axis=0)
+            starts = np.flatnonzero(np.r_[True, touched[1:, 0] != touched[:-1, 0]])
+            for comp_rows in np.split(touched, starts[1:]):
+                numbers = comp_rows[:, 1]
+                for x in numbers:
+                    for y in numbers[numbers > x]:
+                        mx, my = modes[int(x)], modes[int(y)]
+                        if mx[changing] != my[changing] and _same_but(mx, my, changing):
+                            key = (int(x), int(y), region.assembly, name)
+                            found[key] = found.get(key, 0) + int(size[comp_rows[0, 0]])
+    return [Crossing(a, b, am, name, n) for (a, b, am, name), n in sorted(found.items())]
+
+
+def _same_but(a, b, k: int) -> bool:
+    """Whether two mode vectors agree everywhere except (possibly) at working sign k."""
+    return all(x == y for i, (x, y) in enumerate(zip(a, b)) if i != k)
+
+
+def adjacency_matrix(aspects, crossings: list[Crossing], assembly: int) -> tuple[list[int], np.ndarray]:
+    """Aspect numbers of an assembly mode and their crossing adjacency (boolean matrix)."""
+    numbers = [a.number for a in aspects if a.assembly == assembly]
+    index = {n: k for k, n in enumerate(numbers)}
+    adj = np.zeros((len(numbers), len(numbers)), bool)
+    for c in crossings:
+        if c.assembly == assembly:
+            adj[index[c.a], index[c.b]] = adj[index[c.b], index[c.a]] = True
+    return numbers, adj
+
+
+def is_complete_bipartite_2_3(aspects, crossings: list[Crossing], assembly: int) -> bool:
+    """Whether the crossing graph of an assembly mode is K_{2,3}: five aspects, two of which each
+    touch the other three, and no other pair touches (the paper's claim, section 3.6)."""
+    numbers, adj = adjacency_matrix(aspects, crossings, assembly)
+    if len(numbers) != 5:
+        return False
+    for pair in ((i, j) for i in range(5) for j in range(i + 1, 5)):
+        two = list(pair)
+        three = [k for k in range(5) if k not in two]
+        expected = np.zeros((5, 5), bool)
+        for a in two:
+            for b in three:
+                expected[a, b] = expected[b, a] = True
+        if np.array_equal(adj, expected):
+            return True
+    return False
+
+
+def paper_claim_verdict(aspects, crossings: list[Crossing], assembly: int) -> str:
+    """The five-bar paper's claim of section 3.6 for one assembly mode: 'holds', 'does NOT hold',
+    or why it cannot be compared."""
+    count = sum(a.assembly == assembly for a in aspects)
+    if count != 5:
+        return f"not comparable ({count} aspects, the paper has 5)"
+    return "holds" if is_complete_bipartite_2_3(aspects, crossings, assembly) else "does NOT hold"

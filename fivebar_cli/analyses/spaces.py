@@ -1,0 +1,126 @@
+"""A space of any mechanism as a certified paving: pave it, write it, read it back, deepen it.
+
+The glue between the mechanism kinds (their spaces and box tests), the paving engine and the
+files, kept out of the CLI so that scripts and tests can call it directly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from fivebar_cli.errors import InputError
+from fivebar_cli.io.files import write_csv
+from fivebar_cli.io.layout import paving_paths, sibling_paths
+from fivebar_cli.io.qtfile import QtFile, read_qt, write_qt
+from fivebar_cli.mechanisms.base import Mechanism
+from fivebar_cli.mechanisms.registry import from_description
+from fivebar_cli.paving.engine import Paving, pave, refine
+
+SUMMARY_HEADER = (
+    "space", "name", "procedure", "depth", "evaluations", "K", "inside_area", "undetermined_area",
+    "outside_area", "inside_cells", "outside_cells", "undetermined_cells", "exact_area",
+)
+
+
+def k_ratio(evaluations: int, dim: int, depth: int) -> float:
+    """The paper's K: evaluations over the number of cells of the dense grid, 2^(dim depth)."""
+    return evaluations / 2.0 ** (dim * depth)
+
+
+def pave_space(m: Mechanism, space: str, depth: int, procedure: str = "exact", on_level=None) -> Paving:
+    """Certified paving of one space of `m` to `depth`."""
+    return pave(m.spaces()[space].grid(depth), m.box_test(space, procedure), on_level)
+
+
+def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations: int) -> dict:
+    """Header fields of a paving's .qt files; `mechanism`, `procedure` and `evaluations` let
+    `refine` resume it; trees of three or more axes also name their axes and units."""
+    s = m.spaces()[space]
+    fields = {"name": m.name, "space": space, "region": s.region, "colour": colour}
+    if s.dim > 2:
+        fields["axes"] = s.axes_header()
+    fields.update(mechanism=m.describe(), procedure=procedure, evaluations=evaluations)
+    return fields
+
+
+def write_paving(folder: Path, m: Mechanism, space: str, paving: Paving, procedure: str,
+                 evaluations: int) -> list[Path]:
+    """`<space>.qt`, `<space>.complement.qt` and `<space>.csv` (the summary row).
+
+    `evaluations` counts every box tested to reach this paving (with those of a refined run).
+    """
+    inside_path, outside_path = paving_paths(folder, space)
+    return [
+        write_qt(inside_path, paving.inside, **qt_fields(m, space, "inside", procedure, evaluations)),
+        write_qt(outside_path, paving.outside, **qt_fields(m, space, "outside", procedure, evaluations)),
+        write_csv(folder / f"{space}.csv", SUMMARY_HEADER, [summary_row(m, space, procedure, paving, evaluations)]),
+    ]
+
+
+def summary_row(m: Mechanism, space: str, procedure: str, paving: Paving, evaluations: int) -> tuple:
+    """One CSV row; `exact_area` is the closed-form measure of the set, when one is known."""
+    grid = paving.grid
+    exact = m.exact_measure(space)
+    return (
+        space, m.name, procedure, grid.depth, evaluations, k_ratio(evaluations, grid.dim, grid.depth),
+        paving.inside.area, paving.undetermined_area, paving.outside.area,
+        len(paving.inside), len(paving.outside), len(paving.undetermined),
+        "" if exact is None else exact,
+    )
+
+
+@dataclass(frozen=True)
+class SavedPaving:
+    """A pair of .qt files read back, with what is needed to resume the paving."""
+
+    mechanism: Mechanism
+    space: str
+    procedure: str
+    evaluations: int
+    inside: QtFile
+    outside: QtFile
+    source: str = ""
+
+
+def load_saved(path: str | Path) -> SavedPaving:
+    """Read a paving pair from either of its files and check that the two files belong together."""
+    inside_path, outside_path = sibling_paths(Path(path))
+    inside, outside = read_qt(inside_path), read_qt(outside_path)
+    for qt, colour, p in ((inside, "inside", inside_path), (outside, "outside", outside_path)):
+        if qt.get("colour", colour) != colour:
+            raise InputError(str(p), "colour", f"expected '{colour}', got {qt.get('colour')!r}")
+    for key in ("mechanism", "space", "region", "procedure", "evaluations"):
+        if inside.get(key) != outside.get(key):
+            raise InputError(str(outside_path), key, f"does not match {inside_path.name} "
+                             f"({outside.get(key)!r} vs {inside.get(key)!r})")
+    if inside.tree.grid != outside.tree.grid:
+        raise InputError(str(outside_path), "root/depth/periodic", f"does not match {inside_path.name}")
+    source = str(inside_path)
+    mechanism = from_description(inside.get("mechanism"), inside.get("name", "unnamed") or "unnamed", source)
+    space = inside.get("space")
+    spaces = mechanism.spaces()
+    if space not in spaces or inside.get("region") != spaces[space].region:
+        raise InputError(source, "space", f"cannot resume a paving of space {space!r}, region {inside.get('region')!r}")
+    procedure = inside.get("procedure", "exact")
+    if procedure not in mechanism.procedures:
+        raise InputError(source, "procedure", f"unknown procedure {procedure!r}")
+    expected = spaces[space].grid(inside.tree.grid.depth)
+    if expected != inside.tree.grid:
+        raise InputError(source, "root", "the root box does not match the mechanism's "
+                         f"{space} root {expected.root}")
+    try:
+        evaluations = int(inside.get("evaluations", "0"))
+    except ValueError:
+        raise InputError(source, "evaluations", f"expected an integer, got {inside.get('evaluations')!r}") from None
+    pair = f"{inside_path} + {outside_path.name}"
+    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair)
+
+
+def refine_saved(saved: SavedPaving, depth: int, on_level=None) -> Paving:
+    """Deepen a saved paving, testing only its undetermined cells."""
+    test = saved.mechanism.box_test(saved.space, saved.procedure)
+    try:
+        return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level)
+    except ValueError as exc:  # the two trees do not form a paving (overlap, gaps above the depth)
+        raise InputError(saved.source, "", f"{exc}") from None

@@ -1,0 +1,75 @@
+"""Pieces shared by the click commands: common options, progress bars, reporting, figures."""
+
+from __future__ import annotations
+
+import sys
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Iterator
+
+import click
+
+from fivebar_cli.io.files import ensure_dir, save_figure
+from fivebar_cli.io.layout import output_dir
+
+MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need several GiB
+MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
+
+CONFIG = click.Path(path_type=Path, dir_okay=False)
+
+
+def common_options(func):
+    """`-o/--out DIR`, `--no-plot`, `--quiet`: the options every analysis command takes."""
+    func = click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors; no progress bar.")(func)
+    func = click.option("--no-plot", is_flag=True, help="Skip the PNG figures (faster).")(func)
+    func = click.option(
+        "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+        help="Output folder [default: outputs/<config name>/].",
+    )(func)
+    return func
+
+
+def depth_option(default: int = 10, limit: int = MAX_DEPTH):
+    return click.option("--depth", "-d", type=click.IntRange(0, limit), default=default, show_default=True,
+                        help=f"Maximum depth d of the tree (cells are root/2^d wide; 0..{limit}).")
+
+
+def prepare_out(out: Path | None, name: str) -> Path:
+    """Resolve and create the output folder (outputs/<name>/ unless --out is given)."""
+    return ensure_dir(output_dir(out, name))
+
+
+def report(quiet: bool, message: str) -> None:
+    """A line of the run summary on stdout (silent with --quiet)."""
+    if not quiet:
+        click.echo(message)
+
+
+def wrote(quiet: bool, paths) -> None:
+    """List written files, relative where possible (stable and short)."""
+    for path in paths:
+        report(quiet, f"  wrote {path}")
+
+
+def figure(make, path: Path) -> Path:
+    """Draw a figure with `make()`, save it atomically as PNG, free it."""
+    from fivebar_cli.plotting import pyplot
+
+    fig = make()
+    try:
+        return save_figure(fig, path)
+    finally:
+        pyplot().close(fig)
+
+
+@contextmanager
+def progress(quiet: bool, length: int, label: str) -> Iterator:
+    """A progress bar on stderr, silent with --quiet or when stderr is not a terminal.
+
+    Yields a callable `advance(n=1)`.
+    """
+    if quiet or not sys.stderr.isatty():
+        yield lambda n=1: None
+        return
+    with click.progressbar(length=length, label=label, file=sys.stderr, show_eta=True) as bar:
+        yield bar.update

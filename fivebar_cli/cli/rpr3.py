@@ -1,0 +1,312 @@
+"""`fivebar rpr3 area | sweep | synthesize`: the 3-RPR with similar base and platform (Jiang & Gosselin)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import click
+import numpy as np
+
+from fivebar_cli.cli.options import common_options, figure, prepare_out, progress, report, wrote
+from fivebar_cli.io.files import write_csv
+from fivebar_cli.io.schema import ConfigError
+from fivebar_cli.mechanisms.registry import load_config
+from fivebar_cli.mechanisms.rpr3 import closed_form as geo
+from fivebar_cli.mechanisms.rpr3 import paper, sweeps
+from fivebar_cli.mechanisms.rpr3.model import Rpr3, reaches_singular_orientation
+from fivebar_cli.mechanisms.rpr3.synthesis import OBJECTIVES, synthesize
+
+CONFIG = click.Path(path_type=Path)
+
+
+def load_rpr3(path) -> Rpr3:
+    return load_config(path, kind="rpr3")
+
+
+def _figure(make, path: Path, paths: list) -> None:
+    paths.append(figure(make, path))
+
+
+def _check_phis(values, where: str) -> None:
+    """Orientations (degrees) must avoid the multiples of 180, where the whole plane is singular."""
+    if not all(math.isfinite(v) for v in values):
+        raise click.BadParameter("orientations must be finite numbers", param_hint=where)
+    if reaches_singular_orientation(min(values), max(values)):
+        raise click.BadParameter("orientations must not reach a multiple of 180 degrees (singular everywhere)",
+                                 param_hint=where)
+
+
+@click.group()
+def rpr3() -> None:
+    """3-RPR with similar base and platform: singularity-free workspace, its exact area, synthesis.
+
+    \b
+    Examples:
+      fivebar rpr3 area configs/rpr3-equilateral.yaml
+      fivebar rpr3 sweep configs/rpr3-acute.yaml configs/rpr3-equilateral.yaml configs/rpr3-obtuse.yaml --over phi
+      fivebar rpr3 synthesize configs/rpr3-table1.yaml
+    """
+
+
+# ---------------------------------------------------------------- area
+
+
+@rpr3.command("area", short_help="Exact area of the singularity-free workspace (figures 2, 9).")
+@click.argument("config", type=CONFIG)
+@common_options
+def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None:
+    """Exact area of the singularity-free workspace W at phi (or at both ends of phi_range).
+
+    W is the part inside the singularity circle of the intersection of the three annuli
+    rho_min <= |X - C_i| <= rho_max. Writes area.csv (phi_deg,rho_min,rho_max,area) and
+    singularity-free-workspace.png (the construction of the paper's figures 2 and 9).
+
+    \b
+    Example:
+      fivebar rpr3 area configs/rpr3-equilateral.yaml -o out/equilateral
+    """
+    mech = load_rpr3(config)
+    t = mech.design
+    _, rho_max, auto = mech.leg_range()
+    phis = sorted(set(mech.phi_range))
+    folder = prepare_out(out, mech.name)
+    report(quiet, f"{mech.name}: base t = ({mech.t1:g}, {mech.t2:g}, {mech.t3:g}), k = {mech.k:g}")
+    if auto:
+        if math.isinf(rho_max):
+            report(quiet, "  rho_max auto = inf: every point of the singularity circle is within rho_min of some C_i")
+        else:
+            report(quiet, f"  rho_max auto = {rho_max:.9g} (largest singularity-free value)")
+    else:
+        limit = mech.rho_max_limit()
+        if rho_max > limit:
+            report(quiet, f"  note: rho_max {rho_max:g} exceeds the singularity-free limit {limit:.9g}: "
+                          "the annuli reach the singularity circle, which then bounds W")
+    rows = []
+    for phi_deg in phis:
+        phi = math.radians(phi_deg)
+        (cx, cy), radius = (np.asarray(v).tolist() for v in geo.singularity_circle(*t, phi))
+        a = float(geo.area(*t, phi, mech.rho_min, rho_max))
+        arcs_ = geo.boundary(*t, phi, mech.rho_min, rho_max)
+        on = sorted({geo.CIRCLE_NAMES[a_.circle] for a_ in arcs_})
+        rows.append((phi_deg, mech.rho_min, rho_max, a))
+        report(quiet, f"  phi = {phi_deg:g} deg: singularity circle centre ({cx:.6f}, {cy:.6f}), radius {radius:.6f}")
+        report(quiet, f"    area of W = {a:.9f}, boundary: {len(arcs_)} arcs on {', '.join(on) if on else '-'}")
+    paths = [write_csv(folder / "area.csv", ["phi_deg", "rho_min", "rho_max", "area"], rows)]
+    if not no_plot:
+        from fivebar_cli.plotting.rpr3 import construction
+
+        title = (f"{mech.name}: singularity-free workspace, k = {mech.k:g}, "
+                 f"phi = {', '.join(f'{p:g}' for p in phis)} deg")
+        _figure(lambda: construction(mech, phis, mech.rho_min, rho_max, title),
+                folder / "singularity-free-workspace.png", paths)
+    wrote(quiet, paths)
+
+
+# ---------------------------------------------------------------- sweeps
+
+
+@rpr3.command("sweep", short_help="Area swept over phi, rho_min or t2 (figures 3-8).")
+@click.argument("configs", nargs=-1, required=True, type=CONFIG, metavar="CONFIG...")
+@click.option("--over", type=click.Choice(["phi", "rho_min", "t2"]), required=True,
+              help="phi: figures 3, 4, 6, 7; rho_min: figure 5 (at the config's phi); t2: figure 8.")
+@click.option("--range", "span", type=(float, float), default=None, metavar="LO HI",
+              help="Swept interval [default: phi 0.5 179.5; rho_min 0 up to where rho_max auto is finite; "
+                   "t2 -5 t1+5].")
+@click.option("--steps", type=click.IntRange(2, 20001), default=None,
+              help="Number of samples [default: phi 359, rho_min 201, t2 233].")
+@click.option("--angles", default="30,60,90,120,150", show_default=True,
+              help="Orientations (degrees) of the t2 sweep, comma separated.")
+@common_options
+def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
+    """Area of W swept over phi, rho_min or the base shape t2, for one or more bases on one figure.
+
+    Every sample is a design of its own (rho_max auto at that orientation). Several CONFIGs are
+    overlaid (the paper compares the acute, equilateral and obtuse bases); the default output
+    folder is then outputs/<name1>+<name2>+.../.
+
+    \b
+    Examples:
+      fivebar rpr3 sweep configs/rpr3-acute.yaml configs/rpr3-equilateral.yaml configs/rpr3-obtuse.yaml --over phi
+      fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over rho_min --range 0 0.7
+      fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over t2 --angles 30,90,150
+    """
+    mechs = [load_rpr3(c) for c in configs]
+    if span is not None and not all(math.isfinite(v) and abs(v) <= 1e6 for v in span):
+        raise click.BadParameter(f"LO and HI must be finite numbers, got {span[0]:g} {span[1]:g}", param_hint="--range")
+    if span is not None and not span[0] < span[1]:
+        raise click.BadParameter(f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}", param_hint="--range")
+    folder = prepare_out(out, "+".join(dict.fromkeys(m.name for m in mechs)))
+    run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
+    paths = run(mechs, span, steps, angles, folder, no_plot, quiet)
+    wrote(quiet, paths)
+
+
+def _sweep_phi(mechs, span, steps, angles, folder, no_plot, quiet):
+    lo, hi = span or (0.5, 179.5)
+    _check_phis((lo, hi), "--range")
+    phis_deg = np.linspace(lo, hi, steps or 359)
+    rows, curves = [], []
+    with progress(quiet, len(mechs), "sweeping phi") as advance:
+        for m in mechs:
+            d = sweeps.sweep_phi(*m.design, m.rho_min, np.radians(phis_deg))
+            curves.append((m.name, d))
+            rows += [(m.name, p, *vals) for p, *vals in zip(phis_deg, d["rho_min"], d["rho_max"], d["area"],
+                                                          d["rho_min_opt"], d["rho_max_opt"], d["area_opt"])]
+            advance(1)
+            best = int(np.argmax(d["area"]))
+            report(quiet, f"{m.name}: rho_min = {m.rho_min:g}: largest area {d['area'][best]:.6f} at phi = "
+                          f"{phis_deg[best]:g} deg; optimal rho_min {d['rho_min_opt'].min():.6f} .. "
+                          f"{d['rho_min_opt'].max():.6f}")
+    header = ["config", "phi_deg", "rho_min", "rho_max", "area", "rho_min_opt", "rho_max_opt", "area_opt"]
+    paths = [write_csv(folder / "area-vs-phi.csv", header, rows)]
+    if not no_plot:
+        from fivebar_cli.plotting.rpr3 import lines
+
+        rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
+        small = phis_deg <= lo + (hi - lo) / 6.0
+        figs = [
+            ("area-vs-phi.png", "area", None, "area of W", f"Area of W vs phi (rho_min = {rho}) [fig. 3]"),
+            ("area-vs-small-phi.png", "area", small, "area of W", f"Area of W vs small phi (rho_min = {rho}) [fig. 4]"),
+            ("area-vs-phi-optimal-rho-min.png", "area_opt", None, "area of W",
+             "Area of W vs phi with the optimal rho_min [fig. 6]"),
+            ("optimal-rho-min-vs-phi.png", "rho_min_opt", None, "optimal rho_min", "Optimal rho_min vs phi [fig. 7]"),
+        ]
+        for name, key, mask, ylabel, title in figs:
+            sel = slice(None) if mask is None else mask
+            series = [(n, phis_deg[sel], d[key][sel]) for n, d in curves]
+            _figure(lambda: lines(series, "phi (degrees)", ylabel, title), folder / name, paths)
+    return paths
+
+
+def _sweep_rho_min(mechs, span, steps, angles, folder, no_plot, quiet):
+    limits = [float(geo.rho_min_limit(*m.design, math.radians(m.phi))) for m in mechs]
+    lo, hi = span or (0.0, max(limits))
+    if lo < 0:
+        raise click.BadParameter(f"rho_min must not be negative, got {lo:g}", param_hint="--range")
+    rhos = np.linspace(lo, hi, steps or 201)
+    rows, series, marks = [], [], []
+    for m in mechs:
+        phi = math.radians(m.phi)
+        d = sweeps.sweep_rho_min(*m.design, phi, rhos)
+        rows += [(m.name, m.phi, *vals) for vals in zip(d["rho_min"], d["rho_max"], d["area"])]
+        series.append((f"{m.name} (phi = {m.phi:g})", rhos, d["area"]))
+        r_opt, a_opt, _ = (float(v) for v in geo.optimal_rho_min(*m.design, phi))
+        marks.append((f"{r_opt:.4f}", r_opt, a_opt))
+        report(quiet, f"{m.name}: phi = {m.phi:g} deg: optimal rho_min = {r_opt:.6f}, area {a_opt:.6f}")
+    paths = [write_csv(folder / "area-vs-rho-min.csv", ["config", "phi_deg", "rho_min", "rho_max", "area"], rows)]
+    if not no_plot:
+        from fivebar_cli.plotting.rpr3 import lines
+
+        phis = ", ".join(sorted({f"{m.phi:g}" for m in mechs}))
+        _figure(lambda: lines(series, "rho_min", "area of W", f"Area of W vs rho_min (phi = {phis} deg) [fig. 5]",
+                              marks), folder / "area-vs-rho-min.png", paths)
+    return paths
+
+
+def _sweep_t2(mechs, span, steps, angles, folder, no_plot, quiet):
+    try:
+        phis_deg = [float(a) for a in angles.split(",") if a.strip()]
+    except ValueError:
+        raise click.BadParameter(f"expected comma-separated degrees, got {angles!r}", param_hint="--angles") from None
+    if not phis_deg:
+        raise click.BadParameter("no orientation given", param_hint="--angles")
+    for p in phis_deg:
+        _check_phis((p,), "--angles")
+    rows, series = [], []
+    with progress(quiet, len(mechs), "sweeping t2") as advance:
+        for m in mechs:
+            lo, hi = span or (-5.0, m.t1 + 5.0)
+            t2s = np.linspace(lo, hi, steps or 233)
+            d = sweeps.sweep_t2(m.t1, m.t3, m.k, m.rho_min, np.radians(phis_deg), t2s)
+            for i, p in enumerate(phis_deg):
+                rows += [(m.name, p, m.t1, t2, m.t3, *vals) for t2, *vals in zip(
+                    t2s, d["rho_min"][i], d["rho_max"][i], d["area"][i], d["rho_min_opt"][i], d["rho_max_opt"][i],
+                    d["area_opt"][i])]
+                label = f"{m.name}, phi = {p:g}" if len(mechs) > 1 else f"phi = {p:g}"
+                series.append((label, t2s, d["area"][i], m.name))
+                best = int(np.argmax(d["area"][i]))
+                report(quiet, f"{m.name}: phi = {p:g} deg: largest area {d['area'][i][best]:.6f} at t2 = "
+                              f"{t2s[best]:.6g} (t1 / 2 = {m.t1 / 2:.6g})")
+            advance(1)
+    header = ["config", "phi_deg", "t1", "t2", "t3", "rho_min", "rho_max", "area", "rho_min_opt", "rho_max_opt",
+              "area_opt"]
+    paths = [write_csv(folder / "area-vs-t2.csv", header, rows)]
+    if not no_plot:
+        from fivebar_cli.plotting.rpr3 import lines
+
+        rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
+        title = f"Area of W vs t2, t1 and t3 fixed (rho_min = {rho}) [fig. 8]"
+        _figure(lambda: lines(series, "t2", "area of W", title), folder / "area-vs-t2.png", paths)
+    return paths
+
+
+# ---------------------------------------------------------------- synthesis
+
+
+@rpr3.command("synthesize", short_help="Leg range for an orientation range (Table 1, figure 10).")
+@click.argument("config", type=CONFIG)
+@common_options
+def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None:
+    """Leg-length range for a singularity-free workspace over phi_range (section 4, Table 1).
+
+    Six choices of rho_min: the config's, the optimum at phi1, at phi2, the maximal mean area A_a,
+    A1 = A2, the minimal fluctuation dA_a; rho_max is, for each, the largest value keeping W
+    singularity-free at every orientation of the range (closed form). Writes
+    synthesis.csv, table1-comparison.csv (our values beside the paper's, for the paper's setup),
+    area-vs-phi-cases.png (figure 10) and singularity-free-workspace-case2.png (figure 9).
+
+    \b
+    Example:
+      fivebar rpr3 synthesize configs/rpr3-table1.yaml
+    """
+    mech = load_rpr3(config)
+    if mech.phi_range[0] == mech.phi_range[1]:
+        raise ConfigError(str(config), "phi", "synthesize needs an orientation range 'phi_range: [phi1, phi2]'")
+    t = mech.design
+    p1, p2 = mech.phi_range
+    r1, r2 = math.radians(p1), math.radians(p2)
+    if mech.rho_max is not None:
+        report(quiet, f"note: legs.rho_max = {mech.rho_max:g} is not used: the synthesis computes rho_max")
+    cases = synthesize(*t, r1, r2, mech.rho_min)
+    folder = prepare_out(out, mech.name)
+
+    report(quiet, f"{mech.name}: k = {mech.k:g}, base t = ({mech.t1:g}, {mech.t2:g}, {mech.t3:g}), "
+                  f"phi in [{p1:g}, {p2:g}] deg")
+    columns = ("rho_min", "rho_max", "A1", "A2", "|A1-A2|", "A_a", "dA_a")
+    report(quiet, f"case  {'objective':<16} " + " ".join(f"{c:<10}" for c in columns) + " n")
+    for c in cases:
+        report(quiet, f"{c.number:<5} {c.objective:<16} {c.rho_min:<10.6f} {c.rho_max:<10.6f} {c.a1:<10.6f} "
+                      f"{c.a2:<10.6f} {c.diff_rounded:<10.6f} {c.mean:<10.6f} {c.fluctuation:<10.6f} {c.n}")
+    header = ["case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n"]
+    rows = [(c.number, OBJECTIVES[c.number][0], c.rho_min, c.rho_max, c.a1, c.a2, c.diff_rounded, c.mean,
+             c.fluctuation, c.n) for c in cases]
+    paths = [write_csv(folder / "synthesis.csv", header, rows)]
+
+    if paper.is_paper_table1(*t, p1, p2, mech.rho_min):
+        rows, worst = paper.table1_comparison(cases)
+        paths.append(write_csv(folder / "table1-comparison.csv", paper.COMPARISON_HEADER, rows))
+        report(quiet, f"Table 1 at the paper's rho_min: largest difference from the printed cells {worst:.2e}")
+    else:
+        report(quiet, "(not the paper's Table-1 setup: no comparison with the printed values)")
+
+    best, flat = cases[3], cases[4]
+    report(quiet, f"Recommended leg range (section 4.2): [{best.rho_min:.6f}, {best.rho_max:.6f}] for the largest "
+                  f"mean area (case 4),")
+    report(quiet, f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
+                  f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
+
+    if not no_plot:
+        from fivebar_cli.plotting.rpr3 import construction, lines
+
+        phis_deg = np.linspace(p1, p2, 131)
+        series = [(f"case {c.number}: rho_min = {c.rho_min:.6f}", phis_deg,
+                   geo.area(*t, np.radians(phis_deg), c.rho_min, c.rho_max)) for c in cases]
+        title = f"{mech.name}: area of W vs phi, six cases [fig. 10]"
+        _figure(lambda: lines(series, "phi (degrees)", "area of W", title), folder / "area-vs-phi-cases.png", paths)
+        c2 = cases[1]
+        title = (f"{mech.name}: W at phi1 = {p1:g} and phi2 = {p2:g} deg, rho_min optimal at phi1 "
+                 f"({c2.rho_min:.6f}) [fig. 9]")
+        _figure(lambda: construction(mech, [p1, p2], c2.rho_min, c2.rho_max, title),
+                folder / "singularity-free-workspace-case2.png", paths)
+    wrote(quiet, paths)

@@ -1,0 +1,155 @@
+"""`fivebar jointspace | workspace | refine | diff`: certified pavings of a space, deepened, compared."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from fivebar_cli.analyses import spaces
+from fivebar_cli.analyses.compare import compare
+from fivebar_cli.cli.options import CONFIG, common_options, depth_option, figure, prepare_out, progress, report, wrote
+from fivebar_cli.errors import InputError
+from fivebar_cli.io.files import ensure_dir
+from fivebar_cli.io.layout import sibling_paths
+from fivebar_cli.io.qtfile import read_qt
+from fivebar_cli.mechanisms.registry import load_config
+
+QT_FILE = click.Path(path_type=Path, dir_okay=False)
+
+
+def _procedure_option(func):
+    return click.option(
+        "--procedure", type=click.Choice(["exact", "paper"]), default="exact", show_default=True,
+        help="Box test: our exact-range tests, or the paper's interval procedure (five-bar baseline).",
+    )(func)
+
+
+def _space_command(space: str, config_path: Path, depth: int, procedure: str, out, no_plot: bool, quiet: bool) -> None:
+    m = load_config(config_path, space=space)
+    if procedure not in m.procedures:
+        raise InputError(str(config_path), "--procedure", f"a {m.kind} has no {procedure!r} procedure "
+                         f"(it has: {', '.join(m.procedures)})")
+    folder = prepare_out(out, m.name)
+    with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
+        paving = spaces.pave_space(m, space, depth, procedure, on_level=lambda level, n: advance(1))
+    paths = _write(folder, m, space, paving, procedure, paving.evaluations, no_plot)
+    dim = paving.grid.dim
+    report(quiet, f"{m.name} {space}, depth {depth} ({procedure} tests): {paving.evaluations} evaluations "
+           f"(K = {spaces.k_ratio(paving.evaluations, dim, depth):.4%}), certified inside "
+           f"{'area' if dim == 2 else 'volume'} {paving.inside.area:.10g}, undetermined {paving.undetermined_area:.4g}")
+    wrote(quiet, paths)
+
+
+def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int, no_plot: bool) -> list[Path]:
+    """The .qt pair, the summary CSV and (unless --no-plot) the figures of a paving."""
+    paths = spaces.write_paving(folder, m, space, paving, procedure, evaluations)
+    if not no_plot:
+        from fivebar_cli.plotting.trees import figure_paving
+
+        und = paving.undetermined_tree()
+        s = m.spaces()[space]
+        for complement, suffix in ((False, ""), (True, ".complement")):
+            paths.append(figure(lambda: figure_paving(m.name, s, paving.inside, paving.outside, und, complement),
+                                folder / f"{space}{suffix}.png"))
+    return paths
+
+
+@click.command(short_help="Certified joint space of a mechanism (figs. 3, 4).")
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@depth_option()
+@_procedure_option
+@common_options
+def jointspace(config_path, depth, procedure, out, no_plot, quiet):
+    """Certified joint space of a mechanism: (th1, th2) on the torus [-pi, pi]^2 for a five-bar,
+    the leg lengths (rho1, rho2) for a 2-RPR.
+
+    Black cells can be assembled at every point (five-bar: |L3-L4| <= |B1B2| <= L3+L4,
+    B1 != B2); complement cells at no point. Writes jointspace.qt, jointspace.complement.qt,
+    jointspace.csv and the figures jointspace.png (paper fig. 3) and jointspace.complement.png
+    (fig. 4).
+
+    \b
+    Example:
+      fivebar jointspace configs/m1.yaml --depth 10 -o out/m1
+    """
+    _space_command("jointspace", config_path, depth, procedure, out, no_plot, quiet)
+
+
+@click.command(short_help="Certified workspace (x, y) of a mechanism (fig. 6).")
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@depth_option()
+@_procedure_option
+@common_options
+def workspace(config_path, depth, procedure, out, no_plot, quiet):
+    """Certified workspace (x, y) of a mechanism, on the root box [-(L1+L3), L1+L3]^2 for a five-bar.
+
+    Black cells are reachable at every point; complement cells at no point. Writes workspace.qt,
+    workspace.complement.qt, workspace.csv and the figures workspace.png (paper fig. 6) and
+    workspace.complement.png.
+
+    \b
+    Example:
+      fivebar workspace configs/m2.yaml --depth 12 -o out/m2
+    """
+    _space_command("workspace", config_path, depth, procedure, out, no_plot, quiet)
+
+
+@click.command(short_help="Deepen a saved paving, testing only undetermined cells.")
+@click.argument("tree_path", metavar="TREE.qt", type=QT_FILE)
+@depth_option(default=12)
+@common_options
+def refine(tree_path, depth, out, no_plot, quiet):
+    """Deepen a saved paving, testing only its undetermined cells.
+
+    TREE.qt may be either file of a pair (X.qt and X.complement.qt, as written by `jointspace`
+    and `workspace`); the mechanism and box test are read from their headers. The deeper pair
+    replaces the old one in place, unless --out names another folder. The result equals a fresh
+    run at the new depth, with fewer evaluations.
+
+    \b
+    Example:
+      fivebar workspace configs/m1.yaml --depth 10 -o out/m1
+      fivebar refine out/m1/workspace.qt --depth 14
+    """
+    saved = spaces.load_saved(tree_path)
+    old_depth = saved.inside.tree.grid.depth
+    if depth < old_depth:
+        raise InputError(str(tree_path), "--depth", f"{depth} is below the saved depth {old_depth}")
+    folder = ensure_dir(out if out is not None else sibling_paths(tree_path)[0].parent)
+    with progress(quiet, depth - old_depth, f"refine to depth {depth}") as advance:
+        paving = spaces.refine_saved(saved, depth, on_level=lambda level, n: advance(1))
+    total = saved.evaluations + paving.evaluations
+    m, space = saved.mechanism, saved.space
+    paths = _write(folder, m, space, paving, saved.procedure, total, no_plot)
+    report(quiet, f"{m.name} {space}: refined depth {old_depth} -> {depth} with {paving.evaluations} evaluations "
+           f"({saved.evaluations} saved by not retesting; a fresh run needs {total}), "
+           f"certified inside area {paving.inside.area:.10g}, undetermined {paving.undetermined_area:.4g}")
+    wrote(quiet, paths)
+
+
+@click.command(short_help="Compare two .qt files as sets (exit 0 equal, 1 different).")
+@click.argument("a_path", metavar="A.qt", type=QT_FILE)
+@click.argument("b_path", metavar="B.qt", type=QT_FILE)
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing; only the exit status tells.")
+def diff(a_path, b_path, quiet):
+    """Compare two quadtree files as sets: exit 0 when equal, 1 when not, 2 on bad input.
+
+    Prints the cells and the area in A but not in B, and in B but not in A, and the header lines
+    that differ. Trees of different depths are compared on the finer grid; their root boxes must
+    agree.
+
+    \b
+    Example:
+      fivebar diff golden/workspace.qt out/m1/workspace.qt
+    """
+    a, b = read_qt(a_path), read_qt(b_path)
+    try:
+        result = compare(a, b)
+    except ValueError as exc:
+        raise InputError(str(b_path), "root", f"{exc} (A is {a_path})") from None
+    if not quiet:
+        for line in result.report(str(a_path), str(b_path)):
+            click.echo(line)
+    if not result.equal:
+        raise click.exceptions.Exit(1)

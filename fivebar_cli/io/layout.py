@@ -1,0 +1,44 @@
+"""Where outputs go: the output folder of a mechanism and the names of the files inside it.
+
+One place for the layout that users' scripts rely on (docs/formats.md, "Output layout"):
+`outputs/<name>/<space>.qt` and `<space>.complement.qt`, `<space>.csv`, `aspects.csv`,
+`aspects-adjacency.csv`, `aspects/aspect-NN.<space>.qt`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fivebar_cli.errors import InputError
+
+DEFAULT_ROOT = Path("outputs")
+COMPLEMENT = ".complement.qt"
+
+
+def output_dir(out: str | Path | None, name: str) -> Path:
+    """The folder for a mechanism's outputs: `--out` if given, else `outputs/<name>/`."""
+    return Path(out) if out is not None else DEFAULT_ROOT / name
+
+
+def paving_paths(folder: Path, space: str) -> tuple[Path, Path]:
+    """`<space>.qt` (certified inside) and `<space>.complement.qt` (certified outside)."""
+    return folder / f"{space}.qt", folder / f"{space}{COMPLEMENT}"
+
+
+def sibling_paths(path: Path) -> tuple[Path, Path]:
+    """(inside, complement) paths of the pair a `.qt` or `.complement.qt` file belongs to."""
+    name = path.name
+    if name.endswith(COMPLEMENT):
+        return path.with_name(name[: -len(COMPLEMENT)] + ".qt"), path
+    if name.endswith(".qt"):
+        return path, path.with_name(name[: -len(".qt")] + COMPLEMENT)
+    raise InputError(str(path), "", "expected a .qt file")
+
+
+def aspect_path(folder: Path, number: int, space: str) -> Path:
+    """`aspects/aspect-NN.<space>.qt`: one generalized aspect in one space."""
+    return folder / "aspects" / f"aspect-{number:02d}.{space}.qt"
+
+
+ASPECTS_CSV = "aspects.csv"
+CROSSINGS_CSV = "aspects-adjacency.csv"

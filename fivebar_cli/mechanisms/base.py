@@ -1,0 +1,172 @@
+"""What a mechanism kind declares, so that every analysis handles every kind the same way.
+
+A kind is one class deriving from `Mechanism` (an immutable dataclass of its parameters) in a
+package of its own under `fivebar_cli/mechanisms/`, plus one line in `registry.py` (or an entry
+point of group `fivebar.mechanisms` in a third-party package). It declares:
+
+- its YAML schema: `parse(data, source)` builds the model from the file's mapping;
+- a one-line, round-trippable `describe()` (the `.qt` `mechanism:` header) and its inverse
+  `from_description(fields, name, source)`, so that `refine` can resume a saved paving;
+- its spaces: name, what a black cell means, and the axes (name, unit, root interval, periodic);
+- a box test per space and procedure (`box_test`), the exact measure of a space when a closed
+  form is known, and, for 2-DOF mechanisms with working and assembly modes, an `AspectModel`.
+
+A box test takes arrays lo, hi of shape (m, dim) and returns int8: 1 when every point of the box
+belongs to the set, -1 when none does, 0 when it cannot tell. It must be sound (docs/formats.md,
+"What certified means"); the paving engine already widens each box to cover its own rounding.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, ClassVar, Mapping, Protocol
+
+import numpy as np
+
+from fivebar_cli.io.schema import ConfigError
+from fivebar_cli.paving.grid import Grid
+
+BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One axis of a space: its name, unit ('' for the mechanism's length unit), root interval."""
+
+    name: str
+    lo: float
+    hi: float
+    unit: str = ""
+    periodic: bool = False
+    label: str = ""  # for figures (matplotlib mathtext); the name when empty
+
+    @property
+    def title(self) -> str:
+        """Axis title for a figure: label and unit."""
+        text = self.label or self.name
+        return f"{text} ({self.unit})" if self.unit else text
+
+
+@dataclass(frozen=True)
+class Space:
+    """A space a mechanism is paved in, and what a black cell of it means (`region`)."""
+
+    name: str
+    region: str
+    axes: tuple[Axis, ...]
+
+    @property
+    def dim(self) -> int:
+        return len(self.axes)
+
+    @property
+    def root(self) -> tuple[tuple[float, float], ...]:
+        return tuple((a.lo, a.hi) for a in self.axes)
+
+    def grid(self, depth: int) -> Grid:
+        return Grid(self.root, depth, tuple(a.periodic for a in self.axes))
+
+    def axes_header(self) -> str:
+        """The `.qt` `axes:` value, e.g. 'x y phi[deg]' (written for trees of 3 or more axes)."""
+        return " ".join(f"{a.name}[{a.unit}]" if a.unit else a.name for a in self.axes)
+
+
+class Mechanism:
+    """Base of every mechanism kind: subclasses are frozen dataclasses with a `name` field."""
+
+    kind: ClassVar[str] = ""  # the YAML `type`
+    procedures: ClassVar[tuple[str, ...]] = ("exact",)  # box-test families; "exact" comes first
+    name: str
+
+    @classmethod
+    def parse(cls, data: Mapping, source: str) -> "Mechanism":
+        """The model from the YAML mapping of a mechanism file (ConfigError on any problem)."""
+        raise NotImplementedError
+
+    @classmethod
+    def from_description(cls, fields: Mapping[str, str], name: str, source: str) -> "Mechanism":
+        """Inverse of `describe`: `fields` are its `key=value` words."""
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        """One line '<kind> key=value ...' naming every parameter exactly (repr floats)."""
+        raise NotImplementedError
+
+    def spaces(self) -> dict[str, Space]:
+        """The spaces this mechanism can be paved in, by name (may be empty)."""
+        return {}
+
+    def box_test(self, space: str, procedure: str = "exact") -> BoxTest:
+        raise NotImplementedError
+
+    def exact_measure(self, space: str) -> float | None:
+        """The exact area (volume) of the set a space's black cells approximate, when known."""
+        return None
+
+    def printed_k_percent(self, space: str, depth: int) -> int | None:
+        """K (whole percent) a paper prints for this mechanism, space and depth, if any."""
+        return None
+
+    def aspect_model(self) -> "AspectModel | None":
+        """What the generalized-aspect analysis needs, or None when the kind has no aspects."""
+        return None
+
+
+def describe_fields(kind: str, fields: Mapping[str, float]) -> str:
+    """The usual description: the kind, then `key=repr(value)` words."""
+    return kind + "".join(f" {k}={float(v)!r}" for k, v in fields.items())
+
+
+def description_numbers(fields: Mapping[str, str], keys, source: str) -> dict[str, float]:
+    """Numbers of a description's `key=value` words, for `from_description`."""
+    out = {}
+    for key in keys:
+        if key not in fields:
+            raise ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
+        try:
+            out[key] = float(fields[key])
+        except ValueError:
+            raise ConfigError(source, "mechanism", f"bad value {key}={fields[key]!r}") from None
+    extra = sorted(set(fields) - set(keys))
+    if extra:
+        raise ConfigError(source, "mechanism", f"unknown parameter {extra[0]!r} in the mechanism description")
+    return out
+
+
+class AspectModel(Protocol):
+    """What the generalized-aspect analysis (`analyses/aspects.py`) needs from a 2-DOF mechanism.
+
+    Modes are signs: a working mode is the sign vector of the diagonal of the serial Jacobian B
+    (one sign per leg; 0 on a serial singularity), an assembly mode the sign of det A (0 on a
+    parallel singularity). The workspace is paved once per working mode (the IKP branch), the joint
+    space once per assembly mode (the DKP branch); a black cell is valid and non-singular, so
+    singularities stay undetermined and separate the regions.
+    """
+
+    working_modes: tuple[tuple[int, ...], ...]  # in the order aspects are numbered
+    assembly_modes: tuple[int, ...]
+    serial_names: tuple[str, ...]  # name of the serial singularity where each working sign vanishes
+    length_scale: float  # a typical length (sum of link lengths): tolerances are relative to it
+
+    def workspace_test(self, working: tuple[int, ...]) -> BoxTest: ...
+
+    def jointspace_test(self, assembly: int) -> BoxTest: ...
+
+    def assembly_signs(self, working: tuple[int, ...], points: np.ndarray) -> np.ndarray:
+        """Sign of det A at workspace points in a working mode, shape (n,) (0: unreachable)."""
+
+    def working_signs(self, assembly: int, points: np.ndarray) -> np.ndarray:
+        """Working-mode signs at joint-space points in an assembly mode, shape (n, w) (0: none)."""
+
+    def ikp(self, points: np.ndarray, working: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray]:
+        """Joint values (n, 2) of workspace points in a working mode, and where they exist."""
+
+    def dkp(self, points: np.ndarray, assembly: int) -> tuple[np.ndarray, np.ndarray]:
+        """Poses (n, 2) of joint-space points in an assembly mode, and where they exist."""
+
+    def mode_values(self, joints: np.ndarray, poses: np.ndarray) -> np.ndarray:
+        """(n, w + 1): the diagonal of B, then det A, at configurations (joints, poses)."""
+
+    def serial_band_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per joint-space box: (certified free of parallel singularity, working signs with 0 where
+        not constant), to find the cells crossed by one serial singularity only."""

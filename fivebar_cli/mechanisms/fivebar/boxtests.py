@@ -1,0 +1,132 @@
+"""Exact box tests of the five-bar's joint space and workspace.
+
+The tests compute exact ranges (extrema of sinusoids, distances from a point to a box, the exact
+emptiness test of a box against the intersection of two annuli), then widen them by a safety
+margin `DELTA_REL * scale^2` (scale = sum of lengths), far above the few-ulp rounding of the float
+evaluation, before deciding; boxes are already widened by the paving for their own rounding.
+Box tests return 1 (every point valid), -1 (no point valid), 0 (cannot tell).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fivebar_cli.mechanisms.fivebar.kinematics import scale
+from fivebar_cli.numerics import annuli as ring
+from fivebar_cli.numerics.ranges import angle_inside, circle_intersections, sinusoid_range
+
+DELTA_REL = 1e-12  # safety margin on squared lengths, relative to the squared scale
+ETA_REL = 1e-9  # safety margin on lengths along box edges, relative to the scale
+ANCHOR_TOL_REL = 1e-9  # anchors within this (times scale^2) of the workspace are kept
+
+
+# ---------------------------------------------------------------- joint space
+
+
+def box_trig(lo: np.ndarray, hi: np.ndarray) -> tuple[tuple, tuple]:
+    """(cos, sin) of both ends of both angles of boxes: ((c, s, c, s) of th1, (c, s, c, s) of th2)."""
+    return tuple((np.cos(lo[:, k]), np.sin(lo[:, k]), np.cos(hi[:, k]), np.sin(hi[:, k])) for k in (0, 1))
+
+
+def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, trig=None) -> tuple[np.ndarray, np.ndarray]:
+    """Exact range of |B1B2|^2 over boxes [th1] x [th2].
+
+    d^2 = K - 2 L0 L1 cos th1 + 2 L0 L2 cos th2 - 2 L1 L2 cos(th1 - th2) is smooth, so its extrema
+    over a box lie on the edges (sinusoids in one angle: exact) or at interior critical points:
+    where B1B2 is normal to both crank circles, i.e. B1, B2 on the line A1A2 (th1, th2 in {0, pi}),
+    or where B1 = B2 (d = 0).
+    """
+    L0, L1, L2 = m.L0, m.L1, m.L2
+    k0 = L0 * L0 + L1 * L1 + L2 * L2
+    u0, v0, u1, v1 = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
+    t1, t2 = trig if trig is not None else box_trig(lo, hi)
+    fmin = np.full(len(lo), np.inf)
+    fmax = np.full(len(lo), -np.inf)
+    for cu, su in ((t1[0], t1[1]), (t1[2], t1[3])):  # edges th1 = const: sinusoid in th2
+        base = k0 - 2 * L0 * L1 * cu
+        bot, top = sinusoid_range(2 * L0 * L2 - 2 * L1 * L2 * cu, -2 * L1 * L2 * su, v0, v1, t2)
+        fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
+    for cv, sv in ((t2[0], t2[1]), (t2[2], t2[3])):  # edges th2 = const: sinusoid in th1
+        base = k0 + 2 * L0 * L2 * cv
+        bot, top = sinusoid_range(-2 * L0 * L1 - 2 * L1 * L2 * cv, -2 * L1 * L2 * sv, u0, u1, t1)
+        fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
+    for th1, th2, value in _crank_critical_points(m):
+        inside = angle_inside(th1, u0, u1) & angle_inside(th2, v0, v1)
+        fmin = np.where(inside, np.minimum(fmin, value), fmin)
+        fmax = np.where(inside, np.maximum(fmax, value), fmax)
+    return fmin, fmax
+
+
+def _crank_critical_points(m) -> list[tuple[float, float, float]]:
+    """Interior critical points (th1, th2, d^2) of the crank distance."""
+    points = []
+    for th1 in (0.0, np.pi):
+        for th2 in (0.0, np.pi):
+            x = m.L1 * np.cos(th1) - m.L0 - m.L2 * np.cos(th2)
+            points.append((th1, th2, x * x))
+    for q in circle_intersections((0.0, 0.0), m.L1, (m.L0, 0.0), m.L2):  # B1 = B2
+        points.append((float(np.arctan2(q[1], q[0])), float(np.arctan2(q[1], q[0] - m.L0)), 0.0))
+    return points
+
+
+def joint_space_test(m):
+    """Box test of the joint space (th1, th2): |L3 - L4| <= |B1B2| <= L3 + L4 and B1 != B2.
+
+    Exact: the box is connected, so |B1B2| takes every value between its exact extrema.
+    """
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        return assembly_status(m, *crank_distance2_range(m, lo, hi))
+
+    return test
+
+
+def assembly_status(m, dmin: np.ndarray, dmax: np.ndarray) -> np.ndarray:
+    """1 / -1 / 0 from the exact range of |B1B2|^2, widened by the safety margin."""
+    lo2, hi2 = (m.L3 - m.L4) ** 2, (m.L3 + m.L4) ** 2
+    delta = DELTA_REL * scale(m) ** 2
+    dmin, dmax = dmin - delta, dmax + delta
+    inside = (dmin >= lo2) & (dmax <= hi2) & (dmin > 0)
+    outside = (dmax < lo2) | (dmin > hi2)
+    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+
+
+# ---------------------------------------------------------------- workspace
+
+
+def annuli(m) -> list[tuple[float, float, float]]:
+    """Workspace constraints as annuli (centre x, inner radius, outer radius); centres on y = 0."""
+    return [(0.0, abs(m.L1 - m.L3), m.L1 + m.L3), (m.L0, abs(m.L2 - m.L4), m.L2 + m.L4)]
+
+
+def workspace_test(m):
+    """Box test of the workspace: P in both annuli |L_i - L_j| <= |P - A_i| <= L_i + L_j, P != A_i.
+
+    Exact in both directions (`numerics/annuli.py`).
+    """
+    anchors = workspace_anchors(m)
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        return reach_status(m, lo, hi, leg_distance2_ranges(m, lo, hi), anchors)
+
+    return test
+
+
+def workspace_anchors(m) -> list[tuple[float, float]]:
+    return ring.anchors(annuli(m), ANCHOR_TOL_REL * scale(m) ** 2)
+
+
+def leg_distance2_ranges(m, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Exact ranges of |P - A1|^2 and |P - A2|^2 over boxes."""
+    return ring.distance2_ranges(annuli(m), lo, hi)
+
+
+def reach_status(m, lo: np.ndarray, hi: np.ndarray, ranges, anchors) -> np.ndarray:
+    """1 / -1 / 0 of the workspace test from the leg distance ranges."""
+    s = scale(m)
+    return ring.reach_status(annuli(m), lo, hi, ranges, anchors, DELTA_REL * s * s, ETA_REL * s)
+
+
+def workspace_area(m) -> float:
+    """Exact area of the workspace: the intersection of two annuli, by Green's theorem on its arcs."""
+    return ring.area(annuli(m))

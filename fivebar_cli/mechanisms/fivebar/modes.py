@@ -1,0 +1,191 @@
+"""Five-bar working and assembly modes: mode-restricted box tests, and the `AspectModel` the
+generalized-aspect analysis uses.
+
+Workspace, one working mode (sign B11, sign B22): black when every P of the box is reachable and
+non-singular in that mode; joint space, one assembly mode (sign det A): black when every
+(th1, th2) assembles, non-singular. The other modes are constant on a black cell and read at one
+point of it. The sign ranges come from exact ranges of the angles involved (`numerics/ranges.py`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fivebar_cli.mechanisms.fivebar.boxtests import (
+    DELTA_REL, annuli, assembly_status, box_trig, crank_distance2_range, leg_distance2_ranges, reach_status,
+    workspace_anchors,
+)
+from fivebar_cli.mechanisms.fivebar.kinematics import dkp, ikp, mode_values, scale
+from fivebar_cli.numerics.ranges import direction_range, sin_sign, sinusoid_range, triangle_angle_range
+
+WORKING_MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
+ASSEMBLY_MODES = (1, -1)
+
+
+def _strict(dmin, dmax, inner: float, outer: float, delta: float) -> np.ndarray:
+    """Squared distance strictly inside (inner^2, outer^2) and positive on the whole box, with margin."""
+    return (dmin - delta > inner * inner) & (dmax + delta < outer * outer) & (dmin - delta > 0)
+
+
+def _valid_lengths(dmin, dmax, inner: float, outer: float, delta: float):
+    """Length range of the valid part, from a squared-distance range widened by the margin."""
+    lo = np.sqrt(np.maximum(dmin - delta, 0.0))
+    hi = np.sqrt(np.maximum(dmax + delta, 0.0))
+    return np.clip(lo, inner, outer), np.clip(hi, inner, outer)
+
+
+def working_mode_workspace_test(m, working: tuple[int, int]):
+    """Box test in the workspace for one working mode (sign u, sign v).
+
+    1: every P of the box is reachable, non-singular (no serial: strictly inside both annuli;
+    no parallel: det A != 0) in this working mode; -1: no P of the box is reachable; 0 otherwise.
+    The sign of det A is constant on a black cell; `workspace_assembly_sign` reads it.
+
+    With alpha_i the direction of P - A_i and gamma_i the angle at P in triangle A_i B_i P,
+    the legs' directions are th3 = alpha1 + su gamma1 and th4 = alpha2 + sv gamma2, and
+    sign det A = sign sin(th4 - th3): its range is the sum of four exact ranges.
+    """
+    su, sv = working
+    (c1, r1, big1), (c2, r2, big2) = annuli(m)
+    delta = DELTA_REL * scale(m) ** 2
+    anchors = workspace_anchors(m)
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        d1, d2 = leg_distance2_ranges(m, lo, hi)
+        status = reach_status(m, lo, hi, (d1, d2), anchors)
+        strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
+        theta = _leg_direction_range(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, su, delta)
+        theta4 = _leg_direction_range(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, sv, delta)
+        sign = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
+        black = strict & (sign != 0)
+        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+    return test
+
+
+def _leg_direction_range(m, lo, hi, d2range, cx, inner, outer, coupler, crank, s, delta):
+    """Range of the direction of P - B_i over boxes: alpha_i + s gamma_i."""
+    a_lo, a_hi = direction_range(lo[:, 0] - cx, hi[:, 0] - cx, lo[:, 1], hi[:, 1])
+    m_lo, m_hi = _valid_lengths(*d2range, inner, outer, delta)
+    g_lo, g_hi = triangle_angle_range(m_lo, m_hi, coupler, crank)
+    return (a_lo + g_lo, a_hi + g_hi) if s > 0 else (a_lo - g_hi, a_hi - g_lo)
+
+
+def workspace_assembly_sign(m, working: tuple[int, int], points: np.ndarray) -> np.ndarray:
+    """Sign of det A at points of the workspace in a working mode (0 where unreachable)."""
+    th1, th2, ok = ikp(m, points[:, 0], points[:, 1], working)
+    _, _, t = mode_values(m, np.nan_to_num(th1), np.nan_to_num(th2), points)
+    return np.where(ok, np.sign(t), 0).astype(np.int8)
+
+
+def assembly_mode_joint_test(m, assembly: int):
+    """Box test in the joint space for one assembly mode (sign of det A).
+
+    1: every (th1, th2) of the box assembles, non-singular (|L3-L4| < |B1B2| < L3+L4 strictly,
+    B1 != B2, B11 != 0, B22 != 0); -1: no point of the box assembles; 0 otherwise. The working
+    mode is constant on a black cell; `joint_working_mode` reads it.
+
+    With beta the direction of B2 - B1 and alpha, delta the angles of triangle B1 B2 P at B1 and
+    B2: th3 = beta + sa alpha, th4 = beta + pi - sa delta; sign B11 = sign sin(th3 - th1),
+    sign B22 = sign sin(th4 - th2). The range of beta comes from the exact ranges of the two
+    components of B2 - B1 (each a sum of independent sinusoids).
+    """
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        status, strict, u, v = joint_mode_classes(m, assembly, lo, hi)
+        black = strict & (u != 0) & (v != 0)
+        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+    return test
+
+
+def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray):
+    """Per box: (assembly status 1/-1/0, certified free of parallel singularity, sign B11, sign B22).
+
+    A sign is 0 where it is not constant on the box; the signs are meaningful where the box is
+    free of parallel singularities. `aspects.py` uses the pieces to find the boxes that only a
+    serial singularity crosses.
+    """
+    sa = assembly
+    r, big = abs(m.L3 - m.L4), m.L3 + m.L4
+    delta = DELTA_REL * scale(m) ** 2
+    trig = box_trig(lo, hi)
+    dmin, dmax = crank_distance2_range(m, lo, hi, trig)
+    status = assembly_status(m, dmin, dmax)
+    strict = _strict(dmin, dmax, r, big, delta)
+    d_lo, d_hi = _valid_lengths(dmin, dmax, r, big, delta)
+    d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
+    a_lo, a_hi = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
+    e_lo, e_hi = triangle_angle_range(d_lo, d_hi, m.L4, m.L3)
+    b_lo, b_hi = _crank_direction_range(m, lo, hi, trig)
+    if sa > 0:
+        t3 = (b_lo + a_lo, b_hi + a_hi)
+        t4 = (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
+    else:
+        t3 = (b_lo - a_hi, b_hi - a_lo)
+        t4 = (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
+    u = sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0])
+    v = sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
+    return status, strict, u, v
+
+
+def _crank_direction_range(m, lo, hi, trig):
+    """Range of the direction of B2 - B1 over boxes of (th1, th2), from the exact ranges of its
+    components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1."""
+    ones, zeros = np.ones(len(lo)), np.zeros(len(lo))
+    c1 = sinusoid_range(ones, zeros, lo[:, 0], hi[:, 0], trig[0])
+    s1 = sinusoid_range(zeros, ones, lo[:, 0], hi[:, 0], trig[0])
+    c2 = sinusoid_range(ones, zeros, lo[:, 1], hi[:, 1], trig[1])
+    s2 = sinusoid_range(zeros, ones, lo[:, 1], hi[:, 1], trig[1])
+    x_lo, x_hi = m.L0 + m.L2 * c2[0] - m.L1 * c1[1], m.L0 + m.L2 * c2[1] - m.L1 * c1[0]
+    y_lo, y_hi = m.L2 * s2[0] - m.L1 * s1[1], m.L2 * s2[1] - m.L1 * s1[0]
+    return direction_range(x_lo, x_hi, y_lo, y_hi)
+
+
+def joint_working_mode(m, assembly: int, points: np.ndarray) -> np.ndarray:
+    """Working-mode signs (u, v), shape (n, 2), at joint-space points in an assembly mode (0 if none)."""
+    p, ok = dkp(m, points[:, 0], points[:, 1], assembly)
+    u, v, _ = mode_values(m, points[:, 0], points[:, 1], np.nan_to_num(p))
+    return np.where(ok[:, None], np.sign(np.stack([u, v], axis=1)), 0).astype(np.int8)
+
+
+@dataclass(frozen=True)
+class FiveBarModes:
+    """The five-bar's `AspectModel` (mechanisms/base.py)."""
+
+    m: object  # the FiveBar
+    working_modes = WORKING_MODES
+    assembly_modes = ASSEMBLY_MODES
+    serial_names = ("B11", "B22")
+
+    @property
+    def length_scale(self) -> float:
+        return scale(self.m)
+
+    def workspace_test(self, working):
+        return working_mode_workspace_test(self.m, working)
+
+    def jointspace_test(self, assembly):
+        return assembly_mode_joint_test(self.m, assembly)
+
+    def assembly_signs(self, working, points):
+        return workspace_assembly_sign(self.m, working, points)
+
+    def working_signs(self, assembly, points):
+        return joint_working_mode(self.m, assembly, points)
+
+    def ikp(self, points, working):
+        th1, th2, ok = ikp(self.m, points[:, 0], points[:, 1], working)
+        return np.column_stack([th1, th2]), ok
+
+    def dkp(self, points, assembly):
+        return dkp(self.m, points[:, 0], points[:, 1], assembly)
+
+    def mode_values(self, joints, poses):
+        return np.column_stack(mode_values(self.m, joints[:, 0], joints[:, 1], poses))
+
+    def serial_band_signs(self, assembly, lo, hi):
+        _, strict, u, v = joint_mode_classes(self.m, assembly, lo, hi)
+        return strict, np.column_stack([u, v])

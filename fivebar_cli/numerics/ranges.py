@@ -1,0 +1,114 @@
+"""Exact ranges of elementary functions over boxes, vectorised over arrays of boxes.
+
+Box tests are only as tight as the ranges they decide from; these are exact (the true minimum and
+maximum over the box, up to float rounding), not interval-arithmetic enclosures: extrema of a
+sinusoid over an angle interval, the direction of a vector over a box of vectors, the angle of a
+triangle with one side of variable length, the distance from a point to a box. Callers add the
+safety margins that cover rounding before they decide anything.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+TWO_PI = 2.0 * np.pi
+ANGLE_TOL = 1e-12  # an extremum of a sinusoid counts as inside an interval within this tolerance
+ANGLE_MARGIN = 1e-8  # radians: covers the rounding of atan2 / arccos where a sign of sin is decided
+
+
+def angle_inside(angle, lo, hi, tol: float = ANGLE_TOL) -> np.ndarray:
+    """Whether some angle + 2 k pi lies in [lo - tol, hi + tol] (elementwise)."""
+    k = np.ceil((lo - tol - angle) / TWO_PI)
+    return angle + k * TWO_PI <= hi + tol
+
+
+def sinusoid_range(a, b, lo, hi, trig=None) -> tuple[np.ndarray, np.ndarray]:
+    """Exact range of a cos t + b sin t for t in [lo, hi] (elementwise, any width).
+
+    `trig` = (cos lo, sin lo, cos hi, sin hi) when the caller has them already.
+    """
+    c_lo, s_lo, c_hi, s_hi = trig if trig is not None else (np.cos(lo), np.sin(lo), np.cos(hi), np.sin(hi))
+    amp = np.hypot(a, b)
+    psi = np.arctan2(b, a)
+    f_lo = a * c_lo + b * s_lo
+    f_hi = a * c_hi + b * s_hi
+    top = np.where(angle_inside(psi, lo, hi), amp, np.maximum(f_lo, f_hi))
+    bottom = np.where(angle_inside(psi + np.pi, lo, hi), -amp, np.minimum(f_lo, f_hi))
+    return bottom, top
+
+
+def direction_range(xlo, xhi, ylo, yhi) -> tuple[np.ndarray, np.ndarray]:
+    """Exact range of the direction atan2(y, x) over boxes of vectors (width 2 pi if a box holds 0).
+
+    A box not containing the origin is seen under an angle below pi, spanned by its corners;
+    angles are unwrapped around the direction of the box centre.
+    """
+    centre = np.arctan2(0.5 * (ylo + yhi), 0.5 * (xlo + xhi))
+    lo = np.full(np.shape(xlo), np.inf)
+    hi = np.full(np.shape(xlo), -np.inf)
+    for x in (xlo, xhi):
+        for y in (ylo, yhi):
+            off = (np.arctan2(y, x) - centre + np.pi) % TWO_PI - np.pi
+            lo, hi = np.minimum(lo, off), np.maximum(hi, off)
+    origin = (xlo <= 0) & (xhi >= 0) & (ylo <= 0) & (yhi >= 0)
+    return np.where(origin, centre - np.pi, centre + lo), np.where(origin, centre + np.pi, centre + hi)
+
+
+def triangle_angle_range(side_lo, side_hi, adjacent: float, opposite: float):
+    """Range of the angle between a side of variable length s in [side_lo, side_hi] and the side
+    `adjacent` of a triangle whose third side is `opposite`: arccos((s^2 + a^2 - o^2) / (2 a s)).
+
+    The cosine (s^2 + c) / (2 a s), c = a^2 - o^2, has its only minimum at s = sqrt(c) when c > 0.
+    Only lengths where the triangle closes are meaningful; the caller clips s to them.
+    """
+    c = adjacent * adjacent - opposite * opposite
+
+    def cosine(s):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (s * s + c) / (2.0 * adjacent * s)
+
+    ends = [cosine(side_lo), cosine(side_hi)]
+    cmin, cmax = np.minimum(*ends), np.maximum(*ends)
+    if c > 0:
+        star = np.sqrt(c)
+        inside = (side_lo <= star) & (star <= side_hi)
+        cmin = np.where(inside, np.minimum(cmin, cosine(star)), cmin)
+    cmin = np.where(np.isnan(cmin), -1.0, cmin)
+    cmax = np.where(np.isnan(cmax), 1.0, cmax)
+    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
+
+
+def sin_sign(lo, hi, margin: float = ANGLE_MARGIN) -> np.ndarray:
+    """+1 / -1 where sin is positive / negative on all of [lo - margin, hi + margin], else 0."""
+    lo, hi = lo - margin, hi + margin
+    k = np.floor(lo / np.pi)
+    inside = (lo > k * np.pi) & (hi < (k + 1) * np.pi)
+    even = np.mod(k, 2) == 0
+    return np.where(inside, np.where(even, 1, -1), 0).astype(np.int8)
+
+
+def point_box_distance2(cx: float, cy: float, lo: np.ndarray, hi: np.ndarray):
+    """Exact range of the squared distance from (cx, cy) to the points of each box (2-D)."""
+    nx = np.clip(cx, lo[:, 0], hi[:, 0]) - cx
+    ny = np.clip(cy, lo[:, 1], hi[:, 1]) - cy
+    fx = np.maximum(np.abs(lo[:, 0] - cx), np.abs(hi[:, 0] - cx))
+    fy = np.maximum(np.abs(lo[:, 1] - cy), np.abs(hi[:, 1] - cy))
+    return nx * nx + ny * ny, fx * fx + fy * fy
+
+
+def circle_intersections(c1, r1: float, c2, r2: float) -> list[tuple[float, float]]:
+    """Exact intersection points of two circles (tangent circles give one point, r = 0 is a point).
+
+    Unlike `arcs.circle_intersections`, nothing is snapped: box tests use these points as the
+    anchors and critical points of exact ranges.
+    """
+    (x1, y1), (x2, y2) = c1, c2
+    dx, dy = x2 - x1, y2 - y1
+    d = float(np.hypot(dx, dy))
+    if d == 0 or d > r1 + r2 or d < abs(r1 - r2):
+        return []
+    a = (d * d + r1 * r1 - r2 * r2) / (2 * d)
+    h = float(np.sqrt(max(r1 * r1 - a * a, 0.0)))
+    mx, my = x1 + a * dx / d, y1 + a * dy / d
+    pts = {(mx - h * dy / d, my + h * dx / d), (mx + h * dy / d, my - h * dx / d)}
+    return sorted(pts)

@@ -1,0 +1,171 @@
+"""Certified subdivision: (grid, box test, depth) -> Paving.
+
+Breadth-first: all boxes of a level go to the box test in one vectorised call (in chunks, to bound
+memory). A box test takes arrays lo, hi of shape (m, dim) and returns int8: 1 if every point of
+the box has the property, -1 if no point has it, 0 if it cannot tell. Boxes answering 0 are split
+into their 2^dim children until the maximum depth. The number of evaluations is the number of
+boxes tested: the root plus 2^dim per undetermined box above the maximum depth (the paper's
+n_quadtree).
+
+Soundness of the cells against rounding: the cell bounds computed in floating point may differ
+from the exact dyadic cells of the root box by a few ulps, so every box is widened by
+`pad = 4 ulp(max |root bound|)` before it is tested; the test thus sees a box containing the exact cell.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.morton import interleave
+from fivebar_cli.paving.tree import Tree
+
+BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
+INSIDE, OUTSIDE, UNDETERMINED = 1, -1, 0
+CHUNK = 1 << 16
+MAX_REFINE_CELLS = 1 << 26
+
+
+@dataclass(frozen=True)
+class Paving:
+    """Result of a paving: certified inside and outside trees, undetermined cells, evaluation counts."""
+
+    grid: Grid
+    inside: Tree
+    outside: Tree
+    undetermined: np.ndarray  # integer coordinates of the undetermined cells at the maximum depth
+    per_level: tuple[int, ...]  # boxes tested at each level 0..D
+
+    @property
+    def evaluations(self) -> int:
+        return int(sum(self.per_level))
+
+    @property
+    def undetermined_area(self) -> float:
+        return float(len(self.undetermined) * self.grid.cell_volume(self.grid.depth))
+
+    def undetermined_tree(self) -> Tree:
+        return Tree.from_cells(self.grid, self.grid.depth, self.undetermined)
+
+
+def box_pad(grid: Grid) -> float:
+    """Outward widening of every tested box, covering the rounding of its computed bounds."""
+    return 4.0 * float(np.spacing(max(abs(v) for r in grid.root for v in r)))
+
+
+def children(coords: np.ndarray) -> np.ndarray:
+    """The 2^dim children of each cell, in child order (bit j of the child index = high along axis j)."""
+    dim = coords.shape[1]
+    k = np.arange(1 << dim)
+    offsets = (k[:, None] >> np.arange(dim)[None, :]) & 1
+    return (2 * coords[:, None, :] + offsets[None, :, :]).reshape(-1, dim)
+
+
+def classify(grid: Grid, level: int, coords: np.ndarray, test: BoxTest) -> np.ndarray:
+    """Run the box test on cells of one level, in chunks; returns int8 statuses."""
+    pad = box_pad(grid)
+    status = np.empty(len(coords), dtype=np.int8)
+    for s in range(0, len(coords), CHUNK):
+        lo, hi = grid.boxes(level, coords[s:s + CHUNK], pad)
+        status[s:s + CHUNK] = test(lo, hi)
+    return status
+
+
+def pave(grid: Grid, test: BoxTest, on_level: Callable[[int, int], None] | None = None) -> Paving:
+    """Pave the root box of `grid` down to its depth with `test`."""
+    start = np.zeros((1, grid.dim), dtype=np.int64)
+    return _descend(grid, test, 0, start, [], [], [], on_level)
+
+
+def refine(inside: Tree, outside: Tree, test: BoxTest, depth: int,
+           on_level: Callable[[int, int], None] | None = None) -> Paving:
+    """Deepen a saved paving to `depth`, testing only the children of its undetermined cells.
+
+    The result equals a fresh `pave` at `depth`; its evaluation count is the fresh count minus the
+    evaluations of the original paving.
+    """
+    grid = inside.grid
+    if outside.grid != grid:
+        raise ValueError("the inside and outside trees have different grids")
+    if depth < grid.depth:
+        raise ValueError(f"cannot refine a depth-{grid.depth} paving to the smaller depth {depth}")
+    open_cells = undetermined_cells(inside, outside)
+    deeper = grid.with_depth(depth)
+    per_level = [0] * (grid.depth + 1)
+    if depth == grid.depth:
+        return Paving(deeper, inside, outside, open_cells, tuple(per_level))
+    return _descend(
+        deeper, test, grid.depth + 1, children(open_cells),
+        [(inside.level, inside.code)], [(outside.level, outside.code)], per_level, on_level,
+    )
+
+
+def deepen(grid: Grid, test: BoxTest, cells: np.ndarray, extra: int) -> Paving:
+    """Pave the depth-D cells `cells` (undetermined ones, typically) `extra` levels deeper.
+
+    The result lives on the grid of depth D + extra and holds only what the new boxes decided:
+    a local refinement, e.g. to settle whether two pieces of a region connect.
+    """
+    deeper = grid.with_depth(grid.depth + extra)
+    if extra <= 0 or len(cells) == 0:
+        return Paving(deeper, Tree.empty(deeper), Tree.empty(deeper), np.zeros((0, grid.dim), np.int64),
+                      (0,) * (deeper.depth + 1))
+    return _descend(deeper, test, grid.depth + 1, children(cells), [], [], [0] * (grid.depth + 1), None)
+
+
+def undetermined_cells(inside: Tree, outside: Tree) -> np.ndarray:
+    """Depth-D coordinates of the cells certified neither inside nor outside."""
+    grid = inside.grid
+    if len(inside.intersection(outside)):
+        raise ValueError("the inside and outside trees overlap: not a paving pair")
+    gaps = inside.union(outside).complement()
+    span = grid.depth - gaps.level
+    total = int(np.sum(np.int64(1) << (grid.dim * span))) if len(gaps) else 0
+    if total > MAX_REFINE_CELLS:
+        raise ValueError(f"{total} undetermined cells: the trees do not look like a paving pair")
+    # expand merged gap leaves back to depth-D cells
+    cells = [gaps.coords[gaps.level == grid.depth]]
+    for s in np.unique(span[span > 0]):
+        block = gaps.coords[span == s]
+        for _ in range(int(s)):
+            block = children(block)
+        cells.append(block)
+    coords = np.concatenate(cells) if cells else np.zeros((0, grid.dim), np.int64)
+    return coords.reshape(-1, grid.dim).astype(np.int64)
+
+
+def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, on_level) -> Paving:
+    per_level = list(per_level)
+    inside_parts, outside_parts = list(inside_parts), list(outside_parts)
+    undetermined = np.zeros((0, grid.dim), dtype=np.int64)
+    while True:
+        if on_level is not None:
+            on_level(level, len(coords))
+        status = classify(grid, level, coords, test)
+        per_level.append(len(coords))
+        for parts, value in ((inside_parts, INSIDE), (outside_parts, OUTSIDE)):
+            sel = coords[status == value]
+            if len(sel):
+                parts.append((np.full(len(sel), level), interleave(sel, level)))
+        open_ = coords[status == UNDETERMINED]
+        if level == grid.depth or len(open_) == 0:
+            if level == grid.depth:
+                undetermined = open_
+            break
+        coords = children(open_)
+        level += 1
+    per_level += [0] * (grid.depth + 1 - len(per_level))
+    return Paving(
+        grid, _tree(grid, inside_parts), _tree(grid, outside_parts), undetermined, tuple(per_level)
+    )
+
+
+def _tree(grid: Grid, parts) -> Tree:
+    if not parts:
+        return Tree.empty(grid)
+    level = np.concatenate([p[0] for p in parts])
+    code = np.concatenate([p[1] for p in parts])
+    return Tree(grid, level, code)

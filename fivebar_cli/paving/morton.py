@@ -1,0 +1,74 @@
+"""Morton (Z-order) codes of integer cell coordinates, vectorised with lookup tables.
+
+Bit j of a child index is the high half along axis j, so the Morton order of the cells of a level
+is the preorder of the tree: (x low, y low), (x high, y low), (x low, y high), (x high, y high),
+then phi low before phi high for octrees.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+
+@lru_cache(maxsize=None)
+def _spread_table(dim: int, bits: int) -> np.ndarray:
+    """table[c] = the `bits` low bits of c spread to every dim-th bit position."""
+    c = np.arange(1 << bits, dtype=np.int64)
+    out = np.zeros_like(c)
+    for b in range(bits):
+        out |= ((c >> b) & 1) << (b * dim)
+    return out
+
+
+@lru_cache(maxsize=None)
+def _compact_table(dim: int, bits: int) -> np.ndarray:
+    """table[v, axis] = the bits of axis `axis` gathered from a (bits * dim)-bit Morton chunk v."""
+    v = np.arange(1 << (bits * dim), dtype=np.int64)
+    out = np.zeros((v.size, dim), dtype=np.int64)
+    for b in range(bits):
+        for axis in range(dim):
+            out[:, axis] |= ((v >> (b * dim + axis)) & 1) << b
+    return out
+
+
+def _chunk(dim: int) -> int:
+    return 16 // dim  # coordinate bits per table lookup (tables of 2^16 entries at most)
+
+
+def interleave(coords: np.ndarray, level: int | np.ndarray) -> np.ndarray:
+    """Morton codes of integer cell coordinates, shape (m, dim) -> (m,), bit j of a child index = axis j."""
+    coords = np.asarray(coords, dtype=np.int64)
+    m, dim = coords.shape
+    bits = int(np.max(level)) if np.size(level) else 0
+    step = _chunk(dim)
+    table = _spread_table(dim, step)
+    code = np.zeros(m, dtype=np.int64)
+    for k in range(0, bits, step):
+        for axis in range(dim):
+            code |= table[(coords[:, axis] >> k) & ((1 << step) - 1)] << (k * dim + axis)
+    return code
+
+
+def deinterleave(code: np.ndarray, level: int | np.ndarray, dim: int) -> np.ndarray:
+    """Inverse of `interleave`: Morton codes -> integer coordinates, shape (m, dim)."""
+    code = np.asarray(code, dtype=np.int64)
+    bits = int(np.max(level)) if np.size(level) else 0
+    step = _chunk(dim)
+    table = _compact_table(dim, step)
+    coords = np.zeros((code.size, dim), dtype=np.int64)
+    for k in range(0, bits, step):
+        coords |= table[(code >> (k * dim)) & ((1 << (step * dim)) - 1)] << k
+    return coords
+
+
+def floor_log2(x: np.ndarray) -> np.ndarray:
+    """floor(log2(x)) for positive integers below 2**53 (exact through frexp)."""
+    return np.frexp(x.astype(np.float64))[1].astype(np.int64) - 1
+
+
+def trailing_zeros(x: np.ndarray, cap: int) -> np.ndarray:
+    """Number of trailing zero bits of non-negative int64 values (x == 0 gives `cap`)."""
+    low = x & -x
+    return np.where(x == 0, cap, floor_log2(np.where(x == 0, 1, low)))

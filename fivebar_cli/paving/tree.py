@@ -1,0 +1,349 @@
+"""2^n-trees (quadtrees, octrees) as sets of cells: canonical leaves, set operations, point
+location, adjacency and connected components (with periodic axes), rasters and slices.
+
+A tree is stored as its black leaves only, each a (level, Morton code) pair, in canonical form:
+no 2^n sibling leaves are all black (they would be one leaf of their parent). At the finest
+level D every leaf is a run of consecutive depth-D Morton indices, so a set of cells is also a
+union of integer intervals, and union, intersection and difference become interval sweeps.
+All hot paths are numpy-vectorised over leaves; nothing recurses per cell in Python.
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+
+import numpy as np
+
+from fivebar_cli.paving.codec import BodyError, decode, encode
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.morton import deinterleave, floor_log2, interleave, trailing_zeros
+
+__all__ = ["Tree", "BodyError", "union_find"]
+
+
+class Tree:
+    """A set of cells of a `Grid`, as canonical black leaves sorted in Morton (preorder) order."""
+
+    def __init__(self, grid: Grid, level: np.ndarray, code: np.ndarray, *, canonical: bool = False):
+        self.grid = grid
+        level = np.asarray(level, dtype=np.int64).ravel()
+        code = np.asarray(code, dtype=np.int64).ravel()
+        if not canonical:
+            level, code = _canonical(grid, level, code)
+        self.level, self.code = level, code
+
+    # -- construction
+
+    @classmethod
+    def empty(cls, grid: Grid) -> "Tree":
+        return cls(grid, np.zeros(0), np.zeros(0), canonical=True)
+
+    @classmethod
+    def full(cls, grid: Grid) -> "Tree":
+        return cls(grid, np.zeros(1), np.zeros(1), canonical=True)
+
+    @classmethod
+    def from_cells(cls, grid: Grid, level: np.ndarray, coords: np.ndarray) -> "Tree":
+        """Tree of disjoint cells given by level and integer coordinates (shape (m, dim))."""
+        level = np.broadcast_to(np.asarray(level, dtype=np.int64), (len(coords),))
+        return cls(grid, level, interleave(coords, level) if len(coords) else np.zeros(0))
+
+    @classmethod
+    def from_intervals(cls, grid: Grid, start: np.ndarray, end: np.ndarray) -> "Tree":
+        """Tree of the union of disjoint, sorted depth-D index intervals [start, end)."""
+        level, code = _blocks(grid, *_merge_touching(start, end))
+        return cls(grid, level, code, canonical=True)
+
+    # -- basic properties
+
+    def __len__(self) -> int:
+        return int(self.level.size)
+
+    def __eq__(self, other: object) -> bool:
+        return (
+            isinstance(other, Tree)
+            and self.grid == other.grid
+            and np.array_equal(self.level, other.level)
+            and np.array_equal(self.code, other.code)
+        )
+
+    def __repr__(self) -> str:
+        return f"Tree({len(self)} leaves, depth {self.grid.depth}, area {self.area:.6g})"
+
+    @cached_property
+    def start(self) -> np.ndarray:
+        """First depth-D Morton index of each leaf."""
+        return self.code << (self.grid.dim * (self.grid.depth - self.level))
+
+    @cached_property
+    def end(self) -> np.ndarray:
+        """One past the last depth-D Morton index of each leaf."""
+        return self.start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level)))
+
+    @cached_property
+    def coords(self) -> np.ndarray:
+        """Integer coordinates of each leaf at its own level, shape (m, dim)."""
+        return deinterleave(self.code, self.level, self.grid.dim)
+
+    @property
+    def area(self) -> float:
+        """Total area (volume) of the cells: exact, as a sum of dyadic cell sizes."""
+        return float(np.sum(self.grid.cell_volume(self.level)))
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Leaf bounds (lo, hi), each of shape (m, dim)."""
+        width = np.ldexp(self.grid.size[None, :], -self.level[:, None])
+        lo = self.grid.lo + self.coords * width
+        return lo, lo + width
+
+    def centres(self) -> np.ndarray:
+        lo, hi = self.bounds()
+        return 0.5 * (lo + hi)
+
+    # -- changing the grid
+
+    def with_depth(self, depth: int) -> "Tree":
+        """The same set on a grid of another maximum depth (leaves deeper than `depth` are an error)."""
+        if len(self) and self.level.max() > depth:
+            raise ValueError(f"tree has leaves at level {self.level.max()} > {depth}")
+        return Tree(self.grid.with_depth(depth), self.level, self.code, canonical=True)
+
+    # -- set operations (grids must be equal)
+
+    def _intervals_at(self, depth: int) -> tuple[np.ndarray, np.ndarray]:
+        shift = self.grid.dim * (depth - self.grid.depth)
+        return self.start << shift, self.end << shift
+
+    def _combine(self, other: "Tree", keep) -> "Tree":
+        if self.grid.root != other.grid.root or self.grid.periodic != other.grid.periodic:
+            raise ValueError("trees live on different root boxes")
+        depth = max(self.grid.depth, other.grid.depth)
+        grid = self.grid.with_depth(depth)
+        start, end = _sweep([self._intervals_at(depth), other._intervals_at(depth)], keep)
+        return Tree.from_intervals(grid, start, end)
+
+    def union(self, other: "Tree") -> "Tree":
+        return self._combine(other, lambda a, b: a | b)
+
+    def intersection(self, other: "Tree") -> "Tree":
+        return self._combine(other, lambda a, b: a & b)
+
+    def difference(self, other: "Tree") -> "Tree":
+        return self._combine(other, lambda a, b: a & ~b)
+
+    def symmetric_difference(self, other: "Tree") -> "Tree":
+        return self._combine(other, lambda a, b: a ^ b)
+
+    def complement(self) -> "Tree":
+        return Tree.full(self.grid).difference(self)
+
+    __or__, __and__, __sub__, __xor__ = union, intersection, difference, symmetric_difference
+
+    def subset(self, mask: np.ndarray) -> "Tree":
+        """The tree made of the leaves selected by a boolean mask or index array (already canonical)."""
+        return Tree(self.grid, self.level[mask], self.code[mask], canonical=True)
+
+    # -- point location
+
+    def locate(self, points: np.ndarray) -> np.ndarray:
+        """Index of the leaf containing each point, or -1 (points on a cell edge go to one side)."""
+        coords, inside = self.grid.cells_of_points(points)
+        index = interleave(coords, self.grid.depth)
+        leaf = np.searchsorted(self.start, index, side="right") - 1
+        ok = inside & (leaf >= 0)
+        ok[ok] &= self.end[leaf[ok]] > index[ok]
+        return np.where(ok, leaf, -1)
+
+    # -- adjacency and connected components
+
+    def adjacency(self, other: "Tree | None" = None) -> tuple[np.ndarray, np.ndarray]:
+        """Pairs (i, j): leaf i of this tree and leaf j of `other` (default: this tree) share a face
+        of positive size (corner contact does not count).
+
+        For each leaf and face, the same-size cell across the face is looked up in `other`: the leaf
+        containing it, if any, is a neighbour. A neighbour smaller than leaf i is not found from i
+        but from its own side, so within one tree every pair appears (once per face of the smaller
+        leaf); across two trees, pairs are complete when no leaf of `other` is smaller than its
+        neighbours here. Periodic axes wrap around.
+        """
+        target = self if other is None else other
+        grid, coords, level = self.grid, self.coords, self.level
+        if target.grid != grid:
+            raise ValueError("trees live on different grids")
+        n_side = np.int64(1) << level
+        pairs_i, pairs_j = [], []
+        for axis in range(grid.dim):
+            for step in (-1, 1):
+                nb = coords.copy()
+                nb[:, axis] += step
+                if grid.periodic[axis]:
+                    nb[:, axis] %= n_side
+                    valid = np.ones(len(self), dtype=bool)
+                else:
+                    valid = (nb[:, axis] >= 0) & (nb[:, axis] < n_side)
+                idx = np.flatnonzero(valid)
+                shift = grid.dim * (grid.depth - level[idx])
+                first = interleave(nb[idx], level[idx]) << shift
+                last = first + (np.int64(1) << shift)
+                leaf = np.searchsorted(target.start, first, side="right") - 1
+                hit = leaf >= 0
+                hit[hit] &= target.end[leaf[hit]] >= last[hit]
+                if other is None:
+                    hit &= leaf != idx  # a root-sized periodic cell touching itself
+                pairs_i.append(idx[hit])
+                pairs_j.append(leaf[hit])
+        return np.concatenate(pairs_i), np.concatenate(pairs_j)
+
+    def components(self) -> tuple[np.ndarray, int]:
+        """Label leaves by face-connected component; labels are numbered in Morton order of first leaf."""
+        i, j = self.adjacency()
+        root = union_find(len(self), i, j)
+        _, first, labels = np.unique(root, return_index=True, return_inverse=True)
+        order = np.argsort(first, kind="stable")
+        rank = np.empty_like(order)
+        rank[order] = np.arange(order.size)
+        return rank[labels], int(order.size)
+
+    def split_components(self) -> list["Tree"]:
+        """The face-connected components as trees, in Morton order of their first leaf."""
+        labels, count = self.components()
+        return [self.subset(labels == c) for c in range(count)]
+
+    # -- rasters (2-D)
+
+    def coverage(self, level: int) -> np.ndarray:
+        """Fraction of each pixel of the 2^level x 2^level grid covered by the set, indexed [y, x]."""
+        if self.grid.dim != 2:
+            raise ValueError("coverage rasters are for quadtrees")
+        n = 1 << level
+        image = np.zeros((n, n))
+        coords, lev = self.coords, self.level
+        for leaf_level in np.unique(lev):
+            sel = coords[lev == leaf_level]
+            if leaf_level <= level:
+                small = np.zeros((1 << leaf_level, 1 << leaf_level))
+                small[sel[:, 1], sel[:, 0]] = 1.0
+                rep = 1 << (level - leaf_level)
+                image += np.repeat(np.repeat(small, rep, axis=0), rep, axis=1)
+            else:
+                shift = leaf_level - level
+                np.add.at(image, (sel[:, 1] >> shift, sel[:, 0] >> shift), 0.25 ** shift)
+        return image
+
+    # -- slices (an octree seen at one value of an axis)
+
+    def slice(self, axis: int, value: float) -> "Tree":
+        """The (dim - 1)-tree of the cells whose extent along `axis` holds `value` (cells are
+        half-open [lo, hi), the last one closed), on the grid of the other axes."""
+        grid = self.grid
+        lo, hi = grid.root[axis]
+        n = 1 << grid.depth
+        layer = min(max(int(np.floor((value - lo) / (hi - lo) * n)), 0), n - 1)
+        span = grid.depth - self.level
+        along = self.coords[:, axis]
+        keep = ((along << span) <= layer) & (layer < ((along + 1) << span))
+        rest = [a for a in range(grid.dim) if a != axis]
+        sub = Grid(tuple(grid.root[a] for a in rest), grid.depth, tuple(grid.periodic[a] for a in rest))
+        return Tree.from_cells(sub, self.level[keep], self.coords[keep][:, rest])
+
+    # -- B/W/G body
+
+    def to_bwg(self) -> str:
+        """Preorder body: G grey (children follow), B black, W white."""
+        return encode(self)
+
+    @classmethod
+    def from_bwg(cls, grid: Grid, body: str) -> "Tree":
+        """Parse a preorder body; raises BodyError with the offending node position."""
+        level, code, black = decode(grid, body)
+        return cls(grid, level[black], code[black])
+
+
+# ---------------------------------------------------------------- canonical form
+
+
+def _canonical(grid: Grid, level: np.ndarray, code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Sort disjoint leaves and merge complete sibling groups into their parents."""
+    if level.size == 0:
+        return level, code
+    if level.max() > grid.depth:
+        raise ValueError("leaf deeper than the grid depth")
+    shift = grid.dim * (grid.depth - level)
+    start = code << shift
+    end = start + (np.int64(1) << shift)
+    order = np.argsort(start, kind="stable")
+    start, end = start[order], end[order]
+    if np.any(start[1:] < end[:-1]):
+        raise ValueError("cells overlap")
+    return _blocks(grid, *_merge_touching(start, end))
+
+
+def _merge_touching(start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Merge sorted disjoint intervals that touch end-to-start into maximal intervals."""
+    if start.size == 0:
+        return start, end
+    new = np.ones(start.size, dtype=bool)
+    new[1:] = start[1:] != end[:-1]
+    last = np.ones(start.size, dtype=bool)
+    last[:-1] = new[1:]
+    return start[new], end[last]
+
+
+def _blocks(grid: Grid, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Split maximal intervals of depth-D indices into maximal aligned blocks (canonical leaves).
+
+    Greedy from the left: the largest aligned block that starts at the current position and fits.
+    Because the intervals are maximal, every block found is a maximal cell of the set.
+    """
+    dim, depth = grid.dim, grid.depth
+    levels, codes = [], []
+    a, b = start.astype(np.int64), end.astype(np.int64)
+    while a.size:
+        span = np.minimum(trailing_zeros(a, dim * depth) // dim, floor_log2(b - a) // dim)
+        span = np.minimum(span, depth)
+        levels.append(depth - span)
+        codes.append(a >> (dim * span))
+        a = a + (np.int64(1) << (dim * span))
+        keep = a < b
+        a, b = a[keep], b[keep]
+    if not levels:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    level, code = np.concatenate(levels), np.concatenate(codes)
+    order = np.argsort(code << (dim * (depth - level)), kind="stable")
+    return level[order], code[order]
+
+
+def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
+    """Combine unions of disjoint intervals with a boolean function `keep(in_a, in_b)`."""
+    points = np.unique(np.concatenate([np.concatenate([s, e]) for s, e in interval_sets]))
+    if points.size < 2:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+    left = points[:-1]
+    member = []
+    for s, e in interval_sets:
+        k = np.searchsorted(s, left, side="right") - 1
+        inside = k >= 0
+        inside[inside] &= e[k[inside]] > left[inside]
+        member.append(inside)
+    mask = keep(*member)
+    return _merge_touching(left[mask], points[1:][mask])
+
+
+# ---------------------------------------------------------------- union-find
+
+
+def union_find(n: int, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """Connected-component roots (smallest index of each component) by hooking + pointer jumping."""
+    parent = np.arange(n, dtype=np.int64)
+    while True:
+        while True:  # pointer jumping until every node points at its root
+            grand = parent[parent]
+            if np.array_equal(grand, parent):
+                break
+            parent = grand
+        ri, rj = parent[i], parent[j]
+        cross = ri != rj
+        if not cross.any():
+            return parent
+        i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
+        np.minimum.at(parent, np.maximum(ri, rj), np.minimum(ri, rj))

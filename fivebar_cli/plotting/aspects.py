@@ -1,0 +1,76 @@
+"""Figures of generalized aspects: the parallel aspects in the workspace, one panel per working
+mode (the paper's figures 7, 8), and the serial aspects in the joint space (figures 9, 10)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from fivebar_cli.analyses.aspects import signs_text
+from fivebar_cli.plotting import pyplot
+from fivebar_cli.plotting.trees import BLACK, PALE, draw_layers
+
+
+def _aspect_colour(number: int):
+    import matplotlib
+
+    return matplotlib.colormaps["tab10"]((number - 1) % 10)[:3]
+
+
+def _label_aspects(ax, aspects, space: str) -> None:
+    for a in aspects:
+        tree = a.workspace if space == "workspace" else a.jointspace
+        x, y = tree.centres()[int(np.argmin(tree.level))]
+        ax.annotate(str(a.number), (x, y), ha="center", va="center", fontsize=9, fontweight="bold",
+                    color="white", bbox={"boxstyle": "circle,pad=0.2", "fc": "0.15", "ec": "none", "alpha": 0.8})
+
+
+def _aspect_panel(ax, analysis, region, aspects, space: str, title: str) -> None:
+    layers = [(region.paving.outside, PALE), (region.paving.undetermined_tree(), BLACK)]
+    layers += [(a.workspace if space == "workspace" else a.jointspace, _aspect_colour(a.number)) for a in aspects]
+    draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[])
+    _label_aspects(ax, aspects, space)
+    ax.set_title(title, fontsize=9)
+
+
+def _aspect_legend(fig, aspects) -> None:
+    from matplotlib.patches import Patch
+
+    handles = [Patch(facecolor=_aspect_colour(a.number), label=f"aspect {a.number}: working mode "
+                     f"{signs_text(a.working)}, det A {signs_text(a.assembly)}") for a in aspects]
+    handles += [Patch(facecolor=PALE, label="complement (certified outside)"),
+                Patch(facecolor=BLACK, label="undetermined (singularities)")]
+    fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7, frameon=False)
+
+
+def figure_aspects_workspace(analysis):
+    """Paper figures 7 and 8: the parallel aspects, one panel per working mode."""
+    plt = pyplot()
+    modes = analysis.model.working_modes
+    cols = math.ceil(math.sqrt(len(modes)))
+    rows = math.ceil(len(modes) / cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, 5.4 * rows + 0.6), dpi=130, squeeze=False)
+    signs = ", ".join(analysis.model.serial_names)
+    for ax, wm in zip(axes.ravel(), modes):
+        region = analysis.region("workspace", wm)
+        mine = [a for a in analysis.aspects if a.working == wm]
+        _aspect_panel(ax, analysis, region, mine, "workspace", f"working mode {signs_text(wm)} (signs of {signs})")
+    fig.suptitle(f"{analysis.mechanism.name}: parallel aspects in the workspace, depth {analysis.depth}")
+    _aspect_legend(fig, analysis.aspects)
+    fig.tight_layout(rect=(0, 0.07, 1, 0.97), h_pad=2.0)
+    return fig
+
+
+def figure_aspects_jointspace(analysis, assembly: int):
+    """Paper figures 9 and 10: the serial aspects in the joint space for one sign of det A."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.8, 7.4), dpi=150)
+    region = analysis.region("jointspace", assembly)
+    mine = [a for a in analysis.aspects if a.assembly == assembly]
+    _aspect_panel(ax, analysis, region, mine, "jointspace",
+                  f"{analysis.mechanism.name}: serial aspects, det A {'>' if assembly > 0 else '<'} 0, "
+                  f"depth {analysis.depth}")
+    _aspect_legend(fig, mine)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    return fig

@@ -1,0 +1,107 @@
+"""Figures of pavings in any space: 2-D trees drawn directly, 3-D trees as slices.
+
+Trees are drawn as rasters (coverage of each pixel, so millions of cells cost nothing) with the
+outlines of the leaves on top when they are few enough to be seen, like the paper's figures.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fivebar_cli.mechanisms.base import Space
+from fivebar_cli.paving.tree import Tree
+from fivebar_cli.plotting import pyplot
+
+MAX_RASTER_LEVEL = 10
+MAX_OUTLINES = 12000
+WHITE = np.array([1.0, 1.0, 1.0])
+BLACK, RED, PALE = (0.0, 0.0, 0.0), (0.85, 0.15, 0.1), (0.88, 0.88, 0.88)
+SPACE_TITLES = {"jointspace": "joint space", "workspace": "workspace"}
+SLICES = 4  # panels of a 3-D paving: slices at the centres of this many equal parts of the last axis
+
+
+def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> np.ndarray:
+    """RGB image: white, with each tree's coverage blended in its colour."""
+    n = 1 << level
+    image = np.tile(WHITE, (n, n, 1))
+    for tree, colour in layers:
+        cover = np.clip(tree.coverage(level), 0, 1)[..., None]
+        image = image * (1 - cover) + np.asarray(colour) * cover
+    return image
+
+
+def _outlines(ax, trees: list[Tree]) -> None:
+    from matplotlib.collections import LineCollection
+
+    for tree in trees:
+        if 0 < len(tree) <= MAX_OUTLINES:
+            lo, hi = tree.bounds()
+            x0, y0, x1, y1 = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
+            segs = np.stack(
+                [np.stack([x0, y0, x1, y0], 1), np.stack([x1, y0, x1, y1], 1),
+                 np.stack([x1, y1, x0, y1], 1), np.stack([x0, y1, x0, y0], 1)], 1
+            ).reshape(-1, 2, 2)
+            ax.add_collection(LineCollection(segs, colors="0.55", linewidths=0.15))
+
+
+def axes_labels(ax, axes) -> None:
+    ax.set_xlabel(axes[0].title)
+    ax.set_ylabel(axes[1].title)
+
+
+def draw_layers(ax, layers, axes, outline: list[Tree]) -> None:
+    """Coloured 2-D trees on the root box of their grid, in one panel."""
+    grid = layers[0][0].grid
+    level = min(grid.depth, MAX_RASTER_LEVEL)
+    (x0, x1), (y0, y1) = grid.root
+    ax.imshow(paint(layers, level), origin="lower", extent=(x0, x1, y0, y1), interpolation="nearest")
+    _outlines(ax, outline)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal" if axes[0].unit == axes[1].unit else "auto")
+    axes_labels(ax, axes)
+
+
+def _legend(ax, legend) -> None:
+    from matplotlib.patches import Patch
+
+    ax.legend(handles=[Patch(facecolor=c, edgecolor="0.3", label=t) for t, c in legend],
+              loc="upper right", fontsize=7, framealpha=0.9)
+
+
+def figure_paving(name: str, space: Space, inside: Tree, outside: Tree, undetermined: Tree, complement: bool):
+    """Paper figures 3 and 6 (certified inside in black) or 4 (complementary space in black); a
+    3-D paving as slices at a few values of its last axis."""
+    shown, other = (outside, inside) if complement else (inside, outside)
+    what = "complementary " if complement else ""
+    title = (f"{name}: {what}{SPACE_TITLES.get(space.name, space.name)}, depth {inside.grid.depth} "
+             f"(black {'area' if space.dim == 2 else 'volume'} {shown.area:.6g}, undetermined {undetermined.area:.3g})")
+    legend = [
+        ("certified outside" if complement else "certified inside", BLACK),
+        ("undetermined at maximum depth", RED),
+    ]
+    layers = [(shown, BLACK), (undetermined, RED)]
+    if not complement:
+        legend.append(("certified outside", PALE))
+        layers.insert(0, (other, PALE))
+    plt = pyplot()
+    if space.dim == 2:
+        fig, ax = plt.subplots(figsize=(6.4, 6.0), dpi=150)
+        draw_layers(ax, layers, space.axes, outline=[shown])
+        ax.set_title(title, fontsize=10)
+        _legend(ax, legend)
+        fig.tight_layout()
+        return fig
+    last = space.axes[-1]
+    values = [last.lo + (k + 0.5) * (last.hi - last.lo) / SLICES for k in range(SLICES)]
+    fig, panels = plt.subplots(2, SLICES // 2, figsize=(10, 10), dpi=120)
+    for ax, value in zip(panels.ravel(), values):
+        sliced = [(tree.slice(space.dim - 1, value), colour) for tree, colour in layers]
+        draw_layers(ax, sliced, space.axes[:2], outline=[])
+        ax.set_title(f"{last.name} = {value:.4g} {last.unit}".rstrip(), fontsize=9)
+    _legend(panels.ravel()[0], legend)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
