@@ -67,7 +67,9 @@ class FiveBar(Mechanism):
             "workspace": Space("workspace", "reachable", (Axis("x", -reach, reach), Axis("y", -reach, reach))),
         }
 
-    def box_test(self, space: str, procedure: str = "exact"):
+    def box_test(self, space: str, procedure: str = "exact", region: str | None = None):
+        if region not in (None, self.spaces()[space].region):
+            raise KeyError(region)
         tests = {
             ("jointspace", "exact"): boxtests.joint_space_test,
             ("workspace", "exact"): boxtests.workspace_test,
@@ -76,9 +78,9 @@ class FiveBar(Mechanism):
         }
         return tests[space, procedure](self)
 
-    def exact_measure(self, space: str) -> float | None:
+    def exact_measure(self, space: str, region: str | None = None) -> float | None:
         """The workspace is the intersection of two annuli: its area is exact (arcs, Green)."""
-        return boxtests.workspace_area(self) if space == "workspace" else None
+        return boxtests.workspace_area(self) if space == "workspace" and region is None else None
 
     def printed_k_percent(self, space: str, depth: int) -> int | None:
         """The paper's Table 1, for M1 and M2 (recognised by their lengths)."""
