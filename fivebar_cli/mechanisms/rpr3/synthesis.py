@@ -129,8 +129,13 @@ def synthesize(t1, t2, t3, k, phi1, phi2, rho_min, grid: int = 17, xtol: float =
         x, fx = brent_min(f, xs[max(i - 1, 0)], xs[min(i + 1, len(xs) - 1)], xtol)
         return x if fx <= fs[i] else float(xs[i])
 
+    means: dict[float, MeanArea] = {}  # cases 4 and 6 scan the same grid
+
     def mean(rho):
-        return mean_area(t1, t2, t3, k, phi1, phi2, rho, rmax(rho))
+        rho = float(rho)
+        if rho not in means:
+            means[rho] = mean_area(t1, t2, t3, k, phi1, phi2, rho, rmax(rho))
+        return means[rho]
 
     def ends(rho):
         r = rmax(rho)
