@@ -16,13 +16,17 @@ import tempfile
 import time
 import tracemalloc
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from fivebar_cli import rpr3  # noqa: E402
+from fivebar_cli.mechanisms.rpr3 import closed_form, paper, synthesis  # noqa: E402
+
+rpr3 = SimpleNamespace(PAPER_SETUP=paper.PAPER_SETUP, rho_max_auto=closed_form.rho_max_auto, area=closed_form.area,
+                       area_auto=closed_form.area_auto, synthesize=synthesis.synthesize)
 
 BASES = [ROOT / "configs" / f"rpr3-{n}.yaml" for n in ("acute", "equilateral", "obtuse")]
 

@@ -156,17 +156,16 @@ def _arcs(centres, radii, sides):
             np.maximum(worst, t, out=worst)
     keep = valid & (worst <= 0.0) & ~empty[:, None, None]
 
-    # Green, as chord plus circular segment: 1/2 s_j [P_s x P_e + r^2 (theta - sin theta)] with
-    # theta = e - s; unlike r^2 theta + r (x, y).(...) it does not cancel for a huge circle whose
-    # arc is short and whose centre is far from the working origin.
+    # Green, as chord plus circular segment: 1/2 s_j [P_s x P_e + r^2 (theta - sin theta)], theta = e - s,
+    # with P_s x P_e = 2 r sin(h) (c . u + r cos h), h = theta / 2. Unlike r^2 theta + 2 r sin(h) c . u,
+    # nothing large cancels for a huge circle with a short arc (a nearly collinear base): there
+    # theta is known to its rounding only, and r^2 theta is huge.
     rr = np.where(active, r, 0.0)[..., None]
     half = 0.5 * (end - start)
     ch, sh = np.cos(half), np.sin(half)
-    xs, ys = x[..., None] + rr * (ux * ch + uy * sh), y[..., None] + rr * (uy * ch - ux * sh)
-    xe, ye = x[..., None] + rr * (ux * ch - uy * sh), y[..., None] + rr * (uy * ch + ux * sh)
     theta = end - start
     seg = np.where(theta < 0.05, theta_minus_sin(theta), theta - 2.0 * sh * ch)
-    g = 0.5 * s[..., None] * (xs * ye - ys * xe + rr * rr * seg)
+    g = 0.5 * s[..., None] * (2.0 * rr * sh * (x[..., None] * ux + y[..., None] * uy + rr * ch) + rr * rr * seg)
     return start, end, keep, np.where(keep, g, 0.0)
 
 
