@@ -22,6 +22,7 @@ import rpr3_reference as ref
 from fivebar_cli.analyses.spaces import pave_space
 from fivebar_cli.cli import main
 from fivebar_cli.io.qtfile import read_qt
+from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.mechanisms.registry import from_description, load_config
 from fivebar_cli.mechanisms.rpr3 import boxtests
 from fivebar_cli.mechanisms.rpr3 import closed_form as cf
@@ -135,7 +136,7 @@ def test_box_tests_are_sound_on_random_geometries_and_boxes(case):
     data, fractions = case
     try:
         m = mech(data)
-    except Exception:  # coincident points, legs that never meet: refused configs
+    except ConfigError:  # coincident points, legs that never meet: refused configs
         return
     if not m.spaces():
         return
@@ -448,3 +449,16 @@ def test_closed_form_commands_refuse_a_general_platform(tmp_path, capsys):
         "legs: {rho_min: 0.2, rho_max: auto}", "legs: {rho_min: [0.2, 0.3, 0.2], rho_max: 1.9}"))
     code, _, err = cli(capsys, "rpr3", "area", per_leg, "-o", tmp_path)
     assert code == 2 and f"{per_leg}: legs: the closed forms need one leg range" in err
+
+
+def test_figures_of_pave_and_verify(tmp_path, capsys):
+    one_phi = tmp_path / "one-phi.yaml"
+    one_phi.write_text((CONFIGS / "rpr3-general.yaml").read_text().replace("phi_range: [0, 60]", "phi: 30"))
+    for config, depth in ((one_phi, 5), (CONFIGS / "rpr3-verify" / "table1-legs-1-1.5.yaml", 3)):
+        out = tmp_path / config.stem
+        code, _, err = cli(capsys, "rpr3", "pave", config, "--depth", depth, "-o", out, "-q")
+        assert code == 0, err
+        assert (out / "workspace.png").stat().st_size > 0 and (out / "singularity-free.png").stat().st_size > 0
+    code, _, _ = cli(capsys, "rpr3", "verify", one_phi, "-o", tmp_path / "v", "-q")
+    assert code == 1 and (tmp_path / "v" / "counterexample.png").stat().st_size > 0
+    assert (tmp_path / "one-phi" / "workspace.qt").read_text().count("# axes:") == 0  # a quadtree

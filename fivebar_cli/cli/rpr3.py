@@ -325,7 +325,7 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
 # ---------------------------------------------------------------- octrees: pave and verify
 
 MAX_OCTREE_DEPTH = 12  # an octree's boundary surface has ~4^d cells: about 0.1 GiB per million
-MAX_VERIFY_DEPTH = 20  # verify only splits what it cannot decide
+MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
 
 
 def load_octree(path):
@@ -396,7 +396,8 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
         design = mech.closed_form(str(config)) if mech.exact_measure("workspace") is not None else None
         plus, minus = (pavings[r].inside for r in regions[1:])
         title = f"{mech.name}: singularity-free workspace by sign of det J, depth {depth}"
-        paths.append(figure(lambda: figure_singularity_free(title, space, plus, minus, reach.outside, design),
+        paths.append(figure(lambda: figure_singularity_free(title, space, plus, minus, reach.outside, mech.phi_range,
+                                                            design),
                             folder / "singularity-free.png"))
     wrote(quiet, paths)
 

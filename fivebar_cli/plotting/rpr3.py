@@ -127,11 +127,11 @@ PLUS_COLOUR, MINUS_COLOUR = (0.16, 0.42, 0.78), (0.93, 0.55, 0.13)
 SLICES = 4
 
 
-def figure_singularity_free(title: str, space, plus, minus, unreachable, design=None):
+def figure_singularity_free(title: str, space, plus, minus, unreachable, phi_range, design=None):
     """Constant-orientation slices of the sign trees (the 2-D quadtree of each slice): det J > 0 in
     blue, det J < 0 in orange, certified unreachable in grey, the singular-or-undetermined band in
     red; for a similar platform (`design`), the closed-form singularity circle at each slice's phi.
-    A single-orientation space is one panel."""
+    A single-orientation space (phi_range[0]) is one panel."""
     from matplotlib.patches import Circle, Patch
 
     from fivebar_cli.paving.tree import Tree
@@ -150,9 +150,9 @@ def figure_singularity_free(title: str, space, plus, minus, unreachable, design=
         band = Tree.full(trees[0].grid) - (trees[0] | trees[1] | trees[2])
         layers = [(trees[0], PALE), (trees[1], PLUS_COLOUR), (trees[2], MINUS_COLOUR), (band, RED)]
         draw_layers(ax, layers, space.axes[:2], outline=[])
-        phi = design.phi_range[0] if value is None else value
+        phi = phi_range[0] if value is None else value
         if design is not None:
-            (cx, cy), radius = rpr3.singularity_circle(*design.design, to_radians(phi, design.phi_range[0]))
+            (cx, cy), radius = rpr3.singularity_circle(*design.design, to_radians(phi, phi_range[0]))
             ax.add_patch(Circle((float(cx), float(cy)), float(radius), fill=False, ec="k", lw=1.0, ls="--"))
         ax.set_title(f"phi = {phi:.4g} deg", fontsize=9)
     handles = [Patch(facecolor=c, edgecolor="0.3", label=t) for t, c in (
