@@ -462,3 +462,12 @@ def test_figures_of_pave_and_verify(tmp_path, capsys):
     code, _, _ = cli(capsys, "rpr3", "verify", one_phi, "-o", tmp_path / "v", "-q")
     assert code == 1 and (tmp_path / "v" / "counterexample.png").stat().st_size > 0
     assert (tmp_path / "one-phi" / "workspace.qt").read_text().count("# axes:") == 0  # a quadtree
+
+
+def test_verify_stops_when_the_open_set_grows_too_large(monkeypatch):
+    from fivebar_cli.mechanisms.rpr3 import verify as module
+
+    monkeypatch.setattr(module, "MAX_BOXES", 64)
+    r = module.verify(load_config(CONFIGS / "rpr3-table1.yaml"), 10)
+    assert r.status == module.UNDECIDED and r.exit_code == 3 and r.depth < 10 and r.note.startswith("stopped")
+    assert 0 < r.undecided_volume <= r.root_volume

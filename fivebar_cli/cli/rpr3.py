@@ -471,8 +471,9 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
             if stale.is_file():
                 stale.unlink()
     if result.status == UNDECIDED:
+        advice = result.note or "raise --depth"
         report(quiet, f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
-                      f"{result.depth}: raise --depth")
+                      f"{result.depth}: {advice}")
     header = ["name", "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume"]
     row = (mech.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
            result.undecided_volume, result.root_volume)

@@ -26,6 +26,7 @@ from fivebar_cli.paving.engine import CHUNK, box_pad, children
 
 FREE, SINGULAR, UNDECIDED = "certified singularity-free", "singular pose found", "undecided"
 EXIT = {FREE: 0, SINGULAR: 1, UNDECIDED: 3}
+MAX_BOXES = 1 << 23  # boxes of one level: beyond, the open set is a surface, not a few curves (stop: undecided)
 
 
 @dataclass(frozen=True)
@@ -51,6 +52,7 @@ class VerifyResult:
     undecided_volume: float
     root_volume: float
     pose: Pose | None = None
+    note: str = ""
 
     @property
     def exit_code(self) -> int:
@@ -91,9 +93,10 @@ def verify(m, max_depth: int, on_level=None) -> VerifyResult:
         left = coords[open_]
         if len(left) == 0:
             return VerifyResult(FREE, level, max_depth, tuple(per_level), 0.0, _volume(grid, 0))
-        if level == max_depth:
+        if level == max_depth or len(left) << grid.dim > MAX_BOXES:
+            note = "" if level == max_depth else f"stopped: {len(left) << grid.dim} boxes at the next depth"
             return VerifyResult(UNDECIDED, level, max_depth, tuple(per_level),
-                                len(left) * _volume(grid, level), _volume(grid, 0))
+                                len(left) * _volume(grid, level), _volume(grid, 0), note=note)
         coords = children(left)
     raise AssertionError("unreachable")
 
