@@ -393,7 +393,7 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
         reach = pavings[REACHABLE]
         paths.append(figure(lambda: figure_paving(mech.name, space, reach.inside, reach.outside,
                                                   reach.undetermined_tree(), False), folder / "workspace.png"))
-        design = mech.closed_form(str(config)) if mech.exact_measure("workspace") is not None else None
+        design = mech.closed_form_or_none()
         plus, minus = (pavings[r].inside for r in regions[1:])
         title = f"{mech.name}: singularity-free workspace by sign of det J, depth {depth}"
         paths.append(figure(lambda: figure_singularity_free(title, space, plus, minus, reach.outside, mech.phi_range,

@@ -94,6 +94,13 @@ class Rpr3(Mechanism):
                                      "circle is a line to rounding, and the closed forms lose their accuracy")
         return self._design()
 
+    def closed_form_or_none(self) -> "SimilarDesign | None":
+        """The similar-form design when the closed forms apply (see `closed_form`), else None."""
+        try:
+            return self.closed_form("<model>")
+        except schema.ConfigError:
+            return None
+
     # -- protocol
 
     @classmethod
@@ -104,7 +111,8 @@ class Rpr3(Mechanism):
     def from_description(cls, fields: Mapping[str, str], name: str, source: str) -> "Rpr3":
         fields = dict(fields)
         general = "B1" in fields
-        words = {key: fields.pop(key, None) for key in ("rho_min", "rho_max", "B1", "B2", "B3", "P1", "P2", "P3")}
+        points = ("B1", "B2", "B3", "P1", "P2", "P3") if general else ()
+        words = {key: fields.pop(key, None) for key in ("rho_min", "rho_max", *points)}
         keys = [k for k in (SIMILAR_KEYS if not general else GENERAL_KEYS) if k not in words]
         v = description_numbers(fields, keys, source)
         data: dict = {"name": name, "type": cls.kind}
@@ -133,7 +141,7 @@ class Rpr3(Mechanism):
 
     def spaces(self) -> dict[str, Space]:
         """The workspace (x, y, phi[deg]) on a root box holding every reachable pose; (x, y) for a
-        single orientation. None when the legs are unbounded (rho_max auto = inf)."""
+        single orientation. No space when the legs are unbounded (rho_max auto = inf)."""
         root = workspace_root(self)
         if root is None:
             return {}
@@ -145,6 +153,7 @@ class Rpr3(Mechanism):
         return {"workspace": Space("workspace", REACHABLE, axes)}
 
     def regions(self, space: str) -> tuple[str, ...]:
+        """Reachable, and reachable with det J > 0, resp. < 0 (the singularity-free parts)."""
         return (REACHABLE, PLUS, MINUS)
 
     def box_test(self, space: str, procedure: str = "exact", region: str | None = None):
@@ -157,9 +166,7 @@ class Rpr3(Mechanism):
     def exact_measure(self, space: str, region: str | None = None) -> float | None:
         """Similar form with one leg range: the volume (area for one phi) of each region from the
         closed-form areas, integrated over phi (deg); None otherwise."""
-        if space != "workspace" or self.similar is None:
-            return None
-        if len(set(self.rho_min)) != 1 or len(set(self.leg_limits()[1])) != 1:
+        if space != "workspace" or self.closed_form_or_none() is None:
             return None
         return _exact_measure(self, region or REACHABLE)
 
