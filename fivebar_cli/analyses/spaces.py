@@ -44,6 +44,11 @@ def pave_space(m: Mechanism, space: str, depth: int, procedure: str = "exact", o
     return pave(m.spaces()[space].grid(depth), _test(m, space, procedure, region), on_level)
 
 
+def pave_regions(m: Mechanism, space: str, depth: int, procedure: str = "exact", on_level=None) -> dict[str, Paving]:
+    """Certified pavings of every region the kind declares for a space, by region name."""
+    return {region: pave_space(m, space, depth, procedure, on_level, region) for region in m.regions(space)}
+
+
 def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations: int,
               region: str | None = None) -> dict:
     """Header fields of a paving's .qt files; `mechanism`, `procedure` and `evaluations` let

@@ -360,22 +360,21 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
       fivebar rpr3 pave configs/rpr3-general.yaml --depth 7 -o out/general
     """
     from fivebar_cli.analyses import spaces
+    from fivebar_cli.mechanisms.rpr3 import volumes
     from fivebar_cli.mechanisms.rpr3.model import REGION_FILES, REACHABLE
 
     mech = load_octree(config)
     folder = prepare_out(out, mech.name)
     space = mech.spaces()["workspace"]
     regions = mech.regions("workspace")
-    pavings, paths = {}, []
+    paths = []
     with progress(quiet, len(regions) * (depth + 1), f"octree depth {depth}") as advance:
-        for region in regions:
-            own = None if region == REACHABLE else region
-            p = spaces.pave_space(mech, "workspace", depth, "exact", lambda level, n: advance(1), own)
-            pavings[region] = p
-            paths += spaces.write_paving(folder, mech, "workspace", p, "exact", p.evaluations, own, REGION_FILES[region])
-    header, row = _volumes(mech, depth, pavings)
-    paths.append(write_csv(folder / "volumes.csv", header, [row]))
-    v = dict(zip(header, row))
+        pavings = spaces.pave_regions(mech, "workspace", depth, on_level=lambda level, n: advance(1))
+    for region, p in pavings.items():
+        own = None if region == REACHABLE else region
+        paths += spaces.write_paving(folder, mech, "workspace", p, "exact", p.evaluations, own, REGION_FILES[region])
+    v = volumes.volumes(mech, pavings)
+    paths.append(write_csv(folder / "volumes.csv", volumes.HEADER, [tuple(v.values())]))
     unit = "area" if space.dim == 2 else "volume (x y deg)"
     report(quiet, f"{mech.name}: workspace {'quadtree' if space.dim == 2 else 'octree'} depth {depth}, "
                   f"{v['evaluations']} evaluations; {unit}:")
@@ -400,25 +399,6 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
                                                             design),
                             folder / "singularity-free.png"))
     wrote(quiet, paths)
-
-
-VOLUME_HEADER = ["name", "depth", "evaluations", "root", "reachable", "unreachable", "undetermined", "det_positive",
-                 "det_negative", "singular_or_undetermined", "exact_reachable", "exact_det_positive",
-                 "exact_det_negative"]
-
-
-def _volumes(mech, depth: int, pavings: dict) -> tuple[list[str], tuple]:
-    """The row of volumes.csv: certified volumes of each region and the band between them."""
-    from fivebar_cli.mechanisms.rpr3.model import MINUS, PLUS, REACHABLE
-
-    reach, plus, minus = pavings[REACHABLE], pavings[PLUS], pavings[MINUS]
-    root = float(reach.grid.cell_volume(0))
-    band = root - reach.outside.area - plus.inside.area - minus.inside.area
-    exact = [mech.exact_measure("workspace", r) for r in (REACHABLE, PLUS, MINUS)]
-    row = (mech.name, depth, sum(p.evaluations for p in pavings.values()), root, reach.inside.area,
-           reach.outside.area, reach.undetermined_area, plus.inside.area, minus.inside.area, band,
-           *("" if e is None else e for e in exact))
-    return VOLUME_HEADER, row
 
 
 @rpr3.command("verify", short_help="Prove a design singularity-free, or find a reachable singular pose.")
