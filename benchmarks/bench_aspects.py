@@ -13,8 +13,8 @@ import time
 import tracemalloc
 from pathlib import Path
 
-from fivebar_cli.aspects import analyse_aspects
-from fivebar_cli.config import load_fivebar
+from fivebar_cli.analyses.aspects import analyse_aspects
+from fivebar_cli.mechanisms.registry import load_config
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
@@ -27,7 +27,7 @@ def main() -> None:
     print(f"{'mech':4s} {'d':>2s} {'total s':>8s} {'paving s':>8s} {'labels s':>8s} {'linking s':>9s} "
           f"{'crossing s':>10s} {'peak MiB':>8s} {'evaluations':>11s} {'leaves':>8s} {'aspects':>7s} {'fragments':>9s}")
     for name in args.configs.split(","):
-        m = load_fivebar(CONFIGS / f"{name}.yaml")
+        m = load_config(CONFIGS / f"{name}.yaml")
         analyse_aspects(m, 6)  # warm-up
         for depth in (int(d) for d in args.depths.split(",")):
             t0 = time.perf_counter()

@@ -79,7 +79,7 @@ def _configuration(model: AspectModel, joint_space: Space, aspects: list[Aspect]
         axes[0]: float(joints[0]), axes[1]: float(joints[1]),
         "working_mode": "".join({1: "+", -1: "-", 0: "0"}[s] for s in working),
         "assembly_mode": {1: "+", -1: "-", 0: "0"}[sa],
-        "aspect": number, "singular": ", ".join(singular),
+        "aspect": number, "singular": "; ".join(singular),
     }
 
 

@@ -38,7 +38,7 @@ def reproduce(configs, out, no_plot, quiet):
 
     Runs, in order: the five-bar Table 1 (kratio), the joint space, workspace and aspects of
     M1 and M2 at depth 10, and the 3-RPR construction, sweeps and synthesis. The .qt and CSV
-    files are deterministic: CI can diff them against the committed outputs/.
+    files are deterministic: the tests diff them against tests/golden/ (make golden).
 
     \b
     Example:
