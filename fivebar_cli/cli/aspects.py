@@ -8,7 +8,7 @@ import click
 import numpy as np
 
 from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
-from fivebar_cli.analyses.aspects import analyse_aspects, region_count, signs_text
+from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
 from fivebar_cli.analyses.crossings import paper_claim_verdict
 from fivebar_cli.analyses.locate import locate_configurations, motions
 from fivebar_cli.cli.options import (
@@ -28,20 +28,32 @@ def _load_with_aspects(config_path) -> Mechanism:
     return m
 
 
+def _budget_option(func):
+    return click.option(
+        "--budget", type=click.IntRange(0, None), default=DEFAULT_BUDGET, show_default=True,
+        help="Box evaluations that local refinement below --depth may spend to join or separate pieces "
+             "(0: none; the count may then stay uncertified).",
+    )(func)
+
+
 @click.command(short_help="Generalized aspects, their matching and crossings (figs. 7-10).")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @depth_option(limit=MAX_ASPECT_DEPTH)
+@_budget_option
 @common_options
-def aspects(config_path, depth, out, no_plot, quiet):
+def aspects(config_path, depth, budget, out, no_plot, quiet):
     """Generalized aspects: the singularity-free regions of each working and assembly mode.
 
     Paves the workspace once per working mode and the joint space once per assembly mode,
     labels the connected regions (the five-bar's joint space is a torus), matches each parallel
-    aspect (workspace) to its serial aspect (joint space), and finds which aspects touch across
-    a serial singularity. Writes aspects.csv, aspects-adjacency.csv, aspects/aspect-NN.workspace.qt
-    and aspect-NN.jointspace.qt (and removes the aspect trees of an earlier run that this one does
-    not have), and the figures aspects-workspace.png (paper figs. 7, 8) and
-    aspects-jointspace-assembly+.png / -.png (figs. 9, 10).
+    aspect (workspace) to its serial aspect (joint space), certifies the count (inner and outer
+    approximations of every mode, locally refined below --depth within --budget), and finds
+    which aspects touch across a serial singularity. Prints "N generalized aspects (certified)"
+    or the bounds of an uncertified count. Writes aspects.csv (with a `certified` column),
+    aspects-adjacency.csv, aspects/aspect-NN.workspace.qt and aspect-NN.jointspace.qt (and
+    removes the aspect trees of an earlier run that this one does not have), and the figures
+    aspects-workspace.png (paper figs. 7, 8) and aspects-jointspace-assembly+.png / -.png
+    (figs. 9, 10).
 
     \b
     Example:
@@ -50,7 +62,7 @@ def aspects(config_path, depth, out, no_plot, quiet):
     m = _load_with_aspects(config_path)
     folder = prepare_out(out, m.name)
     with progress(quiet, region_count(m) + 1, f"aspects depth {depth}") as advance:
-        analysis = analyse_aspects(m, depth, advance)
+        analysis = analyse_aspects(m, depth, advance, budget)
     paths = write_aspects(folder, analysis)
     if not no_plot:
         from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
@@ -59,11 +71,11 @@ def aspects(config_path, depth, out, no_plot, quiet):
         for am in analysis.model.assembly_modes:
             paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
                                 folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
-    report(quiet, f"{m.name}: {len(analysis.aspects)} generalized aspects at depth {depth} "
-           f"({analysis.evaluations} box evaluations; {analysis.fragments_resolved} fragments attached)")
+    report(quiet, analysis.headline())
     for a in analysis.aspects:
         report(quiet, f"  aspect {a.number:2d}: working mode {signs_text(a.working)}, det A {signs_text(a.assembly)}, "
-               f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}")
+               f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}"
+               + ("" if a.certified else " (not certified)"))
     for c in analysis.crossings:
         report(quiet, f"  aspects {c.a} and {c.b} (det A {signs_text(c.assembly)}) touch across {c.singularity} = 0")
     if not analysis.aspects:
@@ -86,11 +98,12 @@ def aspects(config_path, depth, out, no_plot, quiet):
 @click.option("--assembly-mode", type=click.Choice(["+", "-"]), default=None,
               help="Keep only configurations of this assembly mode.")
 @depth_option(limit=MAX_ASPECT_DEPTH)
+@_budget_option
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder of an earlier `aspects` run to reuse when it holds this mechanism at this depth "
                    "[default: outputs/<config name>/]; otherwise the aspects are computed (nothing is written).")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the configurations as CSV.")
-def locate(config_path, poses, joints, working_mode, assembly_mode, depth, out, as_csv):
+def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budget, out, as_csv):
     """Which aspect a configuration lies in, and whether two can be joined without singularity.
 
     For each --pose (x, y), every configuration reaching it (up to four working modes); for
@@ -110,7 +123,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, out, 
     m = _load_with_aspects(config_path)
     folder = output_dir(out, m.name)
     saved = load_aspects(folder, m, depth)
-    found = saved if saved is not None else analyse_aspects(m, depth).aspects
+    found = saved if saved is not None else analyse_aspects(m, depth, budget=budget).aspects
     joint_space = m.spaces()["jointspace"]
     locations = [("pose", tuple(p)) for p in poses] + [("joints", tuple(j)) for j in joints]
     rows = []
@@ -125,9 +138,12 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, out, 
             cfg["location"] = f"{kind} {value[0]:g} {value[1]:g}"
             rows.append(cfg)
     names = [a.name for a in joint_space.axes]
-    keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular")
+    keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular",
+            "aspect_certified")
     if as_csv:
-        click.echo(csv_text(keys, [[("" if r[k] is None else r[k]) for k in keys] for r in rows]), nl=False)
+        cell = {None: "", True: "true", False: "false"}
+        click.echo(csv_text(keys, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
+                                    for k in keys] for r in rows]), nl=False)
         return
     source = f"read from {folder}" if saved is not None else "computed"
     click.echo(f"{m.name}: aspects at depth {depth} {source}")
@@ -137,6 +153,8 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, out, 
                    + (f"{len(mine)} configuration(s)" if mine else "no configuration (unreachable / cannot assemble)"))
         for r in mine:
             where = f"aspect {r['aspect']}" if r["aspect"] is not None else "on or near a singularity (no certified aspect)"
+            if r["aspect_certified"] is False:
+                where += " (not certified at this depth)"
             extra = f" [{r['singular']}]" if r["singular"] else ""
             click.echo(f"  working mode {r['working_mode']}, assembly mode {r['assembly_mode']}: "
                        f"x = {r['x']:.6g}, y = {r['y']:.6g}, {names[0]} = {r[names[0]]:.6g}, "

@@ -46,11 +46,16 @@ for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, rp
 
 
 class Interrupted(FivebarError):
-    """Ctrl-C. Raised from the SIGINT handler so that click does not turn it into its own Abort."""
+    """Ctrl-C or SIGTERM. Raised from the signal handler so that click does not turn it into its own
+    Abort, and so that the atomic writer removes its temporary file on the way out."""
 
 
 def _on_sigint(signum, frame):
     raise Interrupted("interrupted (no output was left half-written)")
+
+
+def _on_sigterm(signum, frame):
+    raise Interrupted("terminated (no output was left half-written)")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -60,6 +65,8 @@ def main(argv: list[str] | None = None) -> None:
 
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         signal.signal(signal.SIGINT, _on_sigint)
+    if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, _on_sigterm)
     warnings.simplefilter("ignore", RuntimeWarning)  # numpy noise must not break the one-line promise
     try:
         status = cli.main(args=argv, prog_name="fivebar", standalone_mode=False)
