@@ -13,7 +13,9 @@ import pytest
 from scipy import ndimage
 
 import reference_aspects as ref
+from cli_helpers import run_cli
 from fivebar_cli.analyses.aspects import analyse_aspects
+from fivebar_cli.io.qtfile import read_qt
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
 SEEDS = range(8)
@@ -120,3 +122,57 @@ def test_no_budget_gives_bounds_not_an_error():
     check_bounds(a)
     assert a.refinement_evaluations == 0
     assert a.lower <= 12 <= a.upper
+
+
+# ---------------------------------------------------------------- the command line
+
+
+def write_config(path, lengths):
+    path.write_text("name: X\ntype: fivebar\nlengths: {" + ", ".join(f"L{k}: {v}" for k, v in enumerate(lengths)) + "}\n")
+    return path
+
+
+def test_report_and_csv_say_whether_the_count_is_certified(tmp_path):
+    cfg = write_config(tmp_path / "x.yaml", (3, 5, 2, 2, 5))
+    r = run_cli("aspects", cfg, "--depth", "8", "--budget", "0", "-o", tmp_path / "none", "--no-plot")
+    assert r.status == 0, r.stderr
+    first = r.stdout.splitlines()[0]
+    assert first.startswith("X: between 12 and ") and ", not certified at depth 8: " in first
+    assert first.endswith("pieces undecided (raise --depth or --budget)")
+    rows = (tmp_path / "none" / "aspects.csv").read_text().splitlines()
+    assert rows[0].endswith(",certified")
+    flags = [row.rsplit(",", 1)[1] for row in rows[1:]]
+    assert set(flags) == {"true", "false"}
+    assert r.stdout.count("(not certified)") == flags.count("false")
+    r = run_cli("aspects", cfg, "--depth", "8", "-o", tmp_path / "budget", "--no-plot")
+    assert r.stdout.splitlines()[0].startswith("X: 12 generalized aspects at depth 8 (certified;")
+    assert all(row.endswith(",true") for row in (tmp_path / "budget" / "aspects.csv").read_text().splitlines()[1:])
+
+
+def test_a_rerun_leaves_exactly_its_own_aspect_files(tmp_path):
+    cfg = write_config(tmp_path / "x.yaml", (1, 6, 6, 2, 2))
+    out = tmp_path / "out"
+    assert run_cli("aspects", cfg, "--depth", "11", "-o", out, "--no-plot", "-q").status == 0
+    assert len(list((out / "aspects").glob("*.qt"))) == 24
+    assert run_cli("aspects", cfg, "--depth", "9", "-o", out, "--no-plot", "-q").status == 0
+    rows = (out / "aspects.csv").read_text().splitlines()[1:]
+    expected = {f"aspect-{int(r.split(',')[0]):02d}.{s}.qt" for r in rows for s in ("workspace", "jointspace")}
+    assert {p.name for p in (out / "aspects").iterdir()} == expected
+    assert all(read_qt(p).tree.grid.depth == 9 for p in (out / "aspects").iterdir())
+
+
+def test_locate_says_when_the_aspect_is_not_certified(tmp_path):
+    cfg = write_config(tmp_path / "x.yaml", (3, 5, 2, 2, 5))
+    out = tmp_path / "out"
+    assert run_cli("aspects", cfg, "--depth", "8", "--budget", "0", "-o", out, "--no-plot", "-q").status == 0
+    rows = [r.split(",") for r in (out / "aspects.csv").read_text().splitlines()[1:]]
+    uncertified = max((r for r in rows if r[-1] == "false"), key=lambda r: float(r[3]))
+    certified = next(r for r in rows if r[-1] == "true")
+    r = run_cli("locate", cfg, "--depth", "8", "-o", out, "--pose", uncertified[7], uncertified[8],
+                "--pose", certified[7], certified[8])
+    assert r.status == 0, r.stderr
+    assert "read from" in r.stdout.splitlines()[0]
+    assert f"aspect {uncertified[0]} (not certified at this depth)" in r.stdout
+    assert f"-> aspect {certified[0]}\n" in r.stdout
+    r = run_cli("locate", cfg, "--depth", "8", "-o", out, "--pose", uncertified[7], uncertified[8], "--csv")
+    assert any(line.endswith(f",{uncertified[0]},,false") for line in r.stdout.splitlines())

@@ -25,8 +25,8 @@ M2_YAML = REPO / "configs" / "m2.yaml"
 L = {"L0": 9.0, "L1": 8.0, "L2": 5.0, "L3": 5.0, "L4": 8.0}  # M1, section 3 of the paper
 DEPTH = "8"
 HEADER = ("aspect,working_mode,assembly_mode,workspace_area,jointspace_area,workspace_cells,"
-          "jointspace_cells,x,y,theta1,theta2")
-LOCATE_HEADER = "input,location,x,y,theta1,theta2,working_mode,assembly_mode,aspect,singular"
+          "jointspace_cells,x,y,theta1,theta2,certified")
+LOCATE_HEADER = "input,location,x,y,theta1,theta2,working_mode,assembly_mode,aspect,singular,aspect_certified"
 WM_ORDER = ["++", "+-", "-+", "--"]
 PNGS = {"aspects-workspace.png", "aspects-jointspace-assembly+.png", "aspects-jointspace-assembly-.png"}
 
@@ -100,6 +100,7 @@ def test_aspects_csv_columns_and_rows(runs, rows):
         assert r["assembly_mode"] in ("+", "-") and r["working_mode"] in WM_ORDER
         assert float(r["workspace_area"]) > 0 and float(r["jointspace_area"]) > 0
         assert int(r["workspace_cells"]) > 0 and int(r["jointspace_cells"]) > 0
+        assert r["certified"] == "true"  # M1's count is certified at this depth
 
 
 def test_one_qt_file_per_aspect_and_space_matching_the_csv(runs, rows):

@@ -249,3 +249,17 @@ def test_ctrl_c_right_after_the_temporary_file_is_created(tmp_path, monkeypatch)
     monkeypatch.undo()
     assert target.read_text() == "old\n"
     assert [p.name for p in tmp_path.iterdir()] == ["table.csv"], "a temporary file was left"
+
+
+def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
+    """SIGTERM (a scheduler, `kill`) while `aspects` writes: status 1, one line, no temporary file,
+    every output old or complete."""
+    folder = tmp_path / "run"
+    shutil.copytree(old_aspects, folder)
+    before = snapshot(old_aspects)
+    r = interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], tmp_path, folder, ("tmp", 1),
+                  signal.SIGTERM)
+    assert r.fired
+    line = one_line(r, 1, "terminated")
+    assert line.startswith("fivebar: ")
+    check_whole(folder, before, allow_tmp=False)

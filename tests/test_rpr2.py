@@ -47,7 +47,7 @@ DEMO = Rpr2("rpr2-demo", D, RHO_MIN, RHO_MAX)
 SUMMARY = ["space", "name", "procedure", "depth", "evaluations", "K", "inside_area", "undetermined_area",
            "outside_area", "inside_cells", "outside_cells", "undetermined_cells", "exact_area"]
 ASPECTS_HEADER = ("aspect,working_mode,assembly_mode,workspace_area,jointspace_area,workspace_cells,"
-                  "jointspace_cells,x,y,rho1,rho2")
+                  "jointspace_cells,x,y,rho1,rho2,certified")
 HYP = settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
@@ -644,6 +644,7 @@ def test_cli_aspects_files(out):
     assert text.splitlines()[0] == ASPECTS_HEADER
     rows = list(csv.DictReader(io.StringIO(text)))
     assert [(r["aspect"], r["working_mode"], r["assembly_mode"]) for r in rows] == [("1", "++", "+"), ("2", "++", "-")]
+    assert [r["certified"] for r in rows] == ["true", "true"]
     assert (out / "aspects-adjacency.csv").read_text().strip().count("\n") == 0  # only its header
     assert (out / "aspects-adjacency.csv").read_text().startswith("aspect_a,aspect_b,")
     for r, sign in zip(rows, (1, -1)):
