@@ -19,6 +19,7 @@ from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
+from fivebar_cli.cli.view import view
 from fivebar_cli.errors import FivebarError
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
@@ -37,11 +38,12 @@ def cli() -> None:
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
+      fivebar view outputs/M1
       fivebar reproduce
     """
 
 
-for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, view, rpr3, reproduce):
     cli.add_command(command)
 
 
