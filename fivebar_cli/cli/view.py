@@ -6,9 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.analyses.view import gather
 from fivebar_cli.cli.options import report, wrote
-from fivebar_cli.view.page import write_page
 
 PAGE = "view.html"
 
@@ -40,6 +38,9 @@ def view(paths, out, quiet):
       fivebar view outputs/M1                     # writes outputs/M1/view.html
       fivebar view out/m1/workspace.qt -o m1-workspace.html
     """
+    from fivebar_cli.analyses.view import gather  # imported here: other commands start without them
+    from fivebar_cli.view.page import write_page
+
     page = out if out is not None else default_page(paths[0])
     data = gather(paths)
     path = write_page(page, data)
