@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.layout import band_path, paving_paths, sibling_paths
@@ -68,13 +70,16 @@ def write_paving(folder: Path, m: Mechanism, space: str, paving: Paving, procedu
 
 
 def summary_row(m: Mechanism, space: str, procedure: str, paving: Paving, evaluations: int) -> tuple:
-    """One CSV row; `exact_area` is the closed-form measure of the set, when one is known."""
+    """One CSV row; `exact_area` is the closed-form measure of the set, when one is known. The band
+    of an interval mechanism counts with the undetermined cells (at depth D), so that the three
+    areas still sum to the root's."""
     grid = paving.grid
     exact = m.exact_measure(space)
+    band_cells = int(np.sum(np.left_shift(1, grid.dim * (grid.depth - np.asarray(paving.band.level, np.int64)))))
     return (
         space, m.name, procedure, grid.depth, evaluations, k_ratio(evaluations, grid.dim, grid.depth),
-        paving.inside.area, paving.undetermined_area, paving.outside.area,
-        len(paving.inside), len(paving.outside), len(paving.undetermined),
+        paving.inside.area, paving.undetermined_area + paving.band.area, paving.outside.area,
+        len(paving.inside), len(paving.outside), len(paving.undetermined) + band_cells,
         "" if exact is None else exact,
     )
 

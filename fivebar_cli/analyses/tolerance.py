@@ -57,6 +57,17 @@ def aspect_fates(nominal: AspectAnalysis, robust: AspectAnalysis) -> list[Fate]:
     return fates
 
 
+def fate_text(f: Fate) -> str:
+    """'vanishes', 'splits into robust aspects 3, 4', 'shrinks to 86%' or 'keeps its area'."""
+    if f.verdict == "vanishes":
+        return "vanishes (no robust cell at this depth)"
+    if f.verdict == "splits":
+        return f"splits into robust aspects {', '.join(map(str, f.robust))}"
+    if f.verdict == "shrinks":
+        return f"shrinks to {f.robust_area / f.nominal_area:.0%} (robust aspect {f.robust[0]})"
+    return f.verdict
+
+
 def _meets(cells, tree) -> bool:
     """Whether a cell centre of `cells` lies in `tree` (the trees may have different root boxes)."""
     return bool(len(cells) and len(tree) and np.any(tree.locate(cells.centres()) >= 0))
@@ -100,6 +111,7 @@ class Study:
     pavings: dict  # (tolerance, space) -> Paving
     fates: dict  # tolerance -> list[Fate]
     nominal: AspectAnalysis
+    robust: dict  # tolerance -> AspectAnalysis of the robust aspects
 
 
 def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=lambda n=1: None) -> Study:
@@ -110,7 +122,7 @@ def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=l
     widest = base.widened(max(tolerances))
     nominal_areas = {"workspace": base.exact_measure("workspace"), "jointspace": jointspace_area(base)}
     nominal = analyse_aspects(base, depth)
-    rows, pavings, fates = [], {}, {}
+    rows, pavings, fates, analyses = [], {}, {}, {}
     for tol in tolerances:
         mt = base.widened(tol)
         for space in ("workspace", "jointspace"):
@@ -119,8 +131,8 @@ def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=l
             possible = float(paving.grid.size.prod()) - paving.outside.area
             rows.append(StudyRow(tol, space, paving.inside.area, possible, nominal_areas[space]))
             advance(1)
-        robust = nominal if tol == 0 else analyse_aspects(mt, depth)
+        analyses[tol] = robust = nominal if tol == 0 else analyse_aspects(mt, depth)
         fates[tol] = aspect_fates(nominal, robust)
         rows += [StudyRow(tol, f"aspect-{f.number:02d}", f.robust_area, None, f.nominal_area) for f in fates[tol]]
         advance(1)
-    return Study(base, depth, rows, pavings, fates, nominal)
+    return Study(base, depth, rows, pavings, fates, nominal, analyses)

@@ -3,11 +3,10 @@ manufacturing tolerances on its link lengths."""
 
 from __future__ import annotations
 
-from pathlib import Path
 
 import click
 
-from fivebar_cli.analyses.tolerance import HEADER, tolerance_study
+from fivebar_cli.analyses.tolerance import HEADER, fate_text, tolerance_study
 from fivebar_cli.cli.options import CONFIG, common_options, depth_option, figure, prepare_out, progress, report, wrote
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.mechanisms.registry import load_config
@@ -68,15 +67,10 @@ def tolerance(config_path, tolerances, depth, out, no_plot, quiet):
             report(quiet, f"  {r.tolerance:8g} {r.region:10s} {r.robust_area:12.6g} {r.possible_area:12.6g} "
                           f"{r.nominal_area:12.6g}")
     for tol in tolerances:
+        if not study.robust[tol].certified:
+            report(quiet, f"  T = {tol:g}: {study.robust[tol].headline()}")
         changed = [f for f in study.fates[tol] if f.verdict != "keeps its area"]
         if changed:
-            report(quiet, f"  T = {tol:g}: " + "; ".join(_fate_text(f) for f in changed))
+            report(quiet, f"  T = {tol:g}: " + "; ".join(f"aspect {f.number} {fate_text(f)}" for f in changed))
     wrote(quiet, paths)
 
-
-def _fate_text(f) -> str:
-    if f.verdict == "vanishes":
-        return f"aspect {f.number} vanishes"
-    if f.verdict == "splits":
-        return f"aspect {f.number} splits into robust aspects {', '.join(map(str, f.robust))}"
-    return f"aspect {f.number} shrinks to {f.robust_area / f.nominal_area:.0%}"

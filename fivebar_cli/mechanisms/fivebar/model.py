@@ -16,7 +16,8 @@ import numpy as np
 from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields
 from fivebar_cli.mechanisms.fivebar import boxtests, paper, robust
-from fivebar_cli.mechanisms.fivebar.modes import FiveBarModes, RobustFiveBarModes
+from fivebar_cli.mechanisms.fivebar.modes import FiveBarModes
+from fivebar_cli.mechanisms.fivebar.robust_modes import RobustFiveBarModes
 
 LENGTHS = ("L0", "L1", "L2", "L3", "L4")
 

@@ -17,7 +17,6 @@ from fivebar_cli.mechanisms.fivebar.boxtests import (
     DELTA_REL, annuli, assembly_status, box_trig, crank_distance2_range, leg_distance2_ranges, reach_status,
     workspace_anchors,
 )
-from fivebar_cli.mechanisms.fivebar import robust
 from fivebar_cli.mechanisms.fivebar.kinematics import dkp, ikp, mode_values, scale
 from fivebar_cli.numerics.ranges import direction_range, sin_sign, sinusoid_range, triangle_angle_range
 
@@ -209,29 +208,4 @@ class FiveBarModes:
 
     def jointspace_signs(self, assembly, lo, hi):
         status, _, u, v = joint_mode_classes(self.m, assembly, lo, hi)
-        return status != -1, np.column_stack([u, v])
-
-
-@dataclass(frozen=True)
-class RobustFiveBarModes(FiveBarModes):
-    """The `AspectModel` of a five-bar with interval lengths: black cells are non-singular with their
-    modes for every length vector (`robust.py`); samples are mapped between the spaces with the
-    nominal kinematics (the nominal lengths are in the length box)."""
-
-    def workspace_test(self, working):
-        return robust.working_mode_workspace_test(self.m, working)
-
-    def jointspace_test(self, assembly):
-        return robust.assembly_mode_joint_test(self.m, assembly)
-
-    def serial_band_signs(self, assembly, lo, hi):
-        _, strict, u, v = robust.joint_mode_classes(self.m, assembly, lo, hi)
-        return strict, np.column_stack([u, v])
-
-    def workspace_signs(self, working, lo, hi):
-        status, _, sign = robust.workspace_mode_classifier(self.m, working)(lo, hi)
-        return status != -1, sign[:, None]
-
-    def jointspace_signs(self, assembly, lo, hi):
-        status, _, u, v = robust.joint_mode_classes(self.m, assembly, lo, hi)
         return status != -1, np.column_stack([u, v])

@@ -34,7 +34,7 @@ import numpy as np
 
 from fivebar_cli.mechanisms.fivebar.boxtests import DELTA_REL, ETA_REL, box_trig, crank_distance2_range
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
-from fivebar_cli.numerics.ranges import angle_inside, direction_range, point_box_distance2, sin_sign
+from fivebar_cli.numerics.ranges import angle_inside, direction_range, point_box_distance2
 from fivebar_cli.paving.engine import BAND
 
 # ---------------------------------------------------------------- exact pieces
@@ -140,7 +140,7 @@ def sharpen(m, b: dict, lo, hi, trig, idx) -> dict:
 def _finish(b: dict) -> dict:
     """`low` and `high` from |c|'s range and s's range (module docstring)."""
     dmin, dmax, total = b["dmin"], b["dmax"], b["total"]
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
         second = np.where(dmin > 0, total * total / (2.0 * dmin), np.inf)
     b["low"] = np.maximum(dmin - b["s_hi"], 0.0)
     b["high"] = np.minimum(dmax + b["s_hi"] + second, dmax + total)
@@ -291,92 +291,5 @@ def workspace_test(m):
         robust, impossible, _ = workspace_classes(m, lo, hi)
         band = workspace_band(m, lo, hi)
         return np.where(robust, 1, np.where(impossible, -1, np.where(band, BAND, 0))).astype(np.int8)
-
-    return test
-
-
-# ---------------------------------------------------------------- modes
-
-
-def _clip(d2range, r_in, r_out, delta):
-    lo = np.sqrt(np.maximum(d2range[0] - delta, 0.0))
-    hi = np.sqrt(np.maximum(d2range[1] + delta, 0.0))
-    return np.clip(lo, r_in, r_out), np.clip(hi, r_in, r_out)
-
-
-def workspace_mode_classifier(m, working: tuple[int, int]):
-    """Per box, for one working mode: (status 1/-1/0 of reach, strictly inside both annuli for every
-    L, sign of det A over the box and every L where the configuration exists, 0 if not constant)."""
-    su, sv = working
-    delta, _ = margins(m)
-
-    def classify(lo, hi):
-        robust, impossible, strict = workspace_classes(m, lo, hi)
-        d1, d2 = leg_ranges(m, lo, hi)
-        _, _, p1_in, p1_out = radii(m, 1, 3)
-        _, _, p2_in, p2_out = radii(m, 2, 4)
-        a1 = direction_range(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1])
-        wlo, whi = widened(m, lo, hi)
-        a2 = direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1])
-        g1 = triangle_angle_range3(*_clip(d1, p1_in, p1_out, delta), m.bounds[3], m.bounds[1])
-        g2 = triangle_angle_range3(*_clip(d2, p2_in, p2_out, delta), m.bounds[4], m.bounds[2])
-        t3 = (a1[0] + g1[0], a1[1] + g1[1]) if su > 0 else (a1[0] - g1[1], a1[1] - g1[0])
-        t4 = (a2[0] + g2[0], a2[1] + g2[1]) if sv > 0 else (a2[0] - g2[1], a2[1] - g2[0])
-        status = np.where(robust, 1, np.where(impossible, -1, 0)).astype(np.int8)
-        return status, strict, sin_sign(t4[0] - t3[1], t4[1] - t3[0])
-
-    return classify
-
-
-def working_mode_workspace_test(m, working):
-    """Black when every P of the box is reachable, non-singular and in this working mode for every L."""
-    classify = workspace_mode_classifier(m, working)
-
-    def test(lo, hi):
-        status, strict, sign = classify(lo, hi)
-        out = workspace_band(m, lo, hi, possible_too=False)  # no point robust: none in a robust aspect
-        return np.where(status == -1, -1, np.where(strict & (sign != 0), 1, np.where(out, BAND, 0))).astype(np.int8)
-
-    return test
-
-
-def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
-    """Per box: (status 1/-1/0, free of parallel singularity for every L, sign B11, sign B22 over
-    the box and every L where it assembles, 0 where not constant); with `with_band` also whether
-    no point assembles robustly."""
-    trig = box_trig(lo, hi)
-    bounds = crank_distance_bounds(m, lo, hi, trig)
-    d_lo, d_hi = bounds["low"], bounds["high"]
-    robust, impossible = joint_status(m, d_lo, d_hi)
-    strict, _ = joint_status(m, d_lo, d_hi, strict=True)
-    (l3, u3), (l4, u4) = m.bounds[3], m.bounds[4]
-    p_in = 0.0 if max(l3, l4) <= min(u3, u4) else min(abs(l3 - u4), abs(l4 - u3))
-    _, eta = margins(m)
-    d_lo = np.maximum(np.clip(d_lo - eta, p_in, u3 + u4), eta)  # beta is undefined at d = 0
-    d_hi = np.clip(d_hi + eta, p_in, u3 + u4)
-    a_lo, a_hi = triangle_angle_range3(d_lo, d_hi, m.bounds[3], m.bounds[4])
-    e_lo, e_hi = triangle_angle_range3(d_lo, d_hi, m.bounds[4], m.bounds[3])
-    b_lo, b_hi = crank_direction_range(m, lo, hi, trig)
-    if assembly > 0:
-        t3 = (b_lo + a_lo, b_hi + a_hi)
-        t4 = (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
-    else:
-        t3 = (b_lo - a_hi, b_hi - a_lo)
-        t4 = (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
-    u = sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0])
-    v = sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
-    status = np.where(robust, 1, np.where(impossible, -1, 0)).astype(np.int8)
-    if with_band:
-        return status, strict, u, v, joint_band(m, bounds, possible_too=False)
-    return status, strict, u, v
-
-
-def assembly_mode_joint_test(m, assembly: int):
-    """Black when every (th1, th2) of the box assembles in this mode, non-singular, for every L."""
-
-    def test(lo, hi):
-        status, strict, u, v, out = joint_mode_classes(m, assembly, lo, hi, with_band=True)
-        black = strict & (u != 0) & (v != 0)
-        return np.where(status == -1, -1, np.where(black, 1, np.where(out, BAND, 0))).astype(np.int8)
 
     return test
