@@ -135,10 +135,11 @@ class AspectAnalysis:
     def headline(self) -> str:
         """One line: the certified count, or the bounds and what is left undecided."""
         name, depth = self.mechanism.name, self.depth
+        what = "robust generalized aspects" if getattr(self.mechanism, "is_interval", False) else "generalized aspects"
         if self.certified:
-            return (f"{name}: {len(self.aspects)} generalized aspects at depth {depth} (certified; "
+            return (f"{name}: {len(self.aspects)} {what} at depth {depth} (certified; "
                     f"{self.evaluations} box evaluations, {self.refinement_evaluations} in local refinement)")
-        return (f"{name}: between {self.lower} and {self.upper} generalized aspects, not certified at depth "
+        return (f"{name}: between {self.lower} and {self.upper} {what}, not certified at depth "
                 f"{depth}: {self.undecided_pieces} pieces undecided (raise --depth or --budget)")
 
     @property

@@ -19,6 +19,7 @@ from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
+from fivebar_cli.cli.tolerance import tolerance
 from fivebar_cli.errors import FivebarError
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
@@ -41,7 +42,7 @@ def cli() -> None:
     """
 
 
-for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, tolerance, rpr3, reproduce):
     cli.add_command(command)
 
 
