@@ -19,6 +19,7 @@ from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
+from fivebar_cli.cli.tolerance import tolerance
 from fivebar_cli.cli.view import view
 from fivebar_cli.errors import FivebarError
 
@@ -43,7 +44,7 @@ def cli() -> None:
     """
 
 
-for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, view, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, tolerance, view, rpr3, reproduce):
     cli.add_command(command)
 
 

@@ -19,6 +19,10 @@ REPRODUCTION = (  # (what, arguments); {configs} and {out} are filled in
     ("M2 workspace (fig. 6)", ["workspace", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 aspects (figs. 8, 10)", ["aspects", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 in a browser (view.html)", ["view", "{out}/M2", "-o", "{out}/M2/view.html"]),
+    ("M1 tolerances (the paper's future work)",
+     ["tolerance", "{configs}/m1.yaml", "--tolerances", "0,0.01,0.02,0.05,0.1", "--depth", "9", "-o", "{out}/M1"]),
+    ("M2 tolerances (the paper's future work)",
+     ["tolerance", "{configs}/m2.yaml", "--tolerances", "0,0.005,0.01,0.02", "--depth", "9", "-o", "{out}/M2"]),
     ("3-RPR construction (fig. 2)", ["rpr3", "area", "{configs}/rpr3-equilateral.yaml", "-o", "{out}/rpr3-equilateral"]),
     ("3-RPR area vs phi (figs. 3, 4, 6, 7)", ["rpr3", "sweep", *BASES, "--over", "phi", "-o", "{out}/rpr3-bases"]),
     ("3-RPR area vs rho_min (fig. 5)", ["rpr3", "sweep", *BASES, "--over", "rho_min", "-o", "{out}/rpr3-bases"]),
@@ -42,9 +46,10 @@ def reproduce(configs, out, no_plot, quiet):
     """Regenerate every table and figure of both papers (what `make reproduce` runs).
 
     Runs, in order: the five-bar Table 1 (kratio), the joint space, workspace and aspects of
-    M1 and M2 at depth 10 with a view.html page of each (fivebar view), and the 3-RPR
-    construction, sweeps and synthesis. The .qt and CSV files are deterministic: the tests diff
-    them against tests/golden/ (make golden). --no-plot skips the figures and the pages.
+    M1 and M2 at depth 10 with a view.html page of each (fivebar view), their sensitivity to
+    manufacturing tolerances (depth 9), and the 3-RPR construction, sweeps and synthesis. The
+    .qt and CSV files are deterministic: the tests diff them against tests/golden/ (make
+    golden). --no-plot skips the figures and the pages.
 
     \b
     Example:
