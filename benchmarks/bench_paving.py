@@ -19,10 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fivebar_cli import fivebar
-from fivebar_cli.config import load_fivebar
-from fivebar_cli.spaces import grid as space_grid
-from fivebar_cli.spaces import pave_space
+from fivebar_cli.analyses.spaces import pave_space
+from fivebar_cli.mechanisms.fivebar import kinematics
+from fivebar_cli.mechanisms.registry import load_config
 
 CONFIGS = Path(__file__).resolve().parents[1] / "configs"
 
@@ -51,13 +50,13 @@ def measured(func):
 
 def dense_grid(m, space: str, depth: int, fraction_rows: int = 1) -> tuple[int, float]:
     """Classify cell centres of the 2^d x 2^d grid (rows 0 .. n/fraction_rows); returns (valid, seconds)."""
-    g = space_grid(m, space, depth)
+    g = m.spaces()[space].grid(depth)
     n = 1 << depth
     (x0, x1), (y0, y1) = g.root
     xs = x0 + (np.arange(n) + 0.5) * (x1 - x0) / n
     rows = n // fraction_rows
     per_chunk = max(1, (1 << 22) // n)
-    point_test = fivebar.in_joint_space if space == "jointspace" else fivebar.in_workspace
+    point_test = kinematics.in_joint_space if space == "jointspace" else kinematics.in_workspace
     valid = 0
     t0 = time.perf_counter()
     for r in range(0, rows, per_chunk):
@@ -78,7 +77,7 @@ def main() -> None:
     print(f"{'mech':4s} {'space':10s} {'d':>2s} {'evaluations':>11s} {'pave s':>8s} {'peak MiB':>8s} "
           f"{'grid points':>13s} {'grid s':>8s} {'grid/pave':>9s}")
     for name in ("m1", "m2"):
-        m = load_fivebar(CONFIGS / f"{name}.yaml")
+        m = load_config(CONFIGS / f"{name}.yaml")
         for space in ("jointspace", "workspace"):
             pave_space(m, space, 6)  # warm-up (imports, caches)
             for depth in depths:

@@ -16,17 +16,15 @@ import tempfile
 import time
 import tracemalloc
 from pathlib import Path
-from types import SimpleNamespace
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from fivebar_cli.mechanisms.rpr3 import closed_form, paper, synthesis  # noqa: E402
-
-rpr3 = SimpleNamespace(PAPER_SETUP=paper.PAPER_SETUP, rho_max_auto=closed_form.rho_max_auto, area=closed_form.area,
-                       area_auto=closed_form.area_auto, synthesize=synthesis.synthesize)
+from fivebar_cli.mechanisms.rpr3 import closed_form as rpr3  # noqa: E402
+from fivebar_cli.mechanisms.rpr3.paper import PAPER_SETUP  # noqa: E402
+from fivebar_cli.mechanisms.rpr3.synthesis import synthesize  # noqa: E402
 
 BASES = [ROOT / "configs" / f"rpr3-{n}.yaml" for n in ("acute", "equilateral", "obtuse")]
 
@@ -59,7 +57,7 @@ def command(*args):
 
 
 def main() -> None:
-    t1, t2, t3, k, p1, p2, rho = rpr3.PAPER_SETUP
+    t1, t2, t3, k, p1, p2, rho = PAPER_SETUP
     phi1, phi2 = math.radians(p1), math.radians(p2)
     rho_max = float(rpr3.rho_max_auto(t1, t2, t3, k, phi1, rho))
     print("3-RPR benchmark (best of repeats; peak memory of one run)")
@@ -72,7 +70,7 @@ def main() -> None:
     phis = np.linspace(0.01, math.pi - 0.01, 20000)
     s, mb = measure(lambda: rpr3.area(t1, t2, t3, k, phis, rho, rho_max), 3)
     print(f"  batched area, 20000 orientations         {1e6 * s / len(phis):8.3f} us each  peak {mb:6.1f} MB")
-    s, mb = measure(lambda: rpr3.synthesize(t1, t2, t3, k, phi1, phi2, rho), 2)
+    s, mb = measure(lambda: synthesize(t1, t2, t3, k, phi1, phi2, rho), 2)
     print(f"  Table 1 synthesis (library, 6 cases)    {s:8.3f} s    peak {mb:6.1f} MB")
 
     with tempfile.TemporaryDirectory() as tmp:

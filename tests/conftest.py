@@ -1,6 +1,6 @@
 """Shared fixtures and independent reference implementations for the issue-2 test suite.
 
-Everything here is written from the paper and DESIGN.md, not from the code under test:
+Everything here is written from the paper and docs/formats.md, not from the code under test:
 a recursive B/W/G encoder/decoder over boolean grids, Morton decoding, flood fill, the lens
 area, the joint-space area by a closed-form sinusoid integrated numerically, and the five-bar
 point geometry.
@@ -166,7 +166,7 @@ def workspace_boundary_points(m: FiveBar, n: int) -> np.ndarray:
 def ref_encode(cells: np.ndarray) -> str:
     """Preorder B/W/G body of a boolean grid of shape (2^D,)*dim, indexed [x, y, (z)].
 
-    Child k is the high half along axis j when bit j of k is set (DESIGN.md order).
+    Child k is the high half along axis j when bit j of k is set (docs/formats.md order).
     """
     dim = cells.ndim
     out: list[str] = []

@@ -28,18 +28,14 @@ import numpy as np
 import pytest
 from reference_kinematics import ref_dkp, ref_ikp
 
+from conftest import M1, M2, MECHS, workspace_area_closed_form
 from fivebar_cli.analyses import aspect_files, crossings, spaces
 from fivebar_cli.analyses import aspects as asp
 from fivebar_cli.analyses.locate import locate_configurations
-from fivebar_cli.mechanisms.fivebar import kinematics as kin
 from fivebar_cli.mechanisms.fivebar import modes
-from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.paving.engine import pave
 from fivebar_cli.paving.grid import Grid
 
-M1 = FiveBar("M1", 9.0, 8.0, 5.0, 5.0, 8.0)  # section 3 of the paper
-M2 = FiveBar("M2", 2.55, 2.3, 2.3, 2.3, 2.3)
-MECHS = {"M1": M1, "M2": M2}
 NAMES = ["M1", "M2"]
 DEPTH = 10
 TWO_PI = 2 * math.pi
@@ -49,18 +45,6 @@ MIN_PIXELS = 64  # grid components below this (1/4096 of the root box) are discr
 
 
 # ---------------------------------------------------------------- independent point kinematics
-
-
-def lens_minus_holes(m: FiveBar) -> float:
-    """Workspace area: intersection of the two outer discs minus the two holes (each hole lies
-    inside the other leg's outer disc for M1 and M2, and the holes are disjoint)."""
-    r1, r2, d = m.L1 + m.L3, m.L2 + m.L4, m.L0
-    h1, h2 = abs(m.L1 - m.L3), abs(m.L2 - m.L4)
-    assert d + h1 <= r2 and d + h2 <= r1 and h1 + h2 < d
-    a1 = r1 * r1 * math.acos((d * d + r1 * r1 - r2 * r2) / (2 * d * r1))
-    a2 = r2 * r2 * math.acos((d * d + r2 * r2 - r1 * r1) / (2 * d * r2))
-    k = math.sqrt((-d + r1 + r2) * (d + r1 - r2) * (d - r1 + r2) * (d + r1 + r2))
-    return a1 + a2 - 0.5 * k - math.pi * (h1 * h1 + h2 * h2)
 
 
 def sign_text(signs) -> str:
@@ -404,7 +388,7 @@ def test_assembly_mode_regions_fill_the_workspace_as_depth_grows(name):
     the certified workspace, itself inside the exact workspace (lens minus holes), and the gap
     shrinks with the depth: the singular curves have zero area."""
     m = MECHS[name]
-    exact = lens_minus_holes(m)
+    exact = workspace_area_closed_form(m)
     gaps = {wm: [] for wm in WM_ORDER}
     for depth in (8, 10, 12):
         a = analysis(name, depth)

@@ -1,7 +1,7 @@
-"""The `aspects` and `locate` commands (issue 3, items 5 and 6; DESIGN.md: outputs, exit status).
+"""The `aspects` and `locate` commands (issue 3, items 5 and 6; docs/formats.md: outputs, exit status).
 
-Run as users run them: `python -m fivebar_cli ...` in a subprocess, at depth 8 to stay fast.
-Outputs are checked against the DESIGN.md contract (CSV columns, .qt layout and headers, file
+Run through the console script's entry point (in-process, cli_helpers.run_cli), at depth 8 to stay fast.
+Outputs are checked against the docs/formats.md contract (CSV columns, .qt layout and headers, file
 names, determinism) and against geometry computed here (the representative configuration of each
 aspect closes the loop with the aspect's modes; the crossing graph is K_{2,3}).
 """
@@ -11,12 +11,11 @@ from __future__ import annotations
 import csv
 import io
 import math
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_helpers import one_line, run_cli
 
 from fivebar_cli.io.qtfile import read_qt
 
@@ -26,15 +25,14 @@ M2_YAML = REPO / "configs" / "m2.yaml"
 L = {"L0": 9.0, "L1": 8.0, "L2": 5.0, "L3": 5.0, "L4": 8.0}  # M1, section 3 of the paper
 DEPTH = "8"
 HEADER = ("aspect,working_mode,assembly_mode,workspace_area,jointspace_area,workspace_cells,"
-          "jointspace_cells,x,y,theta1,theta2")
-LOCATE_HEADER = "input,location,x,y,theta1,theta2,working_mode,assembly_mode,aspect,singular"
+          "jointspace_cells,x,y,theta1,theta2,certified")
+LOCATE_HEADER = "input,location,x,y,theta1,theta2,working_mode,assembly_mode,aspect,singular,aspect_certified"
 WM_ORDER = ["++", "+-", "-+", "--"]
 PNGS = {"aspects-workspace.png", "aspects-jointspace-assembly+.png", "aspects-jointspace-assembly-.png"}
 
 
-def run(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "fivebar_cli", *map(str, args)],
-                          capture_output=True, text=True, cwd=cwd or REPO, timeout=300)
+def run(*args):
+    return run_cli(*args, cwd=REPO)
 
 
 def ref_ikp(x, y, su, sv):
@@ -80,8 +78,8 @@ def rows(runs):
 
 def test_aspects_command_succeeds(runs):
     a, ra, b, rb = runs
-    assert ra.returncode == 0, ra.stderr
-    assert rb.returncode == 0, rb.stderr
+    assert ra.status == 0, ra.stderr
+    assert rb.status == 0, rb.stderr
     assert "Traceback" not in ra.stderr + rb.stderr
     assert "10 generalized aspects" in ra.stdout
     assert rb.stdout == ""  # --quiet
@@ -102,6 +100,7 @@ def test_aspects_csv_columns_and_rows(runs, rows):
         assert r["assembly_mode"] in ("+", "-") and r["working_mode"] in WM_ORDER
         assert float(r["workspace_area"]) > 0 and float(r["jointspace_area"]) > 0
         assert int(r["workspace_cells"]) > 0 and int(r["jointspace_cells"]) > 0
+        assert r["certified"] == "true"  # M1's count is certified at this depth
 
 
 def test_one_qt_file_per_aspect_and_space_matching_the_csv(runs, rows):
@@ -222,7 +221,7 @@ def locate(*args):
 
 def locate_csv(*args):
     r = locate(*args, "--csv")
-    assert r.returncode == 0, r.stderr
+    assert r.status == 0, r.stderr
     lines = r.stdout.split("\n")
     assert lines[0] == LOCATE_HEADER
     return list(csv.DictReader(io.StringIO(r.stdout)))
@@ -253,7 +252,7 @@ def test_locate_pose_lists_every_configuration(rows):
 def test_locate_text_output(rows):
     first = rows[0]
     r = locate("--pose", first["x"], first["y"])
-    assert r.returncode == 0, r.stderr
+    assert r.status == 0, r.stderr
     assert "4 configuration(s)" in r.stdout
     assert "working mode ++, assembly mode +: " in r.stdout
     assert "-> aspect 1" in r.stdout
@@ -276,7 +275,7 @@ def test_locate_joints_with_filters(rows):
 
 def test_locate_outside_the_workspace():
     r = locate("--pose", 30, 0)
-    assert r.returncode == 0, r.stderr
+    assert r.status == 0, r.stderr
     assert "no configuration" in r.stdout
     assert locate_csv("--pose", 30, 0) == []
 
@@ -313,10 +312,10 @@ def test_locate_motion_verdict(runs, rows):
     p1 = (float(a1["x"]), float(a1["y"]))
     p2 = _second_pose_in(out, int(a1["aspect"]), p1)
     r = locate("--pose", *p1, "--pose", *p2, "--working-mode", "++")
-    assert r.returncode == 0, r.stderr
+    assert r.status == 0, r.stderr
     assert f"1 -> 2: yes, within aspect(s) {a1['aspect']}" in r.stdout
     r = locate("--pose", *p1, "--pose", a6["x"], a6["y"], "--working-mode", "++")
-    assert r.returncode == 0, r.stderr
+    assert r.status == 0, r.stderr
     assert "1 -> 2: no" in r.stdout
     assert "yes" not in r.stdout
 
@@ -324,16 +323,8 @@ def test_locate_motion_verdict(runs, rows):
 # ---------------------------------------------------------------- bad input
 
 
-def _one_line_error(r):
-    assert r.returncode == 2, (r.returncode, r.stdout, r.stderr)
-    assert "Traceback" not in r.stderr
-    lines = r.stderr.strip("\n").split("\n")
-    assert len(lines) == 1 and lines[0], r.stderr
-    return lines[0]
-
-
 def test_locate_needs_a_pose_or_joints():
-    line = _one_line_error(run("locate", M1_YAML))
+    line = one_line(run("locate", M1_YAML), 2)
     assert "--pose" in line
 
 
@@ -341,44 +332,32 @@ def test_unknown_config_key_is_an_error(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("name: X\ntype: fivebar\nlengths: {L0: 9, L1: 8, L2: 5, L3: 5, L4: 8}\nlenghts_extra: 1\n")
     for cmd in (["locate", bad, "--pose", 1, 1], ["aspects", bad, "--depth", 4, "-o", tmp_path / "o"]):
-        line = _one_line_error(run(*cmd))
+        line = one_line(run(*cmd), 2)
         assert "bad.yaml" in line and "lenghts_extra" in line
     assert not (tmp_path / "o" / "aspects.csv").exists()
 
 
 def test_unreadable_config_is_an_error(tmp_path):
     missing = tmp_path / "missing.yaml"
-    line = _one_line_error(run("locate", missing, "--pose", 1, 1))
+    line = one_line(run("locate", missing, "--pose", 1, 1), 2)
     assert "missing.yaml" in line
     broken = tmp_path / "broken.yaml"
     broken.write_text("name: [\n")
-    line = _one_line_error(run("aspects", broken, "-o", tmp_path / "o2"))
+    line = one_line(run("aspects", broken, "-o", tmp_path / "o2"), 2)
     assert "broken.yaml" in line
-    _one_line_error(run("locate", tmp_path, "--pose", 1, 1))  # a directory
+    one_line(run("locate", tmp_path, "--pose", 1, 1), 2)  # a directory
 
 
 def test_bad_pose_arguments_are_usage_errors():
-    _one_line_error(run("locate", M1_YAML, "--pose", 1))
-    _one_line_error(run("locate", M1_YAML, "--pose", "a", "b"))
-    _one_line_error(run("locate", M1_YAML, "--pose", 1, 1, "--working-mode", "+0"))
-
-
-def test_coarse_depth_succeeds_or_fails_cleanly(tmp_path):
-    """At depth 3 the pavings are too coarse to match every component: the command must then fail
-    with one line naming the problem (exit 1), not drop components or crash."""
-    r = run("aspects", M1_YAML, "--depth", 3, "-o", tmp_path, "--no-plot")
-    assert "Traceback" not in r.stderr and "internal error" not in r.stderr
-    if r.returncode == 1:
-        lines = r.stderr.strip("\n").split("\n")
-        assert len(lines) == 1 and "counterpart" in lines[0]
-    else:
-        assert r.returncode == 0, r.stderr
+    one_line(run("locate", M1_YAML, "--pose", 1), 2)
+    one_line(run("locate", M1_YAML, "--pose", "a", "b"), 2)
+    one_line(run("locate", M1_YAML, "--pose", 1, 1, "--working-mode", "+0"), 2)
 
 
 def test_m2_aspects_command(tmp_path):
     """M2 (the paper's second mechanism) also has ten aspects with a K_{2,3} crossing graph."""
     r = run("aspects", M2_YAML, "--depth", DEPTH, "-o", tmp_path, "--no-plot")
-    assert r.returncode == 0, r.stderr
+    assert r.status == 0, r.stderr
     _, rows = read_csv(tmp_path / "aspects.csv")
     assert len(rows) == 10 and [r["assembly_mode"] for r in rows].count("+") == 5
     _, edges = read_csv(tmp_path / "aspects-adjacency.csv")

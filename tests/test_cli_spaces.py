@@ -1,5 +1,6 @@
-"""The command line (`python -m fivebar_cli`, run in subprocesses): jointspace, workspace, refine,
-diff, kratio; determinism; and bad input (exit status, one line on stderr, no half-written files)."""
+"""The command line (its entry point `main`, run in-process by cli_helpers.run_cli): jointspace,
+workspace, refine, diff, kratio; determinism; and bad input (exit status, one line on stderr, no
+half-written files)."""
 
 from __future__ import annotations
 
@@ -8,36 +9,28 @@ import math
 import os
 import re
 import shutil
-import subprocess
-import sys
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_helpers import PNG_MAGIC, ok, one_line, run_cli
 
-from conftest import M1, M1_YAML, M2, M2_YAML, REPO, leaf_bounds, lens_area, tree_to_bool, upsample, valid_joint, valid_work
+from conftest import (
+    M1,
+    M1_YAML,
+    M2,
+    M2_YAML,
+    leaf_bounds,
+    tree_to_bool,
+    upsample,
+    valid_joint,
+    valid_work,
+    workspace_area_closed_form,
+)
 from fivebar_cli.io.qtfile import read_qt
 
 CSV_HEADER = ("space,name,procedure,depth,evaluations,K,inside_area,undetermined_area,outside_area,"
               "inside_cells,outside_cells,undetermined_cells,exact_area")
-PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
-
-
-def run(*args, cwd: Path, ok: bool | None = True) -> subprocess.CompletedProcess:
-    env = dict(os.environ, PYTHONPATH=str(REPO), MPLBACKEND="Agg")
-    env.pop("FIVEBAR_DEBUG", None)
-    result = subprocess.run([sys.executable, "-m", "fivebar_cli", *map(str, args)], cwd=cwd, env=env,
-                            capture_output=True, text=True, timeout=120)
-    if ok:
-        assert result.returncode == 0, result.stderr
-    return result
-
-
-def run_all(*jobs: tuple, cwd: Path) -> list[subprocess.CompletedProcess]:
-    """Independent successful runs, started together."""
-    with ThreadPoolExecutor(max_workers=4) as pool:
-        return list(pool.map(lambda args: run(*args, cwd=cwd), jobs))
 
 
 def files(folder: Path) -> dict[str, bytes]:
@@ -63,16 +56,6 @@ def read_summary(path: Path) -> dict[str, str]:
     return row
 
 
-def one_error_line(result: subprocess.CompletedProcess, status: int, *needles: str) -> str:
-    assert result.returncode == status, (result.returncode, result.stdout, result.stderr)
-    assert "Traceback" not in result.stderr and "Traceback" not in result.stdout
-    lines = result.stderr.splitlines()
-    assert len(lines) == 1, result.stderr
-    for needle in needles:
-        assert needle in lines[0], (needle, lines[0])
-    return lines[0]
-
-
 def check_summary(row: dict[str, str], space: str, name: str, depth: int, inside_qt, outside_qt) -> None:
     root_area = (2 * math.pi) ** 2 if space == "jointspace" else (2 * (inside_qt.tree.grid.root[0][1])) ** 2
     assert (row["space"], row["name"], row["procedure"], int(row["depth"])) == (space, name, "exact", depth)
@@ -90,11 +73,8 @@ def check_summary(row: dict[str, str], space: str, name: str, depth: int, inside
     assert inside_qt.get("evaluations") == outside_qt.get("evaluations") == row["evaluations"]
     if space == "jointspace":
         assert row["exact_area"] == ""  # no closed form is known for the joint space
-    else:  # the closed form of the workspace, independently: lens minus the holes (M1) or the lens (M2)
-        m = M1 if name == "M1" else M2
-        exact = lens_area(m.L1 + m.L3, m.L2 + m.L4, m.L0)
-        if name == "M1":
-            exact -= math.pi * (m.L1 - m.L3) ** 2 + math.pi * (m.L2 - m.L4) ** 2
+    else:  # the closed form of the workspace, independently: lens minus the holes (none for M2)
+        exact = workspace_area_closed_form(M1 if name == "M1" else M2)
         assert float(row["exact_area"]) == pytest.approx(exact, rel=1e-9)
         assert inside <= float(row["exact_area"]) <= inside + und
 
@@ -105,10 +85,8 @@ def check_summary(row: dict[str, str], space: str, name: str, depth: int, inside
 def test_jointspace_writes_the_pair_the_csv_and_figures_identically_from_any_folder(tmp_path):
     a, b = tmp_path / "a", tmp_path / "b"
     a.mkdir(), b.mkdir()
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        jobs = [pool.submit(run, "jointspace", M1_YAML, "--depth", 6, "-o", "out", cwd=a),
-                pool.submit(run, "jointspace", M1_YAML, "--depth", 6, cwd=b)]  # default folder outputs/M1/
-        [job.result() for job in jobs]
+    ok(run_cli("jointspace", M1_YAML, "--depth", 6, "-o", "out", cwd=a))
+    ok(run_cli("jointspace", M1_YAML, "--depth", 6, cwd=b))  # default folder outputs/M1/
     out_a, out_b = a / "out", b / "outputs" / "M1"
     fa = files(out_a)
     assert sorted(fa) == ["jointspace.complement.png", "jointspace.complement.qt", "jointspace.csv",
@@ -140,13 +118,13 @@ def test_jointspace_writes_the_pair_the_csv_and_figures_identically_from_any_fol
 def test_workspace_no_plot_and_repeat_runs_are_byte_identical(tmp_path):
     a, b = tmp_path / "a", tmp_path / "b"
     a.mkdir(), b.mkdir()
-    r = run("workspace", M2_YAML, "--depth", 7, "-o", "out", "--no-plot", cwd=a)
+    r = ok(run_cli("workspace", M2_YAML, "--depth", 7, "-o", "out", "--no-plot", cwd=a))
     assert "wrote" in r.stdout
     first = files(a / "out")
     assert sorted(first) == ["workspace.complement.qt", "workspace.csv", "workspace.qt"]
-    quiet = run("workspace", M2_YAML, "--depth", 7, "-o", "out", "--no-plot", "--quiet", cwd=a)  # overwrite
+    quiet = ok(run_cli("workspace", M2_YAML, "--depth", 7, "-o", "out", "--no-plot", "--quiet", cwd=a))  # overwrite
     assert quiet.stdout == "" and quiet.stderr == ""
-    run("workspace", M2_YAML, "--depth", 7, "-o", str(b / "deep" / "er"), "--no-plot", cwd=tmp_path)
+    ok(run_cli("workspace", M2_YAML, "--depth", 7, "-o", str(b / "deep" / "er"), "--no-plot", cwd=tmp_path))
     assert files(a / "out") == first == files(b / "deep" / "er")
     inside, outside = read_qt(a / "out" / "workspace.qt"), read_qt(a / "out" / "workspace.complement.qt")
     assert inside.tree.grid.root == ((-4.6, 4.6), (-4.6, 4.6)) and inside.tree.grid.periodic == (False, False)
@@ -169,25 +147,25 @@ def test_workspace_no_plot_and_repeat_runs_are_byte_identical(tmp_path):
     (M1_YAML, "workspace", 5, 7, "paper", "inside"),
 ])
 def test_refine_equals_a_fresh_run(tmp_path, config, space, d1, d2, procedure, via):
-    run_all((space, config, "--depth", d1, "--procedure", procedure, "-o", "old", "--no-plot"),
-            (space, config, "--depth", d2, "--procedure", procedure, "-o", "fresh", "--no-plot"), cwd=tmp_path)
+    ok(run_cli(space, config, "--depth", d1, "--procedure", procedure, "-o", "old", "--no-plot", cwd=tmp_path))
+    ok(run_cli(space, config, "--depth", d2, "--procedure", procedure, "-o", "fresh", "--no-plot", cwd=tmp_path))
     name = f"{space}.qt" if via == "inside" else f"{space}.complement.qt"
-    run("refine", Path("old") / name, "--depth", d2, "-o", "refined", "--no-plot", cwd=tmp_path)
+    ok(run_cli("refine", Path("old") / name, "--depth", d2, "-o", "refined", "--no-plot", cwd=tmp_path))
     assert files(tmp_path / "refined") == files(tmp_path / "fresh")
     # to the same depth: nothing to test, the same files
-    run("refine", Path("refined") / f"{space}.qt", "--depth", d2, "-o", "same", "--no-plot", cwd=tmp_path)
+    ok(run_cli("refine", Path("refined") / f"{space}.qt", "--depth", d2, "-o", "same", "--no-plot", cwd=tmp_path))
     assert files(tmp_path / "same") == files(tmp_path / "fresh")
     # in place (no -o): the old pair is replaced by the deeper one
-    run("refine", Path("old") / f"{space}.qt", "--depth", d2, "--no-plot", cwd=tmp_path)
+    ok(run_cli("refine", Path("old") / f"{space}.qt", "--depth", d2, "--no-plot", cwd=tmp_path))
     assert files(tmp_path / "old") == files(tmp_path / "fresh")
     no_temporary_files(tmp_path / "old", tmp_path / "refined")
 
 
 def test_refine_to_a_smaller_depth_is_a_usage_error(tmp_path):
-    run("workspace", M2_YAML, "--depth", 5, "-o", "old", "--no-plot", cwd=tmp_path)
+    ok(run_cli("workspace", M2_YAML, "--depth", 5, "-o", "old", "--no-plot", cwd=tmp_path))
     before = files(tmp_path / "old")
-    r = run("refine", "old/workspace.qt", "--depth", 3, "--no-plot", cwd=tmp_path, ok=None)
-    one_error_line(r, 2, "old/workspace.qt", "--depth")
+    r = run_cli("refine", "old/workspace.qt", "--depth", 3, "--no-plot", cwd=tmp_path)
+    one_line(r, 2, "old/workspace.qt", "--depth")
     assert files(tmp_path / "old") == before
 
 
@@ -201,16 +179,16 @@ def printed_area(stdout: str, label: str) -> float:
 
 
 def test_diff_exit_status_and_areas(tmp_path):
-    run_all(("workspace", M1_YAML, "--depth", 4, "-o", "d4", "--no-plot"),
-            ("workspace", M1_YAML, "--depth", 7, "-o", "d7", "--no-plot"),
-            ("workspace", M2_YAML, "--depth", 3, "-o", "m2", "--no-plot"), cwd=tmp_path)
+    ok(run_cli("workspace", M1_YAML, "--depth", 4, "-o", "d4", "--no-plot", cwd=tmp_path))
+    ok(run_cli("workspace", M1_YAML, "--depth", 7, "-o", "d7", "--no-plot", cwd=tmp_path))
+    ok(run_cli("workspace", M2_YAML, "--depth", 3, "-o", "m2", "--no-plot", cwd=tmp_path))
     shutil.copytree(tmp_path / "d7", tmp_path / "d7copy")
-    r = run("diff", "d7/workspace.qt", "d7copy/workspace.qt", cwd=tmp_path, ok=None)
-    assert r.returncode == 0 and "same set" in r.stdout and r.stderr == ""
-    assert run("diff", "d7/workspace.qt", "d7/workspace.qt", "--quiet", cwd=tmp_path, ok=None).stdout == ""
+    r = run_cli("diff", "d7/workspace.qt", "d7copy/workspace.qt", cwd=tmp_path)
+    assert r.status == 0 and "same set" in r.stdout and r.stderr == ""
+    assert run_cli("diff", "d7/workspace.qt", "d7/workspace.qt", "--quiet", cwd=tmp_path).stdout == ""
     # a shallower paving is a subset of the deeper one: different sets, exit 1, areas printed
-    r = run("diff", "d4/workspace.qt", "d7/workspace.qt", cwd=tmp_path, ok=None)
-    assert r.returncode == 1 and "Traceback" not in r.stderr
+    r = run_cli("diff", "d4/workspace.qt", "d7/workspace.qt", cwd=tmp_path)
+    assert r.status == 1 and "Traceback" not in r.stderr
     a, b = read_qt(tmp_path / "d4" / "workspace.qt").tree, read_qt(tmp_path / "d7" / "workspace.qt").tree
     ra, rb = upsample(tree_to_bool(a), 3), tree_to_bool(b)
     cell = 26.0**2 / 4**7
@@ -220,24 +198,24 @@ def test_diff_exit_status_and_areas(tmp_path):
     assert printed_area(r.stdout, "d4/workspace.qt") == pytest.approx(ra.sum() * cell, rel=1e-9)
     assert printed_area(r.stdout, "d7/workspace.qt") == pytest.approx(rb.sum() * cell, rel=1e-9)
     # the inside and the complement differ everywhere
-    r = run("diff", "d7/workspace.qt", "d7/workspace.complement.qt", cwd=tmp_path, ok=None)
-    assert r.returncode == 1
+    r = run_cli("diff", "d7/workspace.qt", "d7/workspace.complement.qt", cwd=tmp_path)
+    assert r.status == 1
     assert printed_area(r.stdout, "only in A") == pytest.approx(rb.sum() * cell, rel=1e-9)
     # bad input: exit 2
-    one_error_line(run("diff", "d7/workspace.qt", "nope.qt", cwd=tmp_path, ok=None), 2, "nope.qt")
-    one_error_line(run("diff", "d7/workspace.qt", "m2/workspace.qt", cwd=tmp_path, ok=None), 2, "m2/workspace.qt", "root")
+    one_line(run_cli("diff", "d7/workspace.qt", "nope.qt", cwd=tmp_path), 2, "nope.qt")
+    one_line(run_cli("diff", "d7/workspace.qt", "m2/workspace.qt", cwd=tmp_path), 2, "m2/workspace.qt", "root")
     bad = tmp_path / "bad.qt"
     lines = (tmp_path / "d7" / "workspace.qt").read_text().split("\n")
     lines[13] = lines[13][:10] + "Q" + lines[13][11:]
     bad.write_text("\n".join(lines))
-    one_error_line(run("diff", "d7/workspace.qt", "bad.qt", cwd=tmp_path, ok=None), 2, "bad.qt", "line 14")
+    one_line(run_cli("diff", "d7/workspace.qt", "bad.qt", cwd=tmp_path), 2, "bad.qt", "line 14")
 
 
 # ---------------------------------------------------------------- kratio
 
 
 def test_kratio_csv(tmp_path):
-    r = run("kratio", M1_YAML, M2_YAML, "--depths", "5-6", "-o", "k", "--no-plot", cwd=tmp_path)
+    r = ok(run_cli("kratio", M1_YAML, M2_YAML, "--depths", "5-6", "-o", "k", "--no-plot", cwd=tmp_path))
     assert "saving" in r.stdout
     text = (tmp_path / "k" / "kratio.csv").read_text()
     assert text.endswith("\n")
@@ -260,12 +238,12 @@ def test_kratio_csv(tmp_path):
         if d == 6:
             assert n < p
     assert not (tmp_path / "k" / "kratio.png").exists()
-    one_error_line(run("kratio", M1_YAML, "--depths", "five", "--no-plot", cwd=tmp_path, ok=None), 2, "'five'")
+    one_line(run_cli("kratio", M1_YAML, "--depths", "five", "--no-plot", cwd=tmp_path), 2, "'five'")
 
 
 def test_kratio_bad_depths_names_the_option(tmp_path):
-    r = run("kratio", M1_YAML, "--depths", "5-99", "--no-plot", cwd=tmp_path, ok=None)
-    one_error_line(r, 2, "--depths")
+    r = run_cli("kratio", M1_YAML, "--depths", "5-99", "--no-plot", cwd=tmp_path)
+    one_line(r, 2, "--depths")
 
 
 # ---------------------------------------------------------------- bad input
@@ -300,7 +278,7 @@ BAD_CONFIGS = [
 @pytest.fixture(scope="module")
 def good_output(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("good")
-    run("workspace", M1_YAML, "--depth", 4, "-o", "out", "--no-plot", cwd=folder)
+    ok(run_cli("workspace", M1_YAML, "--depth", 4, "-o", "out", "--no-plot", cwd=folder))
     return folder / "out"
 
 
@@ -316,7 +294,7 @@ BAD_OPTIONS = [
 
 @pytest.fixture(scope="module")
 def bad_runs(tmp_path_factory, good_output) -> dict:
-    """All bad-config and bad-option runs, started together (they are independent subprocesses)."""
+    """All bad-config and bad-option runs, each in its own folder."""
     jobs = {}
     for label, content, _ in BAD_CONFIGS:
         folder = tmp_path_factory.mktemp("bad")
@@ -330,15 +308,13 @@ def bad_runs(tmp_path_factory, good_output) -> dict:
     for i, (args, _) in enumerate(BAD_OPTIONS):
         folder = tmp_path_factory.mktemp("opt")
         jobs["option", i] = (("jointspace", M1_YAML, *args, "-o", "out", "--no-plot"), folder, {"folder": folder})
-    with ThreadPoolExecutor(max_workers=4) as pool:
-        futures = {key: pool.submit(run, *args, cwd=cwd, ok=None) for key, (args, cwd, _) in jobs.items()}
-        return {key: (futures[key].result(), jobs[key][2]) for key in jobs}
+    return {key: (run_cli(*args, cwd=cwd), info) for key, (args, cwd, info) in jobs.items()}
 
 
 @pytest.mark.parametrize("label, content, field", BAD_CONFIGS, ids=[c[0] for c in BAD_CONFIGS])
 def test_bad_configs_exit_2_with_one_line(bad_runs, label, content, field):
     r, info = bad_runs["config", label]
-    line = one_error_line(r, 2, str(info["path"]), field)
+    line = one_line(r, 2, str(info["path"]), field)
     assert line.startswith("fivebar")
     assert files(info["out"]) == info["before"]  # the existing good output is untouched
     no_temporary_files(info["out"])
@@ -348,7 +324,7 @@ def test_bad_configs_exit_2_with_one_line(bad_runs, label, content, field):
 @pytest.mark.parametrize("index", range(len(BAD_OPTIONS)), ids=[" ".join(a) for a, _ in BAD_OPTIONS])
 def test_bad_options_exit_2(bad_runs, index):
     r, info = bad_runs["option", index]
-    one_error_line(r, 2, BAD_OPTIONS[index][1])
+    one_line(r, 2, BAD_OPTIONS[index][1])
     assert not (info["folder"] / "out").exists()
 
 
@@ -357,8 +333,8 @@ def test_output_folder_that_cannot_be_created(tmp_path):
     blocker.write_text("not a folder\n")
     # -o naming an existing file is a usage error (status 2); a folder below a file cannot be created (1)
     for target, status in ((blocker, 2), (blocker / "sub", 1)):
-        r = run("workspace", M1_YAML, "--depth", 3, "-o", target, "--no-plot", cwd=tmp_path, ok=None)
-        one_error_line(r, status, str(target))
+        r = run_cli("workspace", M1_YAML, "--depth", 3, "-o", target, "--no-plot", cwd=tmp_path)
+        one_line(r, status, str(target))
     assert blocker.read_text() == "not a folder\n"
 
 
@@ -370,8 +346,8 @@ def test_unwritable_output_folder_exits_1(tmp_path, good_output):
     try:
         if os.access(out, os.W_OK):
             pytest.skip("running with privileges that ignore directory permissions (root)")
-        r = run("workspace", M1_YAML, "--depth", 5, "-o", out, "--no-plot", cwd=tmp_path, ok=None)
-        one_error_line(r, 1, str(out))
+        r = run_cli("workspace", M1_YAML, "--depth", 5, "-o", out, "--no-plot", cwd=tmp_path)
+        one_line(r, 1, str(out))
         assert files(out) == before
     finally:
         os.chmod(out, 0o755)
@@ -383,8 +359,8 @@ def test_a_failure_while_writing_leaves_no_temporary_file(tmp_path, good_output)
     shutil.copytree(good_output, out)
     (out / "workspace.csv").unlink()
     (out / "workspace.csv").mkdir()
-    r = run("workspace", M1_YAML, "--depth", 5, "-o", out, "--no-plot", cwd=tmp_path, ok=None)
-    one_error_line(r, 1, "workspace.csv")
+    r = run_cli("workspace", M1_YAML, "--depth", 5, "-o", out, "--no-plot", cwd=tmp_path)
+    one_line(r, 1, "workspace.csv")
     no_temporary_files(out)
     for name in ("workspace.qt", "workspace.complement.qt"):  # whole files, old or new
         qt = read_qt(out / name)
@@ -399,28 +375,28 @@ def test_malformed_qt_files_for_refine_and_diff(tmp_path, good_output):
     lines[6] = "# depth: four"  # line 7
     complement.write_text("\n".join(lines))
     before = files(out)
-    r = run("refine", out / "workspace.qt", "--depth", 6, "--no-plot", cwd=tmp_path, ok=None)
-    one_error_line(r, 2, str(complement), "line 7")
+    r = run_cli("refine", out / "workspace.qt", "--depth", 6, "--no-plot", cwd=tmp_path)
+    one_line(r, 2, str(complement), "line 7")
     assert files(out) == before
     no_temporary_files(out)
-    r = run("diff", out / "workspace.qt", complement, cwd=tmp_path, ok=None)
-    one_error_line(r, 2, str(complement), "line 7")
+    r = run_cli("diff", out / "workspace.qt", complement, cwd=tmp_path)
+    one_line(r, 2, str(complement), "line 7")
     # a truncated inside file
     inside = out / "workspace.qt"
     text = inside.read_text()
     inside.write_text(text[:-5] + "\n")
     n_lines = len(text.split("\n")) - 1
-    r = run("diff", inside, inside, cwd=tmp_path, ok=None)
-    one_error_line(r, 2, str(inside), f"line {n_lines}")
+    r = run_cli("diff", inside, inside, cwd=tmp_path)
+    one_line(r, 2, str(inside), f"line {n_lines}")
     # binary garbage and a missing sibling
     garbage = tmp_path / "g.qt"
     garbage.write_bytes(b"\x00\xff\xfe garbage")
-    one_error_line(run("diff", garbage, garbage, cwd=tmp_path, ok=None), 2, str(garbage))
+    one_line(run_cli("diff", garbage, garbage, cwd=tmp_path), 2, str(garbage))
     lonely = tmp_path / "lonely"
     lonely.mkdir()
     shutil.copy(good_output / "workspace.qt", lonely / "workspace.qt")
-    r = run("refine", lonely / "workspace.qt", "--depth", 6, "--no-plot", cwd=tmp_path, ok=None)
-    one_error_line(r, 2, str(lonely / "workspace.complement.qt"))
+    r = run_cli("refine", lonely / "workspace.qt", "--depth", 6, "--no-plot", cwd=tmp_path)
+    one_line(r, 2, str(lonely / "workspace.complement.qt"))
 
 
 def test_refine_needs_the_mechanism_header(tmp_path, good_output):
@@ -429,14 +405,14 @@ def test_refine_needs_the_mechanism_header(tmp_path, good_output):
     for name in ("workspace.qt", "workspace.complement.qt"):
         p = out / name
         p.write_text("".join(ln for ln in p.read_text().splitlines(True) if not ln.startswith("# mechanism:")))
-    r = run("refine", out / "workspace.qt", "--depth", 6, "--no-plot", cwd=tmp_path, ok=None)
-    one_error_line(r, 2, str(out / "workspace.qt"), "mechanism")
-    r = run("refine", tmp_path / "x.txt", "--depth", 6, "--no-plot", cwd=tmp_path, ok=None)
-    one_error_line(r, 2, "x.txt")
+    r = run_cli("refine", out / "workspace.qt", "--depth", 6, "--no-plot", cwd=tmp_path)
+    one_line(r, 2, str(out / "workspace.qt"), "mechanism")
+    r = run_cli("refine", tmp_path / "x.txt", "--depth", 6, "--no-plot", cwd=tmp_path)
+    one_line(r, 2, "x.txt")
 
 
 def test_refine_a_paving_of_a_non_ascii_named_mechanism(tmp_path):
     cfg = tmp_path / "m.yaml"
     cfg.write_text("name: M\u00f6bius\ntype: fivebar\nlengths: {L0: 9, L1: 8, L2: 5, L3: 5, L4: 8}\n", encoding="utf-8")
-    run("workspace", cfg, "--depth", 3, "-o", "out", "--no-plot", cwd=tmp_path)
-    run("refine", "out/workspace.qt", "--depth", 5, "--no-plot", cwd=tmp_path)
+    ok(run_cli("workspace", cfg, "--depth", 3, "-o", "out", "--no-plot", cwd=tmp_path))
+    ok(run_cli("refine", "out/workspace.qt", "--depth", 5, "--no-plot", cwd=tmp_path))

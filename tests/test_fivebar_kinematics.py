@@ -11,8 +11,6 @@ from hypothesis import strategies as st
 
 from conftest import M1, M2, MECHS, crank_points, mechanism, singular_b1_eq_b2, valid_joint, valid_work
 from fivebar_cli.mechanisms.fivebar import kinematics as kin
-from fivebar_cli.mechanisms.fivebar import modes
-from fivebar_cli.numerics import ranges
 
 ANGLE = st.floats(-math.pi, math.pi, allow_nan=False)
 
@@ -209,7 +207,7 @@ def test_mode_values_are_the_design_cross_products(th1, th2, px, py, name):
 
 
 def test_b11_is_l1_l3_sin_th3_minus_th1():
-    """DESIGN.md: B11 = L1 L3 sin(th3 - th1), B22 = L2 L4 sin(th4 - th2): the signs of u and v."""
+    """docs/formats.md: B11 = L1 L3 sin(th3 - th1), B22 = L2 L4 sin(th4 - th2): the signs of u and v."""
     rng = np.random.default_rng(4)
     for m in (M1, M2):
         th1, th2 = rng.uniform(-np.pi, np.pi, (2, 5000))

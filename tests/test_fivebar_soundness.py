@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from shapely.geometry import Point
 
 from conftest import (
     M1,
@@ -35,7 +36,6 @@ from conftest import (
     workspace_boundary_points,
 )
 from fivebar_cli.analyses import spaces
-from fivebar_cli.mechanisms.fivebar import boxtests
 from fivebar_cli.mechanisms.fivebar import kinematics as kin
 
 CASES = [(n, s, p) for n in ("M1", "M2") for s in ("jointspace", "workspace") for p in ("exact", "paper")]
@@ -277,9 +277,6 @@ def test_boxes_around_a_singular_point_are_undetermined(space, procedure):
 
 def test_closed_form_workspace_areas():
     """Lens formula against shapely polygons (fine circles) and the disc inclusions it relies on."""
-    shapely = pytest.importorskip("shapely")
-    from shapely.geometry import Point
-
     q = 4096
     for m in (M1, M2):
         R1, R2 = m.L1 + m.L3, m.L2 + m.L4
@@ -290,7 +287,6 @@ def test_closed_form_workspace_areas():
         if r2 > 0:
             region = region.difference(Point(m.L0, 0).buffer(r2, quad_segs=q))
         assert workspace_area_closed_form(m) == pytest.approx(region.area, rel=2e-7)
-    assert shapely is not None
     # lens limits
     assert lens_area(1.0, 1.0, 2.0) == 0.0
     assert lens_area(1.0, 3.0, 0.5) == pytest.approx(math.pi)

@@ -1,4 +1,4 @@
-"""Property tests for fivebar_cli.interval against independent exact references.
+"""Property tests for fivebar_cli.numerics.interval against independent exact references.
 
 Soundness: every enclosure contains the exact range, checked with fractions.Fraction (exact for
 + - * /) and mpmath at >= 60 significant digits (sqrt, sin, cos, hypot; plus mpmath.iv for the

@@ -24,6 +24,7 @@ from reference_kinematics import ref_dkp, ref_ikp, ref_reachable
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
+from conftest import M1, M2, MECHS, workspace_area_closed_form
 from fivebar_cli.mechanisms.fivebar import kinematics as kin
 from fivebar_cli.mechanisms.fivebar import modes
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
@@ -31,9 +32,6 @@ from fivebar_cli.numerics import ranges
 from fivebar_cli.paving.engine import pave
 from fivebar_cli.paving.grid import Grid
 
-M1 = FiveBar("M1", 9.0, 8.0, 5.0, 5.0, 8.0)  # section 3 of the paper
-M2 = FiveBar("M2", 2.55, 2.3, 2.3, 2.3, 2.3)
-MECHS = {"M1": M1, "M2": M2}
 WORKING_MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
 ASSEMBLY_MODES = (1, -1)
 DEPTH = 9
@@ -251,13 +249,7 @@ def test_mode_pavings_cover_the_space_up_to_the_singular_curves(name):
     up to a band around the singular curves that narrows with depth: at depth 9 the certified
     part is most of the area of the space (workspace: lens minus holes, closed form)."""
     m = MECHS[name]
-    big1, big2 = m.L1 + m.L3, m.L2 + m.L4
-    r1, r2 = abs(m.L1 - m.L3), abs(m.L2 - m.L4)
-    d = m.L0
-    a1 = big1 ** 2 * math.acos((d * d + big1 ** 2 - big2 ** 2) / (2 * d * big1))
-    a2 = big2 ** 2 * math.acos((d * d + big2 ** 2 - big1 ** 2) / (2 * d * big2))
-    k = math.sqrt((-d + big1 + big2) * (d + big1 - big2) * (d - big1 + big2) * (d + big1 + big2))
-    exact = a1 + a2 - 0.5 * k - math.pi * (r1 * r1 + r2 * r2)
+    exact = workspace_area_closed_form(m)
     for wm in WORKING_MODES:
         area = mode_paving(name, "workspace", wm).inside.area
         assert 0.95 * exact < area < exact

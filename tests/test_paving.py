@@ -1,4 +1,4 @@
-"""The paving engine (fivebar_cli.paving) against an independent recursive paving written here
+"""The paving engine (fivebar_cli.paving.engine) against an independent recursive paving written here
 (the paper's procedure Q(B, d, P), section 2.5), with exact synthetic box tests; and `refine`
 against fresh pavings of the five-bar spaces."""
 

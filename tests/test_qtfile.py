@@ -1,4 +1,4 @@
-"""The `.qt` quadtree text format (fivebar_cli.qtfile): exact layout of DESIGN.md, lossless round
+"""The `.qt` quadtree text format (fivebar_cli.io.qtfile): exact layout of docs/formats.md, lossless round
 trips, strict reading with the file and line named in every error, and fuzzing."""
 
 from __future__ import annotations
@@ -56,7 +56,7 @@ def test_exact_layout_of_a_workspace_file():
 
 def test_header_order_periodic_axes_and_repr_floats():
     tree, arr = checker_tree(3, root=JS_ROOT, periodic=(True, True))
-    # fields given in a scrambled order come out in the DESIGN order, extra keys after the standard ones
+    # fields given in a scrambled order come out in the standard order, extra keys after the standard ones
     text = format_qt(tree, evaluations=17, colour="outside", mechanism="fivebar L0=9.0", region="assemblable",
                      space="jointspace", name="M1")
     lines = text.split("\n")

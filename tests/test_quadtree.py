@@ -1,4 +1,4 @@
-"""Quadtrees and octrees (fivebar_cli.quadtree) against independent references written here:
+"""Quadtrees and octrees (fivebar_cli.paving.tree) against independent references written here:
 a recursive B/W/G encoder over boolean grids, numpy boolean set algebra, Morton decoding by bits,
 brute-force point location and a breadth-first flood fill (face contact only, periodic wrap)."""
 

@@ -14,8 +14,6 @@ from hypothesis import strategies as st
 from shapely.geometry import Point
 
 from fivebar_cli.mechanisms.rpr3 import closed_form as rpr3
-from fivebar_cli.mechanisms.rpr3 import synthesis
-from fivebar_cli.numerics import optimize
 
 EQUI = (2 / 3**0.25, 1 / 3**0.25, 3**0.25)
 BASES = {"acute": (1.8, 1.2, 1.11), "equilateral": EQUI, "obtuse": (1.8, 2.2, 1.11)}

@@ -27,13 +27,13 @@ def aspect_header(m: Mechanism) -> tuple[str, ...]:
     spaces = m.spaces()
     axes = [a.name for s in SPACES for a in spaces[s].axes]
     return ("aspect", "working_mode", "assembly_mode", "workspace_area", "jointspace_area",
-            "workspace_cells", "jointspace_cells", *axes)
+            "workspace_cells", "jointspace_cells", *axes, "certified")
 
 
 def aspect_rows(analysis: AspectAnalysis) -> list[tuple]:
     return [
         (a.number, signs_text(a.working), signs_text(a.assembly), a.workspace.area, a.jointspace.area,
-         len(a.workspace), len(a.jointspace), *a.pose, *a.joints)
+         len(a.workspace), len(a.jointspace), *a.pose, *a.joints, "true" if a.certified else "false")
         for a in analysis.aspects
     ]
 
@@ -93,8 +93,10 @@ def load_aspects(folder: Path, m: Mechanism, depth: int) -> list[Aspect] | None:
                 trees[space] = qt.tree
             working = tuple(1 if c == "+" else -1 for c in row[1])
             values = [float(v) for v in row[7:11]]
+            if row[11] not in ("true", "false"):
+                return None
             aspects.append(Aspect(number, working, 1 if row[2] == "+" else -1, trees["workspace"],
-                                  trees["jointspace"], tuple(values[:2]), tuple(values[2:])))
+                                  trees["jointspace"], tuple(values[:2]), tuple(values[2:]), row[11] == "true"))
     except (OSError, ValueError, IndexError, InputError):
         return None
     return aspects

@@ -1,22 +1,24 @@
-"""Generalized aspects of a 2-DOF mechanism (Chablat 2010, sections 2.2, 3.3, 3.5, 3.6), for
-every kind whose model declares an `AspectModel` (mechanisms/base.py).
+"""Generalized aspects of a 2-DOF mechanism (Chablat 2010, sections 2.2, 3.3, 3.5, 3.6), with a
+certificate for their count, for every kind whose model declares an `AspectModel`
+(mechanisms/base.py).
 
 1. Regions. Workspace: one paving per working mode (black = reachable and non-singular in that
-   working mode), whose black cells split by the sign of det A. Joint space: one paving per
-   assembly mode (black = assembles, non-singular), split by the working mode. Serial and
-   parallel singularities stay undetermined, so they separate the regions.
-2. Components of each paving (face-connected, torus-aware in the joint space).
-3. Linking. A sample point of a workspace component, sent through the IKP of its working mode,
-   that lands in a black cell of a joint-space component of the same modes proves that both
-   belong to one generalized aspect (they share a non-singular configuration, and each is
-   connected); the DKP does the same from the joint space. Groups of linked components are
-   the generalized aspects: their workspace part is the parallel aspect, their joint-space part
-   the serial aspect.
-4. Fragments. Near tangencies of singular curves a region is a thin wedge, and a quadtree can
-   hold a few black cells of it cut off from the rest by undetermined cells. Such a fragment has
-   no partner in the other space; a local refinement of the undetermined cells around it (a few
-   levels deeper) connects it, with certified black cells, to the component it belongs to. A
-   component that still has no partner is reported as an error, never dropped silently.
+   working mode); joint space: one paving per assembly mode (black = assembles, non-singular).
+   The other modes (det A's sign, resp. the working mode) are constant on a black cell.
+2. Mode sets. For every full mode and space, the set S of its non-singular configurations has an
+   inner approximation (the black cells with these modes) and an outer one (adding every
+   undetermined cell not certified to miss S); its outer components, refined locally until each
+   holds exactly one black component, are its pieces (`pieces.py`).
+3. Linking. A generalized aspect is one component of S seen in both spaces: the map between
+   them is a homeomorphism on non-singular configurations of fixed modes. A sample point of a
+   piece's black cells, sent through the IKP (workspace) or DKP (joint space), is a point of S in
+   the other space, so it lies in one of that space's pieces of the same modes: the two pieces
+   hold the same aspect. Groups of linked pieces are the aspects.
+4. Certificate. An aspect is certified when it holds exactly one piece in each space, each with at
+   most one black component (one with black cells); the count is certified when every aspect is
+   and no piece is left undecided. It then equals the number of components of S in each mode,
+   except for components lying wholly inside the undetermined cells of a piece that already holds
+   one (docs/formats.md, "What a certified aspect count means").
 5. Crossings (`crossings.py`): aspects joined across one serial singularity.
 """
 
@@ -28,18 +30,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fivebar_cli.analyses.crossings import Crossing, find_crossings
+from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism
-from fivebar_cli.paving.engine import Paving, deepen, pave
+from fivebar_cli.paving.engine import Paving, pave
+from fivebar_cli.paving.grid import MAX_INDEX_BITS
+from fivebar_cli.paving.morton import interleave
 from fivebar_cli.paving.tree import Tree, union_find
 
-SMALL_COMPONENT = 64  # components with at most this many leaves are sampled densely when linking
-DENSE = 4  # samples per axis and leaf for small components
-REFINE_STEPS = ((2, 4), (4, 16), (8, 32), (10, 64))  # fragment refinement: (extra levels, radius in cells)
-
-
-class AspectError(FivebarError):
-    """Components that cannot be matched one-to-one between the two spaces (exit status 1)."""
+SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
+DENSE = 4  # samples per axis and leaf for small pieces
+DEFAULT_BUDGET = 1 << 21  # box evaluations local refinement may spend in one analysis (about a second)
 
 
 def signs_text(signs) -> str:
@@ -49,17 +50,23 @@ def signs_text(signs) -> str:
 
 @dataclass
 class Region:
-    """One mode paving with its components; `modes[c]` = (working signs..., sign det A) of component c."""
+    """One mode paving: the workspace in a working mode, or the joint space in an assembly mode.
+
+    `free[k]` holds the signs the paving leaves free (det A's sign in the workspace, the working
+    signs in the joint space) on black leaf k.
+    """
 
     space: str
     working: tuple[int, ...] | None
     assembly: int | None
     paving: Paving
     test: object
-    labels: np.ndarray
-    count: int
-    modes: np.ndarray
-    offset: int = 0
+    model: AspectModel
+    free: np.ndarray
+    black_labels: np.ndarray = None  # corner-connected components of the black leaves (one sign each)
+    und_possible: np.ndarray = None  # per undetermined cell: may hold a valid point
+    und_signs: np.ndarray = None  # per undetermined cell: the free signs, 0 where not constant
+    und_pairs: tuple = None  # (undetermined cell, neighbour) with neighbours numbered black leaves first
 
     @property
     def tree(self) -> Tree:
@@ -69,6 +76,23 @@ class Region:
         if self.space == "workspace":
             return f"workspace, working mode {signs_text(self.working)}"
         return f"joint space, assembly mode {signs_text(self.assembly)}"
+
+    def modes_with(self, free) -> tuple[int, ...]:
+        """The full modes (*working, assembly) of configurations with these free signs."""
+        free = tuple(int(v) for v in free)
+        return (*self.working, *free) if self.space == "workspace" else (*free, self.assembly)
+
+    def free_signs(self, points: np.ndarray) -> np.ndarray:
+        """The free signs at points of the region's space, shape (n, k) (0 where invalid)."""
+        if self.space == "workspace":
+            return np.asarray(self.model.assembly_signs(self.working, points), np.int8).reshape(-1, 1)
+        return np.asarray(self.model.working_signs(self.assembly, points), np.int8)
+
+    def signs(self, lo: np.ndarray, hi: np.ndarray):
+        """Per box: (may hold a valid point, free signs constant over its valid points or 0)."""
+        if self.space == "workspace":
+            return self.model.workspace_signs(self.working, lo, hi)
+        return self.model.jointspace_signs(self.assembly, lo, hi)
 
 
 @dataclass(frozen=True)
@@ -80,6 +104,7 @@ class Aspect:
     jointspace: Tree
     pose: tuple[float, float]
     joints: tuple[float, float]
+    certified: bool = True
 
 
 @dataclass
@@ -90,12 +115,36 @@ class AspectAnalysis:
     regions: list[Region]
     aspects: list[Aspect]
     crossings: list[Crossing]
-    fragments_resolved: int = 0
+    lower: int = 0  # a certified lower bound on the number of aspects
+    upper: int = 0  # the count if every undecided piece were an aspect of its own
+    undecided: int = 0  # outer components whose anchors or emptiness the budget left undecided
+    empty_undecided: int = 0  # of them, those without anchors (each may hide an aspect)
+    merged: int = 0  # components of the pavings' black cells proved to belong to another one
+    refinement_evaluations: int = 0
     timings: dict = field(default_factory=dict)
 
     @property
+    def certified(self) -> bool:
+        return self.undecided == 0 and all(a.certified for a in self.aspects)
+
+    @property
+    def undecided_pieces(self) -> int:
+        """Reported aspects not certified, and outer components that may hide one."""
+        return sum(not a.certified for a in self.aspects) + self.empty_undecided
+
+    def headline(self) -> str:
+        """One line: the certified count, or the bounds and what is left undecided."""
+        name, depth = self.mechanism.name, self.depth
+        what = "robust generalized aspects" if getattr(self.mechanism, "is_interval", False) else "generalized aspects"
+        if self.certified:
+            return (f"{name}: {len(self.aspects)} {what} at depth {depth} (certified; "
+                    f"{self.evaluations} box evaluations, {self.refinement_evaluations} in local refinement)")
+        return (f"{name}: between {self.lower} and {self.upper} {what}, not certified at depth "
+                f"{depth}: {self.undecided_pieces} pieces undecided (raise --depth or --budget)")
+
+    @property
     def evaluations(self) -> int:
-        return sum(r.paving.evaluations for r in self.regions)
+        return sum(r.paving.evaluations for r in self.regions) + self.refinement_evaluations
 
     def region(self, space: str, key) -> Region:
         for r in self.regions:
@@ -113,12 +162,13 @@ def region_count(m: Mechanism) -> int:
     return len(model.working_modes) + len(model.assembly_modes)
 
 
-def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None) -> AspectAnalysis:
-    """Pave the mode regions, label, link and number the generalized aspects, find crossings."""
+def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: int = DEFAULT_BUDGET) -> AspectAnalysis:
+    """Pave the mode regions, find the mode sets' anchors and outer components, link and join the
+    anchors into generalized aspects, certify the count, find the crossings."""
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
-    timings = {"paving": 0.0, "components": 0.0}
+    timings = {"paving": 0.0}
     regions = []
     for wm in model.working_modes:
         regions.append(_region(m, model, "workspace", wm, None, depth, timings))
@@ -126,232 +176,309 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None) -> Aspec
     for am in model.assembly_modes:
         regions.append(_region(m, model, "jointspace", None, am, depth, timings))
         advance(1)
-    offset = 0
-    for r in regions:
-        r.offset, offset = offset, offset + r.count
     t0 = time.perf_counter()
-    edges = _links(model, regions)
-    roots, resolved = _resolve_fragments(regions, offset, edges)
-    timings["linking"] = time.perf_counter() - t0
+    sets = [ModeSet(region, free) for region in regions for free in _free_modes(model, region)]
+    timings["outer"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    aspects, node_aspect = _number_aspects(model, regions, roots)
-    crossings = find_crossings(model, regions, aspects, node_aspect)
+    count = _Count(model, sets, Budget(budget), depth)
+    timings["certificate"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
+    crossings = find_crossings(model, regions, aspects, leaf_aspect)
     timings["crossings"] = time.perf_counter() - t0
     advance(1)
-    return AspectAnalysis(m, model, depth, regions, aspects, crossings, resolved, timings)
+    return AspectAnalysis(m, model, depth, regions, aspects, crossings, count.lower, count.upper, count.undecided,
+                          count.empty_undecided, count.merged, count.budget.spent, timings)
+
+
+def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:
+    """The values of the signs a region leaves free: det A's sign, or every working mode."""
+    if region.space == "workspace":
+        return [(am,) for am in model.assembly_modes]
+    return [tuple(wm) for wm in model.working_modes]
 
 
 def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, depth: int, timings: dict) -> Region:
     t0 = time.perf_counter()
-    if space == "workspace":
-        test = model.workspace_test(working)
-    else:
-        test = model.jointspace_test(assembly)
+    test = model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
     paving = pave(m.spaces()[space].grid(depth), test)
-    t1 = time.perf_counter()
-    labels, count = paving.inside.components()
-    timings["paving"] += t1 - t0
-    timings["components"] += time.perf_counter() - t1
-    centres = paving.inside.centres()
-    if space == "workspace":
-        leaf_modes = np.column_stack([
-            np.broadcast_to(np.array(working, np.int8), (len(centres), len(working))),
-            model.assembly_signs(working, centres),
-        ])
-    else:
-        leaf_modes = np.column_stack([
-            model.working_signs(assembly, centres), np.full(len(centres), assembly, np.int8),
-        ])
-    modes = np.zeros((count, leaf_modes.shape[1]), dtype=np.int8)
-    modes[labels] = leaf_modes
-    if np.any(modes[labels] != leaf_modes) or np.any(leaf_modes == 0):
-        raise FivebarError(f"internal error: the modes are not constant on a component of the {space} paving")
-    return Region(space, working, assembly, paving, test, labels, count, modes)
-
-
-def _samples(region: Region, nodes: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Sample points of the black leaves (centres; a DENSE x DENSE grid in small components)."""
-    tree, labels = region.tree, region.labels
-    sizes = np.bincount(labels, minlength=region.count)
-    keep = np.ones(len(tree), bool) if nodes is None else np.isin(labels, nodes - region.offset)
-    lo, hi = tree.bounds()
-    small = keep & (sizes[labels] <= SMALL_COMPONENT)
-    big = keep & ~small
-    g = (np.arange(DENSE) + 0.5) / DENSE
-    grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
-    dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
-    points = np.concatenate([0.5 * (lo[big] + hi[big]), dense])
-    owners = np.concatenate([labels[big], np.repeat(labels[small], DENSE * DENSE)])
-    return points, owners
-
-
-def _links(model: AspectModel, regions: list[Region], nodes: np.ndarray | None = None) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Edges (node, node) between components of the two spaces that share a configuration."""
-    edges = []
-    for src in regions:
-        points, owners = _samples(src, nodes)
-        if not len(points):
-            continue
-        modes = src.modes[owners]
-        if src.space == "workspace":
-            images, ok = model.ikp(points, src.working)
-        else:
-            images, ok = model.dkp(points, src.assembly)
-        for dst in regions:
-            if dst.space == src.space:
-                continue
-            if dst.space == "jointspace":
-                sel = ok & (modes[:, -1] == dst.assembly)
-            else:
-                sel = ok & np.all(modes[:, :-1] == np.array(dst.working), axis=1)
-            leaf = dst.tree.locate(images[sel])
-            hit = leaf >= 0
-            a = src.offset + owners[sel][hit]
-            b = dst.offset + dst.labels[leaf[hit]]
-            if np.any(dst.modes[b - dst.offset] != src.modes[a - src.offset]):
-                raise FivebarError("internal error: linked components have different modes")
-            edges.append((a, b))
-    return edges
-
-
-def _groups(total: int, edges) -> np.ndarray:
-    i = np.concatenate([e[0] for e in edges]) if edges else np.zeros(0, np.int64)
-    j = np.concatenate([e[1] for e in edges]) if edges else np.zeros(0, np.int64)
-    return union_find(total, i.astype(np.int64), j.astype(np.int64))
-
-
-def _fragment_nodes(regions: list[Region], roots: np.ndarray) -> np.ndarray:
-    """Nodes whose group lacks components of the other space."""
-    is_ws = np.concatenate([np.full(r.count, r.space == "workspace") for r in regions])
-    has_ws = np.zeros(len(roots), bool)
-    has_js = np.zeros(len(roots), bool)
-    np.logical_or.at(has_ws, roots, is_ws)
-    np.logical_or.at(has_js, roots, ~is_ws)
-    return np.flatnonzero(~(has_ws[roots] & has_js[roots]))
-
-
-def _resolve_fragments(regions: list[Region], total: int, edges) -> tuple[np.ndarray, int]:
-    """Group the components; attach fragments by local refinement; raise if any stay unmatched."""
-    roots = _groups(total, edges)
-    fragments = _fragment_nodes(regions, roots)
-    initial = len(fragments)
-    for extra, radius in REFINE_STEPS:
-        if not len(fragments):
-            break
-        for region in regions:
-            mine = fragments[(fragments >= region.offset) & (fragments < region.offset + region.count)]
-            if len(mine):
-                edges.append(_attach_locally(region, mine, extra, radius))
-        roots = _groups(total, edges)
-        fragments = _fragment_nodes(regions, roots)
-    if len(fragments):
-        raise AspectError(_unmatched_message(regions, fragments))
-    return roots, initial
-
-
-def _attach_locally(region: Region, nodes: np.ndarray, extra: int, radius: int):
-    """Same-space edges found by paving the undetermined cells near `nodes` `extra` levels deeper.
-
-    Only a window around the fragments is examined: the black leaves within 2 * radius cells
-    and the new black cells of the refinement. Connectivity inside the window is connectivity.
-    """
-    paving, tree = region.paving, region.tree
+    timings["paving"] += time.perf_counter() - t0
+    region = Region(space, working, assembly, paving, test, model, np.zeros((0, 0), np.int8))
+    region.free = region.free_signs(paving.inside.centres())
+    if np.any(region.free == 0):
+        raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
+    # two closed black cells of different signs cannot touch (a shared point would have both), so
+    # the components of all black leaves are the anchors of every mode set at once
+    region.black_labels, _ = paving.inside.components(corners=True)
     grid = paving.grid
-    frag = np.isin(region.labels, nodes - region.offset)
-    f_lo, f_hi = _integer_boxes(grid, tree.coords[frag], tree.level[frag])
-    cells = paving.undetermined
-    near = cells[_near(grid, f_lo, f_hi, cells, cells + 1, radius)]
-    window = _near(grid, f_lo, f_hi, *_integer_boxes(grid, tree.coords, tree.level), 2 * radius)
-    local = deepen(grid, region.test, near, extra)
-    sub = tree.subset(window)
-    merged = sub.with_depth(local.grid.depth) | local.inside
-    labels, _ = merged.components()
-    owner = labels[merged.locate(sub.centres())]
-    # components of the depth-D paving that share a component of the refined window are connected
-    comp = region.labels[window]
-    order = np.argsort(owner, kind="stable")
-    first = np.r_[True, owner[order][1:] != owner[order][:-1]]
-    head = np.maximum.accumulate(np.where(first, np.arange(len(order)), 0))
-    return region.offset + comp[order], region.offset + comp[order][head]
+    region.und_possible, region.und_signs = region.signs(*grid.boxes(grid.depth, paving.undetermined))
+    region.und_pairs = _undetermined_pairs(paving)
+    return region
 
 
-def _integer_boxes(grid, coords: np.ndarray, level: np.ndarray):
-    """Leaves as half-open boxes of depth-D cell indices."""
-    shift = (grid.depth - level)[:, None]
-    return coords << shift, (coords + 1) << shift
+def _undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
+    """Every (undetermined cell u, neighbour n) touching at a point; n < len(black leaves) is a
+    black leaf, else the undetermined cell n - len(black leaves). Undetermined cells are the
+    smallest cells, so looking up their neighbours finds every pair."""
+    grid, inside, und = paving.grid, paving.inside, paving.undetermined
+    level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
+    code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
+    order = np.argsort(code << (grid.dim * (grid.depth - level)), kind="stable")
+    everything = Tree(grid, level[order], code[order], canonical=True)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    mine = rank[len(inside):]
+    i, j = everything.subset(np.sort(mine)).adjacency(everything, corners=True)
+    und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
+    return und_of_sorted[i], order[j]
 
 
-def _near(grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
-    """Mask of the boxes b within `radius` cells (Chebyshev) of some box a (periodic axes wrap)."""
-    keep = np.zeros(len(b_lo), bool)
-    if not len(a_lo) or not len(b_lo):
-        return keep
-    n = np.int64(1) << grid.depth
-    a_lo, a_hi = a_lo - radius, a_hi + radius
-    step = max(1, (1 << 22) // len(b_lo))  # bound the (a x b) comparison matrices
-    for s in range(0, len(a_lo), step):
-        near = np.ones((min(step, len(a_lo) - s), len(b_lo)), bool)
-        for axis in range(grid.dim):
-            a0, a1 = a_lo[s:s + step, axis, None], a_hi[s:s + step, axis, None]
-            b0, b1 = b_lo[None, :, axis], b_hi[None, :, axis]
-            if grid.periodic[axis]:
-                near &= ((a1 - a0 >= n) | (np.mod(b0 - a0, n) < a1 - a0) | (np.mod(a0 - b0, n) < b1 - b0))
-            else:
-                near &= (b0 < a1) & (a0 < b1)
-        keep |= near.any(axis=0)
-    return keep
+# ---------------------------------------------------------------- the certificate
 
 
-def _unmatched_message(regions: list[Region], nodes: np.ndarray) -> str:
-    parts = []
-    for node in nodes[:5]:
-        region = next(r for r in regions if r.offset <= node < r.offset + r.count)
-        sub = region.tree.subset(region.labels == node - region.offset)
-        centre = sub.centres().mean(axis=0)
-        parts.append(f"{region.title()} near ({centre[0]:.4g}, {centre[1]:.4g}), area {sub.area:.3g}")
-    more = f" and {len(nodes) - 5} more" if len(nodes) > 5 else ""
-    return (f"{len(nodes)} component(s) have no counterpart in the other space at depth "
-            f"{regions[0].paving.grid.depth}: " + "; ".join(parts) + more + " (try a larger --depth)")
+class _Count:
+    """Anchors of every mode set joined into groups (one group: one component of S), and what is
+    proved about the groups: which are certified, lower and upper bounds on the count.
+
+    1. Links: a sample of an anchor's black cells mapped into the other space (IKP / DKP) that
+       lands in a black cell of an anchor of the same modes: both anchors hold that configuration,
+       so they are one component (rigorous).
+    2. Joins: anchors of one outer component joined by black cells found by local refinement.
+    3. Partners: a group with no anchor in one space takes the outer component its images land in.
+    4. Empty outer components (no anchor, no partner) must vanish under refinement; outer
+       components still holding several groups must split under refinement (`pieces.py`); one
+       that also holds a partner group is never taken as separated (`strangers`).
+    """
+
+    def __init__(self, model: AspectModel, sets: list[ModeSet], budget: Budget, depth: int):
+        self.model, self.sets, self.budget = model, sets, budget
+        self.offset = np.cumsum([0] + [s.n_anchors for s in sets])
+        total = int(self.offset[-1])
+        self.edges_i, self.edges_j = [], []
+        self._link()
+        self._join()
+        self.partner = self._partners()
+        self.undecided = self.empty_undecided = 0
+        limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // 2)
+        self.split_ok = {}
+        for k, s in enumerate(sets):
+            local_roots = self.roots[self.offset[k]:self.offset[k + 1]]
+            for o in range(s.n_outer):
+                anchors = s.anchors_in(o)
+                held = np.unique(local_roots[anchors])
+                if len(held) > 1:
+                    self.split_ok[(k, o)] = (not self.strangers(k, o, held)
+                                             and self._separate(s, o, anchors, local_roots, limit))
+                    self.undecided += not self.split_ok[(k, o)]
+                elif len(held) == 0 and (k, o) not in self.partner_of and not s.vanish(o, budget, limit):
+                    self.undecided += 1
+                    self.empty_undecided += 1
+        self.merged = total - len(np.unique(self.roots)) if total else 0
+        self.lower, self.upper = self._bounds()
+
+    def strangers(self, k: int, o: int, held) -> set:
+        """Partner groups in outer component o of set k that hold no anchor there. Separating the
+        anchored groups says nothing about them (one may be the same aspect as an anchored group),
+        so such a component is never counted as separated."""
+        return self.partner_of.get((k, o), set()) - {int(g) for g in held}
+
+    def _separate(self, s: ModeSet, o: int, anchors: np.ndarray, roots: np.ndarray, limit: int) -> bool:
+        """Separate the groups of anchors sharing an outer component: each group but the biggest
+        isolated locally, or else the whole outer component split by refinement."""
+        groups = roots[anchors]
+        size = {g: s.anchor_size[anchors[groups == g]].sum() for g in np.unique(groups)}
+        biggest = max(size, key=lambda g: (size[g], -g))
+        if all(s.isolate(o, anchors[groups == g], roots, self.budget) for g in size if g != biggest):
+            return True
+        return s.split(o, roots, self.budget, limit)
+
+    @property
+    def roots(self) -> np.ndarray:
+        """Union-find root of every anchor (recomputed only when edges were added)."""
+        if getattr(self, "_roots_for", -1) != len(self.edges_i):
+            i = np.array(self.edges_i, np.int64)
+            j = np.array(self.edges_j, np.int64)
+            self._roots, self._roots_for = union_find(int(self.offset[-1]), i, j), len(self.edges_i)
+        return self._roots
+
+    def _samples(self, s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
+        """Sample points of every anchor's black cells (centres; a DENSE x DENSE grid in small
+        anchors) and the anchor each comes from."""
+        tree = s.region.tree
+        mine = np.flatnonzero(s.anchor_of_leaf >= 0)
+        owner = s.anchor_of_leaf[mine]
+        lo, hi = tree.bounds()
+        lo, hi = lo[mine], hi[mine]
+        small = s.anchor_size[owner] <= SMALL_PIECE
+        g = (np.arange(DENSE) + 0.5) / DENSE
+        grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+        dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
+        points = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
+        owners = np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
+        return points, owners
+
+    def _images(self, s: ModeSet, points: np.ndarray):
+        *working, assembly = s.modes
+        if s.space == "workspace":
+            return self.model.ikp(points, tuple(working))
+        return self.model.dkp(points, assembly)
+
+    def _others(self, s: ModeSet) -> list[int]:
+        return [k for k, t in enumerate(self.sets) if t.space != s.space and t.modes == s.modes]
+
+    def _link(self) -> None:
+        for k, s in enumerate(self.sets):
+            points, owners = self._samples(s)
+            if not len(points):
+                continue
+            images, ok = self._images(s, points)
+            for j in self._others(s):
+                t = self.sets[j]
+                leaf = np.full(len(points), -1, np.int64)
+                leaf[ok] = t.region.tree.locate(images[ok])
+                hit = leaf >= 0
+                target = np.full(len(points), -1, np.int64)
+                target[hit] = t.anchor_of_leaf[leaf[hit]]
+                good = target >= 0
+                pairs = np.unique(np.column_stack([owners[good], target[good]]), axis=0)
+                self.edges_i += (self.offset[k] + pairs[:, 0]).tolist()
+                self.edges_j += (self.offset[j] + pairs[:, 1]).tolist()
+
+    def _join(self) -> None:
+        """Join the anchors of each outer component by local refinement, as long as it joins."""
+        for k, s in enumerate(self.sets):
+            for o in range(s.n_outer):
+                anchors = s.anchors_in(o)
+                while self.budget.left > 0:
+                    roots = self.roots[self.offset[k]:self.offset[k + 1]]
+                    if len(np.unique(roots[anchors])) < 2:
+                        break
+                    new = [(a, b) for a, b in s.join(o, roots, self.budget) if roots[a] != roots[b]]
+                    if not new:
+                        break
+                    self.edges_i += [self.offset[k] + a for a, _ in new]
+                    self.edges_j += [self.offset[k] + b for _, b in new]
+
+    def _partners(self) -> dict:
+        """For every group with no anchor in a mode set of the other space: the outer components
+        of that set its images land in. Also `partner_of[(set, outer)]`: the groups landing there."""
+        roots = self.roots
+        partner: dict = {}
+        self.partner_of: dict = {}
+        for k, s in enumerate(self.sets):
+            groups_here = roots[self.offset[k]:self.offset[k + 1]]
+            for j in self._others(s):
+                t = self.sets[j]
+                missing = np.setdiff1d(groups_here, roots[self.offset[j]:self.offset[j + 1]])
+                if not len(missing):
+                    continue
+                points, owners = self._samples(s)
+                keep = np.isin(groups_here[owners], missing)
+                points, groups = points[keep], groups_here[owners[keep]]
+                images, ok = self._images(s, points)
+                located = np.full(len(points), -1, np.int64)
+                if ok.any():
+                    order = np.argsort(t.cells.code << (t.cells.grid.dim * (t.cells.grid.depth - t.cells.level)),
+                                       kind="stable")
+                    leaf = t.cells.tree().locate(images[ok])
+                    located[np.flatnonzero(ok)] = np.where(leaf >= 0, order[np.maximum(leaf, 0)], -1)
+                for g in missing:
+                    outers = set(t.outer[located[(groups == g) & (located >= 0)]].tolist())
+                    partner[(int(g), j)] = outers
+                    for o in outers:
+                        self.partner_of.setdefault((j, o), set()).add(int(g))
+        return partner
+
+    def group_outers(self, g: int) -> dict:
+        """Per space: the set of (mode set, outer component) pairs holding group g."""
+        out = {"workspace": set(), "jointspace": set()}
+        roots = self.roots
+        for k, s in enumerate(self.sets):
+            local = np.flatnonzero(roots[self.offset[k]:self.offset[k + 1]] == g)
+            out[s.space] |= {(k, int(o)) for o in np.unique(s.anchor_outer[local])}
+            for (gg, j), outers in self.partner.items():
+                if gg == g and j == k:
+                    out[s.space] |= {(k, o) for o in outers}
+        return out
+
+    def owners(self, k: int, o: int) -> set:
+        s = self.sets[k]
+        roots = self.roots[self.offset[k]:self.offset[k + 1]]
+        return set(np.unique(roots[s.anchors_in(o)]).tolist()) | self.partner_of.get((k, o), set())
+
+    def certified(self, g: int) -> bool:
+        outers = self.group_outers(g)
+        for space in ("workspace", "jointspace"):
+            if len(outers[space]) != 1:
+                return False
+            (k, o), = outers[space]
+            if self.owners(k, o) != {g} and not self.split_ok.get((k, o), False):
+                return False
+        return True
+
+    def _bounds(self) -> tuple[int, int]:
+        """Groups sharing an outer component may be one aspect: the lower bound counts clusters
+        of groups joined by shared outer components, the upper bound counts groups, plus the
+        undecided outer components without an anchor."""
+        groups = np.unique(self.roots)
+        index = {int(g): i for i, g in enumerate(groups)}
+        ei, ej = [], []
+        for k, s in enumerate(self.sets):
+            for o in range(s.n_outer):
+                held = sorted(self.owners(k, o))
+                if len(held) > 1 and not self.split_ok.get((k, o), False):
+                    ei += [index[held[0]]] * (len(held) - 1)
+                    ej += [index[h] for h in held[1:]]
+        clusters = len(np.unique(union_find(len(groups), np.array(ei, np.int64), np.array(ej, np.int64))))
+        split_failed = sum(1 for v in self.split_ok.values() if not v)
+        return clusters, len(groups) + (self.undecided - split_failed)
 
 
-# ---------------------------------------------------------------- numbering
-
-
-def _number_aspects(model: AspectModel, regions: list[Region], roots: np.ndarray):
-    """Aspects ordered by assembly mode (+ first), working mode (++, +-, -+, --), then position."""
-    node_region = np.concatenate([np.full(r.count, k) for k, r in enumerate(regions)])
-    node_local = np.concatenate([np.arange(r.count) for r in regions])
-    node_modes = np.concatenate([r.modes for r in regions])
-    groups = np.unique(roots)
+def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSet], count: _Count):
+    """Aspects (groups of anchors) ordered by assembly mode (+ first), working mode (++, +-, -+,
+    --), then the position of their first joint-space cell; and, per region, the aspect number of
+    each black leaf of its paving."""
+    roots = count.roots
+    leaves = {}  # group -> {space: (region, leaf indices)}
+    for k, s in enumerate(sets):
+        local = roots[count.offset[k]:count.offset[k + 1]]
+        for g in np.unique(local):
+            mine = np.flatnonzero(np.isin(s.anchor_of_leaf, np.flatnonzero(local == g)))
+            region, idx = leaves.setdefault(int(g), {}).get(s.space, (s.region, np.zeros(0, np.int64)))
+            leaves[int(g)][s.space] = (region, np.concatenate([idx, mine]))
     keys = []
-    for g in groups:
-        members = np.flatnonzero(roots == g)
-        *working, sa = (int(v) for v in node_modes[members[0]])
-        js = [n for n in members if regions[node_region[n]].space == "jointspace"]
-        region = regions[node_region[js[0]]]
-        first = min(int(region.tree.start[region.labels == node_local[n]].min()) for n in js)
-        keys.append((-sa, *(-w for w in working), first, g))
-    keys.sort()
-    node_aspect = np.full(len(roots), -1)
-    aspects = []
-    for number, key in enumerate(keys, start=1):
-        g = key[-1]
-        members = np.flatnonzero(roots == g)
-        node_aspect[members] = number
-        *working, sa = (int(v) for v in node_modes[members[0]])
+    for g, per_space in leaves.items():
         trees = {}
         for space in ("workspace", "jointspace"):
-            mine = [n for n in members if regions[node_region[n]].space == space]
-            region = regions[node_region[mine[0]]]
-            trees[space] = region.tree.subset(np.isin(region.labels, node_local[mine]))
-        pose, joints = _representative(model, tuple(working), trees["workspace"], trees["jointspace"])
-        aspects.append(Aspect(number, tuple(working), sa, trees["workspace"], trees["jointspace"], pose, joints))
-    return aspects, node_aspect
+            if space in per_space:
+                region, idx = per_space[space]
+                trees[space] = region.tree.subset(np.sort(idx))
+            else:
+                trees[space] = Tree.empty(next(r for r in regions if r.space == space).paving.grid)
+        k = next(k for k, s in enumerate(sets) if np.any(roots[count.offset[k]:count.offset[k + 1]] == g))
+        *working, sa = sets[k].modes
+        first = (0, int(trees["jointspace"].start[0])) if len(trees["jointspace"]) else (1, int(trees["workspace"].start[0]))
+        keys.append(((-sa, *(-w for w in working), first), g, trees, tuple(working), sa))
+    keys.sort(key=lambda item: item[0])
+    leaf_aspect = {id(r): np.full(len(r.tree), -1, np.int64) for r in regions}
+    aspects = []
+    for number, (_, g, trees, working, sa) in enumerate(keys, start=1):
+        for space, (region, idx) in leaves[g].items():
+            leaf_aspect[id(region)][idx] = number
+        pose, joints = _representative(model, working, sa, trees["workspace"], trees["jointspace"])
+        aspects.append(Aspect(number, working, sa, trees["workspace"], trees["jointspace"], pose, joints,
+                              count.certified(g)))
+    return aspects, leaf_aspect
 
 
-def _representative(model: AspectModel, working, ws: Tree, js: Tree):
+def _representative(model: AspectModel, working, assembly: int, ws: Tree, js: Tree):
     """A configuration inside the aspect: the centre of its largest workspace cell whose IKP image
-    lies in the aspect's joint-space cells."""
+    lies in the aspect's joint-space cells (or, for an aspect too thin for workspace cells, the
+    centre of its largest joint-space cell and its DKP image)."""
+    if not len(ws):
+        joints = js.centres()[int(np.argmin(js.level))][None, :]
+        pose, _ = model.dkp(joints, assembly)
+        return (float(pose[0, 0]), float(pose[0, 1])), (float(joints[0, 0]), float(joints[0, 1]))
     order = np.argsort(ws.level, kind="stable")
     centres = ws.centres()[order]
     joints, ok = model.ikp(centres, working)
@@ -359,5 +486,3 @@ def _representative(model: AspectModel, working, ws: Tree, js: Tree):
     inside[ok] = js.locate(joints[ok]) >= 0
     k = int(np.argmax(inside)) if inside.any() else 0
     return (float(centres[k, 0]), float(centres[k, 1])), (float(joints[k, 0]), float(joints[k, 1]))
-
-

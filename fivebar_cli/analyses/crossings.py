@@ -27,9 +27,9 @@ class Crossing:
     band_cells: int
 
 
-def find_crossings(model: AspectModel, regions, aspects, node_aspect: np.ndarray) -> list[Crossing]:
+def find_crossings(model: AspectModel, regions, aspects, leaf_aspect: dict) -> list[Crossing]:
     """Aspect pairs joined by a band of cells crossed by one serial singularity only (`regions`:
-    the mode regions of `aspects.py`, `node_aspect`: the aspect number of each of their components)."""
+    the mode regions of `aspects.py`; `leaf_aspect[id(region)]`: the aspect of each black leaf)."""
     modes = {a.number: (*a.working, a.assembly) for a in aspects}
     found: dict[tuple, int] = {}
     for region in regions:
@@ -47,7 +47,11 @@ def find_crossings(model: AspectModel, regions, aspects, node_aspect: np.ndarray
             labels, count = band_tree.components()
             size = np.bincount(labels, minlength=count)
             i, j = band_tree.adjacency(region.tree)
-            touched = np.unique(np.column_stack([labels[i], node_aspect[region.offset + region.labels[j]]]), axis=0)
+            numbers = leaf_aspect[id(region)][j]
+            keep = numbers > 0
+            touched = np.unique(np.column_stack([labels[i][keep], numbers[keep]]), axis=0)
+            if not len(touched):
+                continue
             starts = np.flatnonzero(np.r_[True, touched[1:, 0] != touched[:-1, 0]])
             for comp_rows in np.split(touched, starts[1:]):
                 numbers = comp_rows[:, 1]

@@ -66,11 +66,11 @@ def _configuration(model: AspectModel, joint_space: Space, aspects: list[Aspect]
     tol = SINGULAR_TOL * model.length_scale ** 2
     *working, sa = (0 if abs(x) <= tol else int(np.sign(x)) for x in values)
     joints = _wrap(joint_space, joints)
-    number = None
+    number, certified = None, None
     for a in aspects:
         if (a.working, a.assembly) == (tuple(working), sa):
             if a.workspace.locate(pose[None, :])[0] >= 0 and a.jointspace.locate(joints[None, :])[0] >= 0:
-                number = a.number
+                number, certified = a.number, a.certified
     singular = [f"serial ({name} = 0)" for name, s in zip(model.serial_names, working) if s == 0]
     singular += ["parallel (det A = 0)"] if sa == 0 else []
     axes = [a.name for a in joint_space.axes]
@@ -79,7 +79,7 @@ def _configuration(model: AspectModel, joint_space: Space, aspects: list[Aspect]
         axes[0]: float(joints[0]), axes[1]: float(joints[1]),
         "working_mode": "".join({1: "+", -1: "-", 0: "0"}[s] for s in working),
         "assembly_mode": {1: "+", -1: "-", 0: "0"}[sa],
-        "aspect": number, "singular": ", ".join(singular),
+        "aspect": number, "singular": "; ".join(singular), "aspect_certified": certified,
     }
 
 

@@ -12,9 +12,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import paving_paths, sibling_paths
+from fivebar_cli.io.layout import band_path, paving_paths, sibling_paths
 from fivebar_cli.io.qtfile import QtFile, read_qt, write_qt
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import from_description
@@ -61,34 +63,46 @@ def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations
     return fields
 
 
+def has_band(m: Mechanism) -> bool:
+    """Whether the mechanism's pavings have an uncertain band (interval parameters)."""
+    return bool(getattr(m, "is_interval", False))
+
+
 def write_paving(folder: Path, m: Mechanism, space: str, paving: Paving, procedure: str,
                  evaluations: int, region: str | None = None, stem: str | None = None) -> list[Path]:
-    """`<stem>.qt`, `<stem>.complement.qt` and `<stem>.csv` (the summary row); the stem is the
-    space's name unless given.
+    """`<stem>.qt`, `<stem>.complement.qt`, with interval lengths `<stem>.band.qt`, and `<stem>.csv`
+    (the summary row); the stem is the space's name unless given.
 
     `evaluations` counts every box tested to reach this paving (with those of a refined run).
     """
     stem = stem or space
     inside_path, outside_path = paving_paths(folder, stem)
     fields = {colour: qt_fields(m, space, colour, procedure, evaluations, region) for colour in ("inside", "outside")}
-    return [
+    paths = [
         write_qt(inside_path, paving.inside, **fields["inside"]),
         write_qt(outside_path, paving.outside, **fields["outside"]),
-        write_csv(folder / f"{stem}.csv", SUMMARY_HEADER,
-                  [summary_row(m, space, procedure, paving, evaluations, region)]),
     ]
+    if has_band(m):
+        paths.append(write_qt(band_path(folder, stem), paving.band,
+                              **qt_fields(m, space, "band", procedure, evaluations, region)))
+    paths.append(write_csv(folder / f"{stem}.csv", SUMMARY_HEADER,
+                           [summary_row(m, space, procedure, paving, evaluations, region)]))
+    return paths
 
 
 def summary_row(m: Mechanism, space: str, procedure: str, paving: Paving, evaluations: int,
                 region: str | None = None) -> tuple:
-    """One CSV row; `exact_area` is the closed-form measure of the set, when one is known."""
+    """One CSV row; `exact_area` is the closed-form measure of the set, when one is known. The band
+    of an interval mechanism counts with the undetermined cells (at depth D), so that the three
+    areas still sum to the root's."""
     grid = paving.grid
     own = region is None or region == m.spaces()[space].region
     exact = m.exact_measure(space) if own else m.exact_measure(space, region)
+    band_cells = int(np.sum(np.left_shift(1, grid.dim * (grid.depth - np.asarray(paving.band.level, np.int64)))))
     return (
         space, m.name, procedure, grid.depth, evaluations, k_ratio(evaluations, grid.dim, grid.depth),
-        paving.inside.area, paving.undetermined_area, paving.outside.area,
-        len(paving.inside), len(paving.outside), len(paving.undetermined),
+        paving.inside.area, paving.undetermined_area + paving.band.area, paving.outside.area,
+        len(paving.inside), len(paving.outside), len(paving.undetermined) + band_cells,
         "" if exact is None else exact,
     )
 
@@ -106,6 +120,7 @@ class SavedPaving:
     source: str = ""
     region: str | None = None  # None: the space's own region
     stem: str = ""  # the file names of the pair: <stem>.qt, <stem>.complement.qt
+    band: QtFile | None = None
 
 
 def load_saved(path: str | Path) -> SavedPaving:
@@ -142,13 +157,20 @@ def load_saved(path: str | Path) -> SavedPaving:
     pair = f"{inside_path} + {outside_path.name}"
     own = None if region == spaces[space].region else region
     stem = inside_path.name[: -len(".qt")]
-    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair, own, stem)
+    band = None
+    if has_band(mechanism):
+        path = band_path(inside_path.parent, stem)
+        band = read_qt(path)
+        if band.get("mechanism") != inside.get("mechanism") or band.tree.grid != inside.tree.grid:
+            raise InputError(str(path), "mechanism", f"does not match {inside_path.name}")
+    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair, own, stem, band)
 
 
 def refine_saved(saved: SavedPaving, depth: int, on_level=None) -> Paving:
     """Deepen a saved paving, testing only its undetermined cells (with its region's box test)."""
     test = _test(saved.mechanism, saved.space, saved.procedure, saved.region)
+    band = saved.band.tree if saved.band is not None else None
     try:
-        return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level)
+        return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level, band)
     except ValueError as exc:  # the two trees do not form a paving (overlap, gaps above the depth)
         raise InputError(saved.source, "", f"{exc}") from None

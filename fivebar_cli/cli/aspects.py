@@ -8,11 +8,13 @@ import click
 import numpy as np
 
 from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
-from fivebar_cli.analyses.aspects import analyse_aspects, region_count, signs_text
+from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
 from fivebar_cli.analyses.crossings import paper_claim_verdict
 from fivebar_cli.analyses.locate import locate_configurations, motions
+from fivebar_cli.analyses.tolerance import aspect_fates, fate_text
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, prepare_out, progress, report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, prepare_out, progress, report, tolerance_option,
+    with_tolerance, wrote,
 )
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
@@ -21,36 +23,57 @@ from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import load_config
 
 
-def _load_with_aspects(config_path) -> Mechanism:
-    m = load_config(config_path)
+def _load_with_aspects(config_path, tolerance: float = 0.0) -> Mechanism:
+    m = with_tolerance(load_config(config_path), tolerance, config_path)
     if m.aspect_model() is None:
         raise ConfigError(str(config_path), "type", f"a {m.kind} has no working and assembly modes (no aspects)")
     return m
 
 
+def _budget_option(func):
+    return click.option(
+        "--budget", type=click.IntRange(0, None), default=DEFAULT_BUDGET, show_default=True,
+        help="Box evaluations that local refinement below --depth may spend to join or separate pieces "
+             "(0: none; the count may then stay uncertified).",
+    )(func)
+
+
 @click.command(short_help="Generalized aspects, their matching and crossings (figs. 7-10).")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @depth_option(limit=MAX_ASPECT_DEPTH)
+@_budget_option
+@tolerance_option
 @common_options
-def aspects(config_path, depth, out, no_plot, quiet):
+def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     """Generalized aspects: the singularity-free regions of each working and assembly mode.
 
     Paves the workspace once per working mode and the joint space once per assembly mode,
     labels the connected regions (the five-bar's joint space is a torus), matches each parallel
-    aspect (workspace) to its serial aspect (joint space), and finds which aspects touch across
-    a serial singularity. Writes aspects.csv, aspects-adjacency.csv, aspects/aspect-NN.workspace.qt
-    and aspect-NN.jointspace.qt (and removes the aspect trees of an earlier run that this one does
-    not have), and the figures aspects-workspace.png (paper figs. 7, 8) and
-    aspects-jointspace-assembly+.png / -.png (figs. 9, 10).
+    aspect (workspace) to its serial aspect (joint space), certifies the count (inner and outer
+    approximations of every mode, locally refined below --depth within --budget), and finds
+    which aspects touch across a serial singularity. Prints "N generalized aspects (certified)"
+    or the bounds of an uncertified count. Writes aspects.csv (with a `certified` column),
+    aspects-adjacency.csv, aspects/aspect-NN.workspace.qt and aspect-NN.jointspace.qt (and
+    removes the aspect trees of an earlier run that this one does not have), and the figures
+    aspects-workspace.png (paper figs. 7, 8) and aspects-jointspace-assembly+.png / -.png
+    (figs. 9, 10).
+
+    With interval lengths (in the config, or --tolerance T) the aspects are robust: a
+    configuration belongs to one when, for every length vector in the box, it is reachable,
+    non-singular and in the aspect's modes. The nominal aspects are then computed too and the
+    report says which of them shrink, split or vanish.
 
     \b
-    Example:
+    Examples:
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
+      fivebar aspects configs/m1.yaml --depth 10 --tolerance 0.05 -o out/m1-tol
     """
-    m = _load_with_aspects(config_path)
+    m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
-    with progress(quiet, region_count(m) + 1, f"aspects depth {depth}") as advance:
-        analysis = analyse_aspects(m, depth, advance)
+    robust = getattr(m, "is_interval", False)
+    with progress(quiet, region_count(m) * (2 if robust else 1) + 1, f"aspects depth {depth}") as advance:
+        analysis = analyse_aspects(m, depth, advance, budget)
+        fates = aspect_fates(analyse_aspects(m.nominal(), depth, advance, budget), analysis) if robust else []
     paths = write_aspects(folder, analysis)
     if not no_plot:
         from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
@@ -59,15 +82,17 @@ def aspects(config_path, depth, out, no_plot, quiet):
         for am in analysis.model.assembly_modes:
             paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
                                 folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
-    report(quiet, f"{m.name}: {len(analysis.aspects)} generalized aspects at depth {depth} "
-           f"({analysis.evaluations} box evaluations; {analysis.fragments_resolved} fragments attached)")
+    report(quiet, analysis.headline())
     for a in analysis.aspects:
         report(quiet, f"  aspect {a.number:2d}: working mode {signs_text(a.working)}, det A {signs_text(a.assembly)}, "
-               f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}")
+               f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}"
+               + ("" if a.certified else " (not certified)"))
     for c in analysis.crossings:
         report(quiet, f"  aspects {c.a} and {c.b} (det A {signs_text(c.assembly)}) touch across {c.singularity} = 0")
     if not analysis.aspects:
         report(quiet, "  no aspect can be certified at this depth: try --depth 8 or more")
+    for f in fates:
+        report(quiet, f"  nominal aspect {f.number:2d}: {fate_text(f)}")
     if m.kind == "fivebar":
         for am in analysis.model.assembly_modes:
             verdict = paper_claim_verdict(analysis.aspects, analysis.crossings, am)
@@ -86,31 +111,36 @@ def aspects(config_path, depth, out, no_plot, quiet):
 @click.option("--assembly-mode", type=click.Choice(["+", "-"]), default=None,
               help="Keep only configurations of this assembly mode.")
 @depth_option(limit=MAX_ASPECT_DEPTH)
+@_budget_option
+@tolerance_option
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder of an earlier `aspects` run to reuse when it holds this mechanism at this depth "
                    "[default: outputs/<config name>/]; otherwise the aspects are computed (nothing is written).")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the configurations as CSV.")
-def locate(config_path, poses, joints, working_mode, assembly_mode, depth, out, as_csv):
+def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budget, tolerance, out, as_csv):
     """Which aspect a configuration lies in, and whether two can be joined without singularity.
 
     For each --pose (x, y), every configuration reaching it (up to four working modes); for
     each --joints, every assembly (up to two). Each is reported with its modes and its aspect,
     or as on/near a singularity. With two or more locations, configurations that share an aspect
     can be joined by a singularity-free motion; others cannot. The aspect trees that `aspects`
-    wrote for the same mechanism and depth are reused.
+    wrote for the same mechanism and depth are reused. With interval lengths (or --tolerance T)
+    the configurations are the nominal robot's and the aspects are robust: a motion listed as
+    singularity-free is so for every robot built within the tolerance.
 
     \b
     Examples:
       fivebar locate configs/m1.yaml --pose 4 5
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --working-mode ++
       fivebar locate configs/m2.yaml --joints 0.1 1.4 --joints 1.5 1.2 --assembly-mode +
+      fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --tolerance 0.05
     """
     if not poses and not joints:
         raise click.UsageError("give at least one --pose X Y or --joints TH1 TH2")
-    m = _load_with_aspects(config_path)
+    m = _load_with_aspects(config_path, tolerance)
     folder = output_dir(out, m.name)
     saved = load_aspects(folder, m, depth)
-    found = saved if saved is not None else analyse_aspects(m, depth).aspects
+    found = saved if saved is not None else analyse_aspects(m, depth, budget=budget).aspects
     joint_space = m.spaces()["jointspace"]
     locations = [("pose", tuple(p)) for p in poses] + [("joints", tuple(j)) for j in joints]
     rows = []
@@ -125,18 +155,24 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, out, 
             cfg["location"] = f"{kind} {value[0]:g} {value[1]:g}"
             rows.append(cfg)
     names = [a.name for a in joint_space.axes]
-    keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular")
+    keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular",
+            "aspect_certified")
     if as_csv:
-        click.echo(csv_text(keys, [[("" if r[k] is None else r[k]) for k in keys] for r in rows]), nl=False)
+        cell = {None: "", True: "true", False: "false"}
+        click.echo(csv_text(keys, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
+                                    for k in keys] for r in rows]), nl=False)
         return
     source = f"read from {folder}" if saved is not None else "computed"
-    click.echo(f"{m.name}: aspects at depth {depth} {source}")
+    kind = "robust aspects" if getattr(m, "is_interval", False) else "aspects"
+    click.echo(f"{m.name}: {kind} at depth {depth} {source}")
     for k, (kind, value) in enumerate(locations, start=1):
         mine = [r for r in rows if r["input"] == k]
         click.echo(f"location {k}: {kind} ({value[0]:g}, {value[1]:g}): "
                    + (f"{len(mine)} configuration(s)" if mine else "no configuration (unreachable / cannot assemble)"))
         for r in mine:
             where = f"aspect {r['aspect']}" if r["aspect"] is not None else "on or near a singularity (no certified aspect)"
+            if r["aspect_certified"] is False:
+                where += " (not certified at this depth)"
             extra = f" [{r['singular']}]" if r["singular"] else ""
             click.echo(f"  working mode {r['working_mode']}, assembly mode {r['assembly_mode']}: "
                        f"x = {r['x']:.6g}, y = {r['y']:.6g}, {names[0]} = {r[names[0]]:.6g}, "

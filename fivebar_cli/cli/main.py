@@ -19,6 +19,8 @@ from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
+from fivebar_cli.cli.tolerance import tolerance
+from fivebar_cli.cli.view import view
 from fivebar_cli.errors import FivebarError
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
@@ -37,20 +39,26 @@ def cli() -> None:
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
+      fivebar view outputs/M1
       fivebar reproduce
     """
 
 
-for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, tolerance, view, rpr3, reproduce):
     cli.add_command(command)
 
 
 class Interrupted(FivebarError):
-    """Ctrl-C. Raised from the SIGINT handler so that click does not turn it into its own Abort."""
+    """Ctrl-C or SIGTERM. Raised from the signal handler so that click does not turn it into its own
+    Abort, and so that the atomic writer removes its temporary file on the way out."""
 
 
 def _on_sigint(signum, frame):
     raise Interrupted("interrupted (no output was left half-written)")
+
+
+def _on_sigterm(signum, frame):
+    raise Interrupted("terminated (no output was left half-written)")
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -60,6 +68,8 @@ def main(argv: list[str] | None = None) -> None:
 
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         signal.signal(signal.SIGINT, _on_sigint)
+    if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, _on_sigterm)
     warnings.simplefilter("ignore", RuntimeWarning)  # numpy noise must not break the one-line promise
     try:
         status = cli.main(args=argv, prog_name="fivebar", standalone_mode=False)

@@ -15,9 +15,15 @@ REPRODUCTION = (  # (what, arguments[, expected exit status]); {configs} and {ou
     ("M1 joint space (figs. 3, 4)", ["jointspace", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
     ("M1 workspace (fig. 6)", ["workspace", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
     ("M1 aspects (figs. 7, 9)", ["aspects", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
+    ("M1 in a browser (view.html)", ["view", "{out}/M1", "-o", "{out}/M1/view.html"]),
     ("M2 joint space (figs. 3, 4)", ["jointspace", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 workspace (fig. 6)", ["workspace", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 aspects (figs. 8, 10)", ["aspects", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
+    ("M2 in a browser (view.html)", ["view", "{out}/M2", "-o", "{out}/M2/view.html"]),
+    ("M1 tolerances (the paper's future work)",
+     ["tolerance", "{configs}/m1.yaml", "--tolerances", "0,0.01,0.02,0.05,0.1", "--depth", "9", "-o", "{out}/M1"]),
+    ("M2 tolerances (the paper's future work)",
+     ["tolerance", "{configs}/m2.yaml", "--tolerances", "0,0.005,0.01,0.02", "--depth", "9", "-o", "{out}/M2"]),
     ("3-RPR construction (fig. 2)", ["rpr3", "area", "{configs}/rpr3-equilateral.yaml", "-o", "{out}/rpr3-equilateral"]),
     ("3-RPR area vs phi (figs. 3, 4, 6, 7)", ["rpr3", "sweep", *BASES, "--over", "phi", "-o", "{out}/rpr3-bases"]),
     ("3-RPR area vs rho_min (fig. 5)", ["rpr3", "sweep", *BASES, "--over", "rho_min", "-o", "{out}/rpr3-bases"]),
@@ -26,6 +32,7 @@ REPRODUCTION = (  # (what, arguments[, expected exit status]); {configs} and {ou
     ("3-RPR synthesis (Table 1, figs. 9, 10)", ["rpr3", "synthesize", "{configs}/rpr3-table1.yaml", "-o", "{out}/rpr3-table1"]),
     ("3-RPR general geometry: octree of the workspace and its singularity-free parts",
      ["rpr3", "pave", "{configs}/rpr3-general.yaml", "--depth", "7", "-o", "{out}/rpr3-general"]),
+    ("3-RPR octree in a browser (view.html)", ["view", "{out}/rpr3-general", "-o", "{out}/rpr3-general/view.html"]),
     *((f"3-RPR verify: {what}", ["rpr3", "verify", f"{{configs}}/rpr3-verify/{name}.yaml",
                                  "-o", f"{{out}}/rpr3-verify/{name}"], status) for what, name, status in (
         ("the paper's leg range [1, 1.5] over [100, 165] deg (certified)", "table1-legs-1-1.5", 0),
@@ -35,6 +42,7 @@ REPRODUCTION = (  # (what, arguments[, expected exit status]); {configs} and {ou
           for case in range(1, 7)),
     )),
 )
+FIGURE_STEPS = ("view",)  # commands that only draw: skipped with --no-plot (tables and trees only)
 
 
 @click.command(short_help="Regenerate every table and figure of both papers.")
@@ -42,16 +50,18 @@ REPRODUCTION = (  # (what, arguments[, expected exit status]); {configs} and {ou
               show_default=True, help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml cases.")
 @click.option("--out", "-o", type=click.Path(file_okay=False, path_type=Path), default=Path("outputs"),
               show_default=True, help="Output folder.")
-@click.option("--no-plot", is_flag=True, help="Skip the PNG figures (the tables and trees only).")
+@click.option("--no-plot", is_flag=True, help="Skip the PNG figures and HTML pages (the tables and trees only).")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
 def reproduce(configs, out, no_plot, quiet):
     """Regenerate every table and figure of both papers (what `make reproduce` runs).
 
     Runs, in order: the five-bar Table 1 (kratio), the joint space, workspace and aspects of
-    M1 and M2 at depth 10, the 3-RPR construction, sweeps and synthesis, the octree of a general
-    3-RPR and the `rpr3 verify` checks of the paper's designs (one of them must find a singular
-    pose: exit 1 is its expected result). The .qt and CSV files are deterministic: CI can diff them
-    against the committed outputs/.
+    M1 and M2 at depth 10 with a view.html page of each (fivebar view), their sensitivity to
+    manufacturing tolerances (depth 9), the 3-RPR construction, sweeps and synthesis, the octree
+    of a general 3-RPR (and its page) and the `rpr3 verify` checks of the paper's designs (one of
+    them must find a singular pose: exit 1 is its expected result). The .qt and CSV files are
+    deterministic: the tests diff them against tests/golden/ (make golden). --no-plot skips the
+    figures and the pages.
 
     \b
     Example:
@@ -61,6 +71,8 @@ def reproduce(configs, out, no_plot, quiet):
     root = click.get_current_context().find_root().command
     flags = (["--no-plot"] if no_plot else []) + (["--quiet"] if quiet else [])
     for number, (what, args, *expected) in enumerate(REPRODUCTION, start=1):
+        if no_plot and args[0] in FIGURE_STEPS:
+            continue
         argv = [a.format(configs=configs.as_posix(), out=out.as_posix()) for a in args] + flags
         report(quiet, f"[{number}/{len(REPRODUCTION)}] {what}: fivebar {' '.join(argv)}")
         status = root.main(args=argv, prog_name="fivebar", standalone_mode=False) or 0

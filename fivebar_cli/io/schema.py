@@ -107,7 +107,7 @@ def number(value: Any, source: str, field: str, *, positive: bool = False, nonne
         if isinstance(value, str):
             try:
                 float(value)
-                hint = " (YAML reads 1e-3 as text: write 1.0e-3)"
+                hint = " (YAML reads numbers such as 1e-3 or 1.0e3 as text: write 1.0e-3, 1.0e+3)"
             except ValueError:
                 pass
         shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."

@@ -72,3 +72,22 @@ def trailing_zeros(x: np.ndarray, cap: int) -> np.ndarray:
     """Number of trailing zero bits of non-negative int64 values (x == 0 gives `cap`)."""
     low = x & -x
     return np.where(x == 0, cap, floor_log2(np.where(x == 0, 1, low)))
+
+
+def axis_mask(dim: int, axis: int) -> int:
+    """The bits of a Morton code that belong to one axis (every dim-th bit from bit `axis`)."""
+    return sum(1 << b for b in range(axis, 63, dim))
+
+
+def step(code: np.ndarray, level: np.ndarray, dim: int, axis: int, delta: int) -> tuple[np.ndarray, np.ndarray]:
+    """Morton codes of the cells one step (delta = +1 or -1) along `axis` from cells at `level`,
+    by dilated-integer arithmetic (no decoding), and whether the step wrapped around the root."""
+    mask = np.int64(axis_mask(dim, axis)) & ((np.int64(1) << (dim * level)) - 1)
+    along = code & mask
+    if delta > 0:
+        moved = ((along | ~mask) + 1) & mask
+        wrapped = along == mask
+    else:
+        moved = (along - 1) & mask
+        wrapped = along == 0
+    return (code & ~mask) | moved, wrapped

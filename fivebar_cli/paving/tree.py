@@ -16,7 +16,7 @@ import numpy as np
 
 from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
-from fivebar_cli.paving.morton import deinterleave, floor_log2, interleave, trailing_zeros
+from fivebar_cli.paving.morton import deinterleave, floor_log2, interleave, step, trailing_zeros
 
 __all__ = ["Tree", "BodyError", "union_find"]
 
@@ -156,47 +156,45 @@ class Tree:
 
     # -- adjacency and connected components
 
-    def adjacency(self, other: "Tree | None" = None) -> tuple[np.ndarray, np.ndarray]:
+    def adjacency(self, other: "Tree | None" = None, corners: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Pairs (i, j): leaf i of this tree and leaf j of `other` (default: this tree) share a face
-        of positive size (corner contact does not count).
+        of positive size, or, with `corners`, any boundary point (an edge or a corner).
 
-        For each leaf and face, the same-size cell across the face is looked up in `other`: the leaf
+        For each leaf and direction, the same-size cell across it is looked up in `other`: the leaf
         containing it, if any, is a neighbour. A neighbour smaller than leaf i is not found from i
         but from its own side, so within one tree every pair appears (once per face of the smaller
         leaf); across two trees, pairs are complete when no leaf of `other` is smaller than its
-        neighbours here. Periodic axes wrap around.
+        neighbours here. Periodic axes wrap around. The leaves need not be canonical (a tree built
+        with `canonical=True` from sorted disjoint cells of several sets works the same).
         """
         target = self if other is None else other
-        grid, coords, level = self.grid, self.coords, self.level
+        grid, level = self.grid, self.level
         if target.grid != grid:
             raise ValueError("trees live on different grids")
-        n_side = np.int64(1) << level
         pairs_i, pairs_j = [], []
-        for axis in range(grid.dim):
-            for step in (-1, 1):
-                nb = coords.copy()
-                nb[:, axis] += step
-                if grid.periodic[axis]:
-                    nb[:, axis] %= n_side
-                    valid = np.ones(len(self), dtype=bool)
-                else:
-                    valid = (nb[:, axis] >= 0) & (nb[:, axis] < n_side)
-                idx = np.flatnonzero(valid)
-                shift = grid.dim * (grid.depth - level[idx])
-                first = interleave(nb[idx], level[idx]) << shift
-                last = first + (np.int64(1) << shift)
-                leaf = np.searchsorted(target.start, first, side="right") - 1
-                hit = leaf >= 0
-                hit[hit] &= target.end[leaf[hit]] >= last[hit]
-                if other is None:
-                    hit &= leaf != idx  # a root-sized periodic cell touching itself
-                pairs_i.append(idx[hit])
-                pairs_j.append(leaf[hit])
+        for offset in _offsets(grid.dim, corners):
+            code, valid = self.code, np.ones(len(self), dtype=bool)
+            for axis in np.flatnonzero(offset):
+                code, wrapped = step(code, level, grid.dim, int(axis), int(offset[axis]))
+                if not grid.periodic[axis]:
+                    valid &= ~wrapped
+            idx = np.flatnonzero(valid)
+            shift = grid.dim * (grid.depth - level[idx])
+            first = code[idx] << shift
+            last = first + (np.int64(1) << shift)
+            leaf = np.searchsorted(target.start, first, side="right") - 1
+            hit = leaf >= 0
+            hit[hit] &= target.end[leaf[hit]] >= last[hit]
+            if other is None:
+                hit &= leaf != idx  # a root-sized periodic cell touching itself
+            pairs_i.append(idx[hit])
+            pairs_j.append(leaf[hit])
         return np.concatenate(pairs_i), np.concatenate(pairs_j)
 
-    def components(self) -> tuple[np.ndarray, int]:
-        """Label leaves by face-connected component; labels are numbered in Morton order of first leaf."""
-        i, j = self.adjacency()
+    def components(self, corners: bool = False) -> tuple[np.ndarray, int]:
+        """Label leaves by connected component (face-connected; with `corners`, touching at any
+        point); labels are numbered in Morton order of their first leaf."""
+        i, j = self.adjacency(corners=corners)
         root = union_find(len(self), i, j)
         _, first, labels = np.unique(root, return_index=True, return_inverse=True)
         order = np.argsort(first, kind="stable")
@@ -260,6 +258,14 @@ class Tree:
 
 
 # ---------------------------------------------------------------- canonical form
+
+
+def _offsets(dim: int, corners: bool) -> list[np.ndarray]:
+    """Neighbour directions: the 2 dim face directions, or all 3^dim - 1 with corners and edges."""
+    if not corners:
+        return [np.eye(dim, dtype=np.int64)[axis] * step for axis in range(dim) for step in (-1, 1)]
+    grid = np.stack(np.meshgrid(*([np.arange(-1, 2)] * dim), indexing="ij"), -1).reshape(-1, dim)
+    return [o.astype(np.int64) for o in grid if o.any()]
 
 
 def _canonical(grid: Grid, level: np.ndarray, code: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

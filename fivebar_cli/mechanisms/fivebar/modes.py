@@ -42,6 +42,20 @@ def working_mode_workspace_test(m, working: tuple[int, int]):
     1: every P of the box is reachable, non-singular (no serial: strictly inside both annuli;
     no parallel: det A != 0) in this working mode; -1: no P of the box is reachable; 0 otherwise.
     The sign of det A is constant on a black cell; `workspace_assembly_sign` reads it.
+    """
+    classify = workspace_mode_classifier(m, working)
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        status, strict, sign = classify(lo, hi)
+        black = strict & (sign != 0)
+        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+    return test
+
+
+def workspace_mode_classifier(m, working: tuple[int, int]):
+    """Per box, for one working mode: (reach status 1/-1/0, strictly inside both annuli, sign of
+    det A over the reachable points of the box, 0 where it is not constant).
 
     With alpha_i the direction of P - A_i and gamma_i the angle at P in triangle A_i B_i P,
     the legs' directions are th3 = alpha1 + su gamma1 and th4 = alpha2 + sv gamma2, and
@@ -52,17 +66,15 @@ def working_mode_workspace_test(m, working: tuple[int, int]):
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
 
-    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    def classify(lo: np.ndarray, hi: np.ndarray):
         d1, d2 = leg_distance2_ranges(m, lo, hi)
         status = reach_status(m, lo, hi, (d1, d2), anchors)
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
         theta = _leg_direction_range(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, su, delta)
         theta4 = _leg_direction_range(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, sv, delta)
-        sign = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
-        black = strict & (sign != 0)
-        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+        return status, strict, sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
 
-    return test
+    return classify
 
 
 def _leg_direction_range(m, lo, hi, d2range, cx, inner, outer, coupler, crank, s, delta):
@@ -189,3 +201,11 @@ class FiveBarModes:
     def serial_band_signs(self, assembly, lo, hi):
         _, strict, u, v = joint_mode_classes(self.m, assembly, lo, hi)
         return strict, np.column_stack([u, v])
+
+    def workspace_signs(self, working, lo, hi):
+        status, _, sign = workspace_mode_classifier(self.m, working)(lo, hi)
+        return status != -1, sign[:, None]
+
+    def jointspace_signs(self, assembly, lo, hi):
+        status, _, u, v = joint_mode_classes(self.m, assembly, lo, hi)
+        return status != -1, np.column_stack([u, v])

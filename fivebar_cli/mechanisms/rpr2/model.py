@@ -138,6 +138,16 @@ class Rpr2Modes:
     def mode_values(self, joints, poses):
         return np.column_stack(kinematics.mode_values(self.m, joints[:, 0], joints[:, 1], poses))
 
+    def workspace_signs(self, working, lo, hi):
+        status = boxtests.workspace_test(self.m)(lo, hi)
+        _, eta = boxtests.margins(self.m)
+        side = np.where(lo[:, 1] - eta > 0, 1, np.where(hi[:, 1] + eta < 0, -1, 0)).astype(np.int8)
+        return status != -1, side[:, None]
+
+    def jointspace_signs(self, assembly, lo, hi):
+        _, outside = boxtests._triangle(self.m, lo, hi, strict=False)
+        return ~outside, boxtests.leg_signs(self.m, lo, hi)
+
     def serial_band_signs(self, assembly, lo, hi):
         inside, _ = boxtests._triangle(self.m, lo, hi, strict=True)
         return inside, boxtests.leg_signs(self.m, lo, hi)

@@ -1,0 +1,394 @@
+"""The singularity-free configurations of one working and assembly mode, in one space: inner and
+outer approximations, their components, and local refinement that joins or separates them.
+
+S is the set of non-singular configurations with given modes, seen in one space (an open set).
+The *inner* approximation is the black cells of the mode paving that carry these modes (every
+point in S); the *outer* one adds every undetermined cell not certified to miss S (the box test
+may hold a valid point and the signs that are constant on the box do not contradict the modes).
+Cells are closed, so two cells touching at a corner share a point: components are taken with
+corner contact, on the torus where the space wraps. Then:
+
+- the black cells of one inner component (an *anchor*) lie in one component of S (the points
+  they share are in S);
+- every component of S lies in one component of the outer set (S is inside it and connected), so
+  anchors in different outer components lie in different components of S.
+
+Anchors of one outer component may be one component of S or several. Local refinement decides:
+paving the undetermined cells near an anchor a few levels deeper can find black cells that join it
+to another (`join`), and paving all undetermined cells of the outer component deeper can split it
+into parts that separate the anchors (`split`). Near a pinch (two singular curves tangent) a thin
+tail of S shows detached black cells at every depth; they never need deciding: only the anchors
+(the paving's own black components) do.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fivebar_cli.paving.engine import deepen
+from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
+from fivebar_cli.paving.morton import deinterleave, interleave
+from fivebar_cli.paving.tree import Tree, union_find
+
+# (extra levels, window radius in cells) to join anchors; None: the whole outer component
+JOIN_STEPS = ((2, 4), (2, 16), (4, 16), (2, 64), (4, 64), (6, 32), (2, 256), (2, None), (4, None))
+SPLIT_STEP = 2  # levels added per round when separating anchors
+SPLIT_EXTRA = 12  # separation goes at most this many levels below the paving's depth
+
+
+@dataclass
+class Budget:
+    """Box evaluations that local refinement may still spend (shared by a whole analysis)."""
+
+    left: int
+    spent: int = 0
+
+    def take(self, n: int) -> None:
+        self.left -= n
+        self.spent += n
+
+    def allows(self, cells: int, extra: int, dim: int) -> bool:
+        """Whether paving `cells` cells `extra` levels deeper can fit: at most 2^dim + 4^dim + ...
+        evaluations per cell."""
+        return cells * sum((1 << dim) ** k for k in range(1, extra + 1)) <= self.left
+
+
+@dataclass(frozen=True)
+class CellSet:
+    """Disjoint cells of a grid: black (in S) or undetermined (may meet S); `leaf` is the index of
+    the paving's black leaf a black cell is (-1 for cells found by refinement and undetermined ones)."""
+
+    grid: Grid
+    level: np.ndarray
+    code: np.ndarray
+    black: np.ndarray
+    leaf: np.ndarray
+
+    def select(self, mask: np.ndarray) -> "CellSet":
+        return CellSet(self.grid, self.level[mask], self.code[mask], self.black[mask], self.leaf[mask])
+
+    def tree(self, mask: np.ndarray | None = None) -> Tree:
+        """The selected cells as a tree (their own leaves, sorted, not merged)."""
+        level, code = (self.level, self.code) if mask is None else (self.level[mask], self.code[mask])
+        order = np.argsort(code << (self.grid.dim * (self.grid.depth - level)), kind="stable")
+        return Tree(self.grid, level[order], code[order], canonical=True)
+
+    def undetermined_coords(self) -> np.ndarray:
+        """Integer coordinates of the undetermined cells (all at the grid's depth)."""
+        und = ~self.black
+        return deinterleave(self.code[und], self.level[und], self.grid.dim)
+
+
+def components(cells: CellSet, mask: np.ndarray | None = None) -> tuple[np.ndarray, int]:
+    """Corner-connected components of the selected cells, labels in the cells' own order."""
+    level = cells.level if mask is None else cells.level[mask]
+    code = cells.code if mask is None else cells.code[mask]
+    if len(level) == 0:
+        return np.zeros(0, np.int64), 0
+    order = np.argsort(code << (cells.grid.dim * (cells.grid.depth - level)), kind="stable")
+    tree = Tree(cells.grid, level[order], code[order], canonical=True)
+    labels, count = tree.components(corners=True)
+    out = np.empty_like(labels)
+    out[order] = labels
+    return out, count
+
+
+class ModeSet:
+    """One mode set S of one space: its cells, anchors and outer components.
+
+    `anchor_of_leaf[k]` is the anchor of black leaf k of the region's paving (-1 when the leaf has
+    other modes); `anchor_outer[a]` is the outer component holding anchor a.
+    """
+
+    def __init__(self, region, secondary: tuple[int, ...]):
+        self.region = region
+        self.space = region.space
+        self.secondary = np.array(secondary, np.int8)  # the signs the region's paving leaves free, fixed here
+        self.modes = region.modes_with(secondary)
+        paving = region.paving
+        grid = paving.grid
+        mine = np.flatnonzero(np.all(region.free == self.secondary, axis=1))
+        fits = region.und_possible & np.all((region.und_signs == 0) | (region.und_signs == self.secondary), axis=1)
+        und = paving.undetermined[fits]
+        level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
+        code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
+        black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
+        self.cells = CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
+        _, anchors = np.unique(region.black_labels[mine], return_inverse=True)
+        self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
+        self.outer, self.n_outer = self._outer_components(mine, fits, anchors)
+        self.anchor_outer = np.zeros(self.n_anchors, np.int64)
+        self.anchor_outer[anchors] = self.outer[black]
+        self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int64)
+        self.anchor_of_leaf[mine] = anchors
+        self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+
+    def _outer_components(self, mine: np.ndarray, fits: np.ndarray, anchors: np.ndarray) -> tuple[np.ndarray, int]:
+        """Components of the outer set (black leaves `mine`, undetermined cells `fits`), from the
+        region's pairs of touching cells: nodes are the anchors, then the undetermined cells."""
+        n_black = len(self.region.tree)
+        node = np.full(n_black + len(fits), -1, np.int64)
+        node[mine] = anchors
+        und = np.flatnonzero(fits)
+        node[n_black + und] = self.n_anchors + np.arange(len(und))
+        u, n = self.region.und_pairs
+        keep = fits[u] & (node[n] >= 0)
+        root = union_find(self.n_anchors + len(und), node[n_black + u[keep]], node[n[keep]])
+        _, first, labels = np.unique(root, return_index=True, return_inverse=True)
+        rank = np.empty_like(first)
+        rank[np.argsort(first, kind="stable")] = np.arange(len(first))
+        labels = rank[labels]
+        return np.concatenate([labels[anchors], labels[self.n_anchors:]]), len(first)
+
+    def compatible(self, grid: Grid, coords: np.ndarray) -> np.ndarray:
+        """Undetermined cells that may meet S: not certified empty, no sign against S's."""
+        if len(coords) == 0:
+            return np.zeros(0, bool)
+        lo, hi = grid.boxes(grid.depth, coords)
+        possible, signs = self.region.signs(lo, hi)
+        return possible & np.all((signs == 0) | (signs == self.secondary), axis=1)
+
+    def anchor_tree(self, anchor: int) -> Tree:
+        return self.region.tree.subset(np.flatnonzero(self.anchor_of_leaf == anchor))
+
+    def outer_cells(self, o: int) -> CellSet:
+        return self.cells.select(self.outer == o)
+
+    def anchors_in(self, o: int) -> np.ndarray:
+        return np.flatnonzero(self.anchor_outer == o)
+
+    # -- refinement
+
+    def _deeper(self, cells: CellSet, extra: int, budget: Budget) -> CellSet | None:
+        """`cells` with their undetermined cells paved `extra` levels deeper: new black cells join
+        the black ones, new undetermined cells that may meet S replace the old ones. None when the
+        budget cannot pay for it."""
+        if not budget.allows(int(np.count_nonzero(~cells.black)), extra, cells.grid.dim):
+            return None
+        local = deepen(cells.grid, self.region.test, cells.undetermined_coords(), extra)
+        budget.take(local.evaluations)
+        deeper = local.grid
+        new_black = local.inside
+        if len(new_black):  # black cells of other modes are outside S
+            new_black = new_black.subset(np.all(self.region.free_signs(new_black.centres()) == self.secondary, axis=1))
+        new_und = local.undetermined[self.compatible(deeper, local.undetermined)]
+        old = cells.select(cells.black)
+        level = np.concatenate([old.level, new_black.level, np.full(len(new_und), deeper.depth, np.int64)])
+        code = np.concatenate([old.code, new_black.code, _codes(new_und, deeper.depth)])
+        black = np.concatenate([np.ones(len(old.level) + len(new_black), bool), np.zeros(len(new_und), bool)])
+        leaf = np.concatenate([old.leaf, np.full(len(new_black) + len(new_und), -1, np.int64)])
+        return CellSet(deeper, level, code, black, leaf)
+
+    def join(self, o: int, roots: np.ndarray, budget: Budget) -> list[tuple[int, int]]:
+        """Pairs of anchors of outer component `o` proved to be one component of S, by paving the
+        undetermined cells near all but the largest group of anchors deeper (growing windows).
+
+        `roots[a]` groups anchors already known to be one component.
+        """
+        anchors = self.anchors_in(o)
+        groups = roots[anchors]
+        sizes = {g: self.anchor_size[anchors[groups == g]].sum() for g in np.unique(groups)}
+        biggest = max(sizes, key=lambda g: (sizes[g], -g))
+        small = anchors[groups != biggest]
+        cells = self.outer_cells(o)
+        grid = cells.grid
+        black_leaf = np.flatnonzero(self.anchor_of_leaf >= 0)
+        leaves = self.region.tree
+        cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
+        found = []
+        for extra, radius in JOIN_STEPS:
+            if budget.left <= 0 or grid.depth + extra > MAX_INDEX_BITS // grid.dim:
+                break
+            if radius is None:
+                near, window = ~cells.black, cells.black
+            else:
+                targets = np.isin(self.anchor_of_leaf[black_leaf], small)
+                t_lo, t_hi = _integer_boxes(grid, leaves.level[black_leaf[targets]], leaves.code[black_leaf[targets]])
+                near = ~cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
+                window = cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
+            if not near.any():
+                break
+            local = self._deeper(cells.select(near | window), extra, budget)
+            if local is None:
+                continue
+            labels, _ = components(local, local.black)
+            # the window's anchors, located by their cells' first depth index in the refined set
+            old = cells.select(window)
+            old_anchor = self.anchor_of_leaf[old.leaf]
+            black_local = local.select(local.black)
+            where = _position(black_local, old.level, old.code)
+            owner = labels[where]
+            pairs = [(a, b) for a, b in _same_label_pairs(owner, old_anchor) if roots[a] != roots[b]]
+            found += pairs
+            if pairs:
+                break
+        return found
+
+    def isolate(self, o: int, group: np.ndarray, roots: np.ndarray, budget: Budget) -> bool:
+        """Whether a group of anchors of outer component `o` is separated from everything else in
+        it, by a local argument: pave the undetermined cells of a window around the group deeper
+        (growing windows); if the group's part of the refined window touches no outer cell outside
+        the window (the ring: outer cells touching a window cell), no outer path leaves the window
+        from it, so it is a whole outer component and holds no other group's anchor, unless the
+        refined part itself holds one."""
+        cells = self.outer_cells(o)
+        grid = cells.grid
+        leaves = self.region.tree
+        members = np.flatnonzero(np.isin(self.anchor_of_leaf, group))
+        g_lo, g_hi = _integer_boxes(grid, leaves.level[members], leaves.code[members])
+        cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
+        for extra, radius in JOIN_STEPS:
+            if radius is None or budget.left <= 0 or grid.depth + extra > MAX_INDEX_BITS // grid.dim:
+                return False
+            window = _near(grid, g_lo, g_hi, cell_lo, cell_hi, radius)
+            if not window[~cells.black].any():
+                continue
+            ring = _touching(cells, window)
+            local = self._deeper(cells.select(window), extra, budget)
+            if local is None:
+                return False
+            outside = cells.select(ring)
+            both = _concat(local, CellSet(local.grid, outside.level, outside.code, outside.black, outside.leaf))
+            labels, _ = components(both)
+            in_group = (both.leaf >= 0) & np.isin(self.anchor_of_leaf[np.maximum(both.leaf, 0)], group)
+            part = np.isin(labels, np.unique(labels[in_group]))
+            if part[len(local.level):].any():
+                continue  # the group's part reaches the ring: try a larger window
+            held = both.leaf[part & (both.leaf >= 0)]
+            if len(np.setdiff1d(np.unique(roots[self.anchor_of_leaf[held]]), np.unique(roots[group]))) == 0:
+                return True
+        return False
+
+    def split(self, o: int, roots: np.ndarray, budget: Budget, limit: int) -> bool:
+        """Whether the anchors of outer component `o` that are not known to be one component of S
+        (`roots[a]`) can be separated: its undetermined cells are paved deeper, round after round,
+        until no part of the outer set holds two of them. A part holding none of them but black
+        cells is a component of S of its own: the outer component stays undecided then, as it does
+        when the budget or the depth limit ends the search first."""
+        cells = self.outer_cells(o)
+        while budget.left > 0 and cells.grid.depth + SPLIT_STEP <= limit:
+            old = cells.select(cells.leaf >= 0)  # the paving's leaves
+            cells = self._deeper(cells, SPLIT_STEP, budget)
+            if cells is None:
+                return False
+            outer, count = components(cells)
+            anchor_roots = roots[self.anchor_of_leaf[old.leaf]]
+            part_of_old = outer[_position(cells, old.level, old.code)]
+            separated = True
+            for k in range(count):
+                held = np.unique(anchor_roots[part_of_old == k])
+                if len(held) > 1:
+                    separated = False
+                elif len(held) == 0 and np.any(cells.black[outer == k]):
+                    return False
+            if separated:
+                return True
+        return False
+
+    def vanish(self, o: int, budget: Budget, limit: int) -> bool:
+        """Whether outer component `o`, which holds no black cell, is proved to miss S: paved
+        deeper until no cell of it may meet S (True), or a black cell shows a component of S in it,
+        or the budget or the depth limit ends the search (False)."""
+        cells = self.outer_cells(o)
+        while budget.left > 0 and cells.grid.depth + SPLIT_STEP <= limit:
+            cells = self._deeper(cells, SPLIT_STEP, budget)
+            if cells is None or cells.black.any():
+                return False
+            if len(cells.level) == 0:
+                return True
+        return False
+
+
+def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:
+    """Mask of the cells not in `inside` that touch (share a point with) a cell in it."""
+    tree = cells.tree()
+    order = np.argsort(cells.code << (cells.grid.dim * (cells.grid.depth - cells.level)), kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    i, j = tree.adjacency(corners=True)
+    inside_sorted = inside[order]
+    out_sorted = np.zeros(len(order), bool)
+    out_sorted[j[inside_sorted[i] & ~inside_sorted[j]]] = True
+    out_sorted[i[inside_sorted[j] & ~inside_sorted[i]]] = True
+    return out_sorted[rank]
+
+
+def _concat(a: CellSet, b: CellSet) -> CellSet:
+    """Two disjoint cell sets of one grid as one."""
+    return CellSet(a.grid, np.concatenate([a.level, b.level]), np.concatenate([a.code, b.code]),
+                   np.concatenate([a.black, b.black]), np.concatenate([a.leaf, b.leaf]))
+
+
+def _codes(coords: np.ndarray, level: int) -> np.ndarray:
+    return interleave(coords, level).astype(np.int64) if len(coords) else np.zeros(0, np.int64)
+
+
+def _integer_boxes(grid: Grid, level: np.ndarray, code: np.ndarray):
+    """Cells as half-open boxes of depth-D cell indices."""
+    coords = deinterleave(code, level, grid.dim)
+    shift = (grid.depth - level)[:, None]
+    return coords << shift, (coords + 1) << shift
+
+
+def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
+    """Mask of the boxes b within about `radius` cells (Chebyshev) of some box a, periodic axes
+    wrapping: boxes are hashed into blocks of side >= radius, and b is near when a block it overlaps
+    is within one block of a block some a overlaps (a superset of the exact answer: a window)."""
+    keep = np.zeros(len(b_lo), bool)
+    if not len(a_lo) or not len(b_lo):
+        return keep
+    k = max(int(radius - 1).bit_length(), 0)
+    n = (1 << grid.depth) >> k if grid.depth >= k else 1
+    n = max(n, 1)
+    marked = np.zeros((n,) * grid.dim, bool)
+    for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic):
+        marked[idx] = True
+    lo_blk, hi_blk = _block_span(b_lo, b_hi, k, n)
+    single = np.all(lo_blk == hi_blk, axis=1)
+    keep[single] = marked[tuple(lo_blk[single].T)]
+    for i in np.flatnonzero(~single):  # cells spanning several blocks (large leaves): few
+        region = tuple(slice(a, b + 1) for a, b in zip(lo_blk[i], hi_blk[i]))
+        keep[i] = marked[region].any()
+    return keep
+
+
+def _block_span(lo, hi, k: int, n: int):
+    """First and last block index per axis of half-open integer boxes."""
+    return np.minimum(lo >> k, n - 1), np.minimum((hi - 1) >> k, n - 1)
+
+
+def _enumerate(a_lo, a_hi, k: int, n: int, pad: int, periodic):
+    """Index tuples of every block within `pad` blocks of each box (wrapping periodic axes)."""
+    lo_blk, hi_blk = _block_span(a_lo, a_hi, k, n)
+    lo_blk, hi_blk = lo_blk - pad, hi_blk + pad
+    counts = np.prod(hi_blk - lo_blk + 1, axis=1)
+    owner = np.repeat(np.arange(len(lo_blk)), counts)
+    offset = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+    index = []
+    for axis in range(lo_blk.shape[1]):
+        width = hi_blk[owner, axis] - lo_blk[owner, axis] + 1
+        along = lo_blk[owner, axis] + offset % width
+        offset = offset // width
+        index.append(np.mod(along, n) if periodic[axis] else np.clip(along, 0, n - 1))
+    yield tuple(index)
+
+
+def _position(cells: CellSet, level: np.ndarray, code: np.ndarray) -> np.ndarray:
+    """Index in `cells` of each of the given cells (which are among them, with the same level)."""
+    dim, depth = cells.grid.dim, cells.grid.depth
+    keys = cells.code << (dim * (depth - cells.level))
+    order = np.argsort(keys, kind="stable")
+    return order[np.searchsorted(keys[order], code << (dim * (depth - level)))]
+
+
+def _same_label_pairs(labels: np.ndarray, anchors: np.ndarray) -> list[tuple[int, int]]:
+    """(a, b) pairs of distinct anchors whose cells share a label."""
+    pairs = []
+    first: dict[int, int] = {}
+    for lab, a in zip(labels.tolist(), anchors.tolist()):
+        if lab in first and first[lab] != a:
+            pairs.append((first[lab], a))
+        first.setdefault(lab, a)
+    return pairs

@@ -1,0 +1,147 @@
+"""An independent dense-grid count of a five-bar's generalized aspects (written from the geometry,
+with numpy and scipy.ndimage only; nothing from fivebar_cli).
+
+Both spaces are sampled on an n x n grid of cell centres. A centre is kept for a mode when the
+configuration there is non-singular with that working mode (signs of B11, B22) and assembly
+mode (sign of det A). Kept centres are labelled per mode with 8-connectivity (on the torus in the
+joint space); then every kept centre is mapped into the other space (DKP / IKP) and the labels it
+lands on are merged. The groups that hold centres of both spaces are the aspects; grid islands of
+a thin sliver usually merge through the other space, where the sliver is thick.
+
+A grid sees nothing thinner than a cell: near a pinch (two singular curves tangent) a sliver
+thinner than a cell in both spaces leaves islands of a pixel or two that match each other. Groups
+are therefore counted only with at least `MIN_PIXELS` * (n / 512)^2 kept centres (a real aspect
+grows with the grid, an island does not), and the count is only trusted when it is the same at
+two resolutions (`stable_count`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+WORKING = ((1, 1), (1, -1), (-1, 1), (-1, -1))
+ASSEMBLY = (1, -1)
+EIGHT = np.ones((3, 3), bool)
+MIN_PIXELS = 12  # at n = 512; scaled with the number of cells
+
+
+def _cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def joint_modes(L, th1, th2, assembly):
+    """(valid and non-singular, sign B11, sign B22, P) at joint values, for one assembly mode."""
+    L0, L1, L2, L3, L4 = L
+    b1 = np.stack([L1 * np.cos(th1), L1 * np.sin(th1)], -1)
+    b2 = np.stack([L0 + L2 * np.cos(th2), L2 * np.sin(th2)], -1)
+    d = b2 - b1
+    dist = np.hypot(d[..., 0], d[..., 1])
+    ok = (dist < L3 + L4) & (dist > abs(L3 - L4))
+    c = np.clip((dist**2 + L3**2 - L4**2) / (2 * L3 * np.where(dist > 0, dist, 1.0)), -1, 1)
+    angle = np.arctan2(d[..., 1], d[..., 0]) + assembly * np.arccos(c)
+    p = b1 + L3 * np.stack([np.cos(angle), np.sin(angle)], -1)
+    u = np.sign(_cross(b1, p - b1))
+    v = np.sign(_cross(b2 - np.array([L0, 0.0]), p - b2))
+    return ok & (u != 0) & (v != 0), u, v, p
+
+
+def work_modes(L, x, y, working):
+    """(valid and non-singular, sign det A, th1, th2) at poses, for one working mode."""
+    L0, L1, L2, L3, L4 = L
+    m1, m2 = np.hypot(x, y), np.hypot(x - L0, y)
+    ok = (m1 > abs(L1 - L3)) & (m1 < L1 + L3) & (m2 > abs(L2 - L4)) & (m2 < L2 + L4)
+    c1 = np.clip((L1**2 + m1**2 - L3**2) / (2 * L1 * np.maximum(m1, 1e-300)), -1, 1)
+    c2 = np.clip((L2**2 + m2**2 - L4**2) / (2 * L2 * np.maximum(m2, 1e-300)), -1, 1)
+    th1 = np.arctan2(y, x) - working[0] * np.arccos(c1)
+    th2 = np.arctan2(y, x - L0) - working[1] * np.arccos(c2)
+    b1 = np.stack([L1 * np.cos(th1), L1 * np.sin(th1)], -1)
+    b2 = np.stack([L0 + L2 * np.cos(th2), L2 * np.sin(th2)], -1)
+    p = np.stack([x, y], -1)
+    t = np.sign(_cross(p - b1, p - b2))
+    return ok & (t != 0), t, th1, th2
+
+
+def _label(mask: np.ndarray, torus: bool) -> np.ndarray:
+    """8-connected labels (0: not kept), with the opposite edges glued on the torus."""
+    labels, n = ndimage.label(mask, structure=EIGHT)
+    if not torus or n == 0:
+        return labels
+    pairs = [np.stack([labels[0, :], labels[-1, :]], 1), np.stack([labels[:, 0], labels[:, -1]], 1)]
+    for shift in (-1, 1):  # diagonal contacts across the seams
+        pairs.append(np.stack([labels[0, :], np.roll(labels[-1, :], shift)], 1))
+        pairs.append(np.stack([labels[:, 0], np.roll(labels[:, -1], shift)], 1))
+    pairs = np.concatenate(pairs)
+    pairs = pairs[(pairs[:, 0] > 0) & (pairs[:, 1] > 0)]
+    return _merge(labels, n, pairs)
+
+
+def _merge(labels: np.ndarray, n: int, pairs: np.ndarray) -> np.ndarray:
+    parent = np.arange(n + 1)
+
+    def find(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    keys = np.unique(pairs[:, 0].astype(np.int64) * (n + 1) + pairs[:, 1])
+    for a, b in zip((keys // (n + 1)).tolist(), (keys % (n + 1)).tolist()):
+        ra, rb = find(a), find(b)
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    roots = np.array([find(k) for k in range(n + 1)])
+    return roots[labels]
+
+
+def count(L, n: int = 1024) -> int:
+    """The number of generalized aspects seen on n x n grids of both spaces."""
+    L = tuple(float(v) for v in L)
+    t = (np.arange(n) + 0.5) / n * 2 * np.pi - np.pi
+    th1, th2 = np.meshgrid(t, t, indexing="ij")
+    reach = L[1] + L[3]
+    s = (np.arange(n) + 0.5) / n * 2 * reach - reach
+    x, y = np.meshgrid(s, s, indexing="ij")
+    joint = {}
+    for am in ASSEMBLY:
+        ok, u, v, p = joint_modes(L, th1, th2, am)
+        for wm in WORKING:
+            joint[wm, am] = (_label(ok & (u == wm[0]) & (v == wm[1]), True), p)
+    work = {}
+    for wm in WORKING:
+        ok, sign, a1, a2 = work_modes(L, x, y, wm)
+        for am in ASSEMBLY:
+            work[wm, am] = (_label(ok & (sign == am), False), a1, a2)
+    total = 0
+    for key in joint:
+        jl, p = joint[key]
+        wl, a1, a2 = work[key]
+        nj = int(jl.max())
+        pairs = []
+        kept = jl > 0  # joint -> workspace
+        ix = np.floor((p[kept][:, 0] + reach) / (2 * reach) * n).astype(np.int64)
+        iy = np.floor((p[kept][:, 1] + reach) / (2 * reach) * n).astype(np.int64)
+        inside = (ix >= 0) & (ix < n) & (iy >= 0) & (iy < n)
+        target = np.zeros(len(ix), np.int64)
+        target[inside] = wl[ix[inside], iy[inside]]
+        hit = target > 0
+        pairs.append(np.stack([jl[kept][hit], nj + target[hit]], 1))
+        kept = wl > 0  # workspace -> joint
+        i1 = np.floor((a1[kept] + np.pi) / (2 * np.pi) * n).astype(np.int64) % n
+        i2 = np.floor((a2[kept] + np.pi) / (2 * np.pi) * n).astype(np.int64) % n
+        target = jl[i1, i2]
+        hit = target > 0
+        pairs.append(np.stack([target[hit], nj + wl[kept][hit]], 1))
+        merged = np.arange(nj + int(wl.max()) + 1)
+        groups = _merge(merged, nj + int(wl.max()), np.concatenate(pairs))
+        size_j = np.bincount(groups[jl[jl > 0]], minlength=len(groups))
+        size_w = np.bincount(groups[nj + wl[wl > 0]], minlength=len(groups))
+        big = (size_j > 0) & (size_w > 0) & (size_j + size_w >= MIN_PIXELS * (n / 512) ** 2)
+        total += int(np.count_nonzero(big))
+    return total
+
+
+def stable_count(L, sizes=(512, 1024)) -> int | None:
+    """The count when two resolutions agree, else None (the grids cannot tell)."""
+    counts = {count(L, n) for n in sizes}
+    return counts.pop() if len(counts) == 1 else None

@@ -1,0 +1,265 @@
+"""Interrupted runs (issue 5, item 3): SIGKILL and Ctrl-C leave every output either in its old
+version or complete, and Ctrl-C ends with status 1 and one line on stderr, never a traceback.
+
+A signal needs a process: these runs are `python -m fivebar_cli` subprocesses (cli_helpers.command),
+killed while they replace the outputs of an earlier run, at fixed moments or as soon as they have
+started writing. Two processes run at a time.
+
+After SIGKILL, temporary files named `.<output name>.<random>.tmp` may remain next to the outputs
+(the atomic writer had no chance to remove them); they are the only leftovers allowed, and a later
+run does not clean them up.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import subprocess
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+from cli_helpers import ENV, TMP_NAME, check_whole, command, ok, one_line, run_cli, snapshot
+
+from fivebar_cli.io.qtfile import read_qt
+
+REPO = Path(__file__).resolve().parents[1]
+CONFIGS = REPO / "configs"
+M1 = CONFIGS / "m1.yaml"
+
+
+@dataclass
+class Interrupted:
+    status: int
+    stdout: str
+    stderr: str
+    fired: bool
+    elapsed: float
+
+
+def temporaries(folder: Path) -> set[str]:
+    found = set()
+    for root, _, names in os.walk(folder):
+        found.update(os.path.join(root, n) for n in names if n.endswith(".tmp"))
+    return found
+
+
+def interrupt(args, cwd: Path, watch: Path, trigger: tuple[str, float], sig: int) -> Interrupted:
+    """Run, and send `sig` at the trigger: ("time", seconds), ("tmp", n) once n temporary files have been
+    seen (the run is then writing an output), ("png", n) the same for figures."""
+    kind, value = trigger
+    start = time.monotonic()
+    proc = subprocess.Popen(command(args), cwd=cwd, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    seen: set[str] = set()
+    fired = False
+    try:
+        while proc.poll() is None and time.monotonic() - start < 120:
+            if kind == "time":
+                if time.monotonic() - start >= value:
+                    break
+            else:
+                seen |= {t for t in temporaries(watch) if kind == "tmp" or ".png." in t}
+                if len(seen) >= value:
+                    break
+            time.sleep(0.001)
+        if proc.poll() is None:
+            proc.send_signal(sig)
+            fired = True
+        out, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate()
+    return Interrupted(proc.returncode, out, err, fired, time.monotonic() - start)
+
+
+ASPECT_TRIGGERS = [("tmp", 1), ("tmp", 6), ("png", 1), ("time", 0.4), ("time", 2.5)]
+REPRODUCE_TRIGGERS = [("tmp", 1), ("png", 2), ("time", 2.5)]
+OLD_DEPTH, NEW_DEPTH = 6, 10  # at depth 10 `aspects` writes its trees after ~1 s, then draws for ~5 s
+
+
+@pytest.fixture(scope="module")
+def old_aspects(tmp_path_factory) -> Path:
+    """The outputs (figures included) of a depth-6 `aspects` run, for the interrupted runs to replace."""
+    root = tmp_path_factory.mktemp("old-aspects")
+    ok(run_cli("aspects", M1, "--depth", OLD_DEPTH, "-o", "old", "-q", cwd=root))
+    return root / "old"
+
+
+@pytest.fixture(scope="module")
+def killed_aspects(tmp_path_factory, old_aspects):
+    """`aspects --depth 10` (with figures) SIGKILLed while it replaces the outputs of a depth-6 run."""
+    root = tmp_path_factory.mktemp("killed-aspects")
+    before = snapshot(old_aspects)
+
+    def one(i_trigger):
+        i, trigger = i_trigger
+        folder = root / f"run{i}"
+        shutil.copytree(old_aspects, folder)
+        result = interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], root, folder, trigger,
+                           signal.SIGKILL)
+        return trigger, folder, result
+
+    with ThreadPoolExecutor(2) as pool:
+        return before, list(pool.map(one, enumerate(ASPECT_TRIGGERS)))
+
+
+@pytest.mark.parametrize("index", range(len(ASPECT_TRIGGERS)), ids=[f"{k}-{v}" for k, v in ASPECT_TRIGGERS])
+def test_sigkill_during_aspects_leaves_old_or_complete_files(killed_aspects, index):
+    before, results = killed_aspects
+    trigger, folder, r = results[index]
+    if trigger in (("tmp", 1), ("time", 0.4), ("time", 2.5)):
+        assert r.fired, f"the run ended before the {trigger} trigger ({r.elapsed:.1f} s)"
+    if r.fired:
+        assert r.status == -signal.SIGKILL
+    else:
+        assert r.status == 0, r.stderr
+    assert "Traceback" not in r.stderr
+    leftovers = check_whole(folder, before, allow_tmp=True)
+    for rel in leftovers:  # a leftover is the temporary copy of a real output, next to it
+        target = (folder / rel).parent / TMP_NAME.match(Path(rel).name)["target"]
+        assert target.relative_to(folder).as_posix() in before or target.exists(), rel
+
+
+def test_sigkill_keeps_the_old_trees_until_replaced(killed_aspects):
+    """Every aspect tree after a kill is the depth-6 one or the depth-10 one, never anything else; and the
+    kills did hit writes in progress: their temporary files are still there (nothing removes them later)."""
+    before, results = killed_aspects
+    depths, leftovers = set(), []
+    for _, folder, _ in results:
+        for path in (folder / "aspects").glob("*.qt"):
+            depths.add(read_qt(path).tree.grid.depth)
+        leftovers += check_whole(folder, before, allow_tmp=True)
+    assert depths <= {OLD_DEPTH, NEW_DEPTH} and OLD_DEPTH in depths
+    assert leftovers, "no kill happened while an output was being written"
+
+
+@pytest.fixture(scope="module")
+def killed_reproduce(tmp_path_factory):
+    """`reproduce` (with figures) SIGKILLed while it rewrites a copy of the golden outputs (tests/golden)."""
+    root = tmp_path_factory.mktemp("killed-reproduce")
+    old = root / "old"
+    shutil.copytree(REPO / "tests" / "golden", old, ignore=shutil.ignore_patterns(".*"))
+    before = snapshot(old)
+
+    def one(i_trigger):
+        i, trigger = i_trigger
+        folder = root / f"run{i}"
+        shutil.copytree(old, folder)
+        result = interrupt(["reproduce", "--configs", CONFIGS, "-o", folder, "-q"], root, folder, trigger,
+                           signal.SIGKILL)
+        return trigger, folder, result
+
+    with ThreadPoolExecutor(2) as pool:
+        return before, list(pool.map(one, enumerate(REPRODUCE_TRIGGERS)))
+
+
+@pytest.mark.parametrize("index", range(len(REPRODUCE_TRIGGERS)), ids=[f"{k}-{v}" for k, v in REPRODUCE_TRIGGERS])
+def test_sigkill_during_reproduce_leaves_old_or_complete_files(killed_reproduce, index):
+    before, results = killed_reproduce
+    trigger, folder, r = results[index]
+    assert r.fired and r.status == -signal.SIGKILL, (trigger, r.status, r.elapsed)
+    assert "Traceback" not in r.stderr
+    check_whole(folder, before, allow_tmp=True)
+
+
+@pytest.fixture(scope="module")
+def interrupted_by_ctrl_c(tmp_path_factory, old_aspects):
+    """SIGINT (Ctrl-C) while `aspects` draws and writes its figures, and while `reproduce` runs its steps.
+
+    The moments are fixed times, not "as soon as a temporary file appears": a signal in the few
+    microseconds between the creation of a temporary file and the cleanup block of atomic_write
+    leaves that file behind (test_ctrl_c_right_after_the_temporary_file_is_created), which would
+    make this test flaky rather than tell anything new."""
+    root = tmp_path_factory.mktemp("ctrl-c")
+    jobs = [(["aspects", M1, "--depth", NEW_DEPTH, "-o", "{folder}", "-q"], ("time", 2.5)),
+            (["reproduce", "--configs", CONFIGS, "-o", "{folder}", "--no-plot"], ("time", 1.5))]
+
+    def one(i_job):
+        i, (args, trigger) = i_job
+        folder = root / f"run{i}"
+        shutil.copytree(old_aspects, folder)
+        args = [str(folder) if a == "{folder}" else a for a in args]
+        return folder, interrupt(args, root, folder, trigger, signal.SIGINT)
+
+    before = snapshot(old_aspects)
+    # A process started with SIGINT ignored (pytest run in the background, nohup) passes that on to its
+    # children, and Python then leaves Ctrl-C ignored: give the children the default disposition.
+    previous = signal.getsignal(signal.SIGINT)
+    if previous == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with ThreadPoolExecutor(2) as pool:
+            return before, list(pool.map(one, enumerate(jobs)))
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def test_ctrl_c_exits_1_without_traceback_or_temporary_file(interrupted_by_ctrl_c):
+    before, results = interrupted_by_ctrl_c
+    for folder, r in results:
+        assert r.fired
+        assert r.status == 1, (r.status, r.stderr)
+        assert "Traceback" not in r.stderr and "Traceback" not in r.stdout
+        last = r.stderr.strip().splitlines()[-1]
+        assert last.startswith("fivebar: ") and ("interrupt" in last or "abort" in last), r.stderr
+        check_whole(folder, before, allow_tmp=False)
+
+
+def test_ctrl_c_prints_exactly_one_line(interrupted_by_ctrl_c):
+    for _, r in interrupted_by_ctrl_c[1]:
+        one_line(r, 1)
+
+
+def test_ctrl_c_while_writing_removes_the_temporary_file(tmp_path, monkeypatch):
+    """KeyboardInterrupt inside the write (here: in fsync) leaves the old file and no temporary file."""
+    from fivebar_cli.io import files
+
+    def interrupted_fsync(fd):
+        raise KeyboardInterrupt
+
+    target = tmp_path / "table.csv"
+    target.write_text("old\n")
+    monkeypatch.setattr(files.os, "fsync", interrupted_fsync)
+    with pytest.raises(KeyboardInterrupt):
+        files.write_text(target, "new\n")
+    monkeypatch.undo()
+    assert target.read_text() == "old\n" and [p.name for p in tmp_path.iterdir()] == ["table.csv"]
+
+
+def test_ctrl_c_right_after_the_temporary_file_is_created(tmp_path, monkeypatch):
+    from fivebar_cli.io import files
+
+    real_open = os.open
+
+    def open_then_ctrl_c(path, flags, *args, **kwargs):
+        fd = real_open(path, flags, *args, **kwargs)
+        os.close(fd)
+        raise KeyboardInterrupt  # as when SIGINT arrives once the file exists, before its name is used
+
+    target = tmp_path / "table.csv"
+    target.write_text("old\n")
+    monkeypatch.setattr(files.os, "open", open_then_ctrl_c)
+    with pytest.raises(KeyboardInterrupt):
+        files.write_text(target, "new\n")
+    monkeypatch.undo()
+    assert target.read_text() == "old\n"
+    assert [p.name for p in tmp_path.iterdir()] == ["table.csv"], "a temporary file was left"
+
+
+def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
+    """SIGTERM (a scheduler, `kill`) while `aspects` writes: status 1, one line, no temporary file,
+    every output old or complete."""
+    folder = tmp_path / "run"
+    shutil.copytree(old_aspects, folder)
+    before = snapshot(old_aspects)
+    r = interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], tmp_path, folder, ("tmp", 1),
+                  signal.SIGTERM)
+    assert r.fired
+    line = one_line(r, 1, "terminated")
+    assert line.startswith("fivebar: ")
+    check_whole(folder, before, allow_tmp=False)
