@@ -31,6 +31,18 @@ def _inner_point(loops_xy: list[np.ndarray], centres, radii) -> np.ndarray | Non
     return grid[int(np.argmax(depth))]
 
 
+def _finish_plane(fig, ax, title: str):
+    """Equal axes x, y, title, legend and grid of a figure in the plane; the figure."""
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title(title, fontsize=10)
+    ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
 def construction(mech, phis_deg, rho_min: float, rho_max: float, title: str):
     """Base, platform, workspace circles, singularity circle and the hatched region W at each phi
     (one phi: figure 2; two: figure 9, with the second region cross-hatched)."""
@@ -83,15 +95,8 @@ def construction(mech, phis_deg, rho_min: float, rho_max: float, title: str):
                 platform_drawn = True
     ax.plot([], [], "k--", lw=0.7, label=f"rho_max = {rho_max:.6g} circles")
     ax.plot([], [], "k:", lw=0.7, label=f"rho_min = {rho_min:.6g} circles")
-    ax.set_aspect("equal")
     ax.autoscale_view()
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_title(title, fontsize=10)
-    ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return fig
+    return _finish_plane(fig, ax, title)
 
 
 def lines(series, xlabel: str, ylabel: str, title: str, marks=None):
@@ -191,11 +196,4 @@ def figure_pose(mech, pose, title: str):
     lo, hi = pts.min(0) - 0.6 * span, pts.max(0) + 0.6 * span
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
-    ax.set_aspect("equal")
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_title(title, fontsize=10)
-    ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return fig
+    return _finish_plane(fig, ax, title)

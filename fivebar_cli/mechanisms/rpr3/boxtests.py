@@ -204,30 +204,27 @@ def det_point_sign(g: Geometry, poses: np.ndarray) -> np.ndarray:
     return np.where(d.lo > 0, 1, np.where(d.hi < 0, -1, 0)).astype(np.int8)
 
 
-def det_j(m, poses: np.ndarray) -> np.ndarray:
-    """det J at poses (m, 3) in floating point (for reports; signs come from `det_point_sign`)."""
+def _legs_and_arms(m, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Leg vectors e_i and arms q_i = R(phi) P_i, each (m, 3, 2), at poses (m, 3) in floating point."""
     g = Geometry.of(m) if not isinstance(m, Geometry) else m
     poses = g.poses(poses)
     phi = (poses[:, 2] - g.shift) * D2R
     c, s = np.cos(phi), np.sin(phi)
-    rows = []
-    for (bx, by), (px, py) in zip(g.base, g.platform):
-        qx, qy = c * px - s * py, s * px + c * py
-        ex, ey = poses[:, 0] + qx - bx, poses[:, 1] + qy - by
-        rows.append(np.stack([ex, ey, qx * ey - qy * ex], -1))
-    return np.linalg.det(np.stack(rows, -2))
+    q = np.stack([np.stack([c * px - s * py, s * px + c * py], -1) for px, py in g.platform], -2)
+    return poses[:, None, :2] + q - np.asarray(g.base, float)[None], q
+
+
+def det_j(m, poses: np.ndarray) -> np.ndarray:
+    """det J at poses (m, 3) in floating point (for reports; signs come from `det_point_sign`)."""
+    e, q = _legs_and_arms(m, poses)
+    moment = q[..., 0] * e[..., 1] - q[..., 1] * e[..., 0]
+    return np.linalg.det(np.concatenate([e, moment[..., None]], -1))
 
 
 def leg_lengths(m, poses: np.ndarray) -> np.ndarray:
     """Leg lengths (m, 3) at poses (m, 3) in floating point."""
-    g = Geometry.of(m) if not isinstance(m, Geometry) else m
-    poses = g.poses(poses)
-    phi = (poses[:, 2] - g.shift) * D2R
-    c, s = np.cos(phi), np.sin(phi)
-    out = []
-    for (bx, by), (px, py) in zip(g.base, g.platform):
-        out.append(np.hypot(poses[:, 0] + c * px - s * py - bx, poses[:, 1] + s * px + c * py - by))
-    return np.stack(out, -1)
+    e, _ = _legs_and_arms(m, poses)
+    return np.hypot(e[..., 0], e[..., 1])
 
 
 # ---------------------------------------------------------------- region tests
