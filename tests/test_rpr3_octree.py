@@ -471,3 +471,17 @@ def test_verify_stops_when_the_open_set_grows_too_large(monkeypatch):
     r = module.verify(load_config(CONFIGS / "rpr3-table1.yaml"), 10)
     assert r.status == module.UNDECIDED and r.exit_code == 3 and r.depth < 10 and r.note.startswith("stopped")
     assert 0 < r.undecided_volume <= r.root_volume
+
+
+def test_view_of_a_pave_folder_is_one_octree_section_led_by_the_workspace_pair(octrees):
+    from fivebar_cli.analyses.view import gather
+
+    view = gather([octrees / "d3"])
+    assert [s["kind"] for s in view.sections] == ["octree"]
+    section = view.sections[0]
+    labels = [view.trees[layer["tree"]].label for layer in section["layers"]]
+    assert labels[:2] == ["workspace.qt", "workspace.complement.qt"] and len(labels) == 6
+    assert {view.trees[i].label for i in section["undetermined"].values()} == {"workspace.qt",
+                                                                              "workspace.complement.qt"}
+    assert view.leaves == sum(len(read_qt(p).tree) for p in (octrees / "d3").glob("*.qt"))
+    assert all(t.axes == (("x", ""), ("y", ""), ("phi", "deg")) for t in view.trees)
