@@ -123,14 +123,19 @@ def assert_valid_mechanism(m) -> None:
         assert m.d > 0 and 0 <= m.rho_min < m.rho_max and 2 * m.rho_max >= m.d
         return
     assert isinstance(m, Rpr3), type(m)
-    for key in ("t1", "t2", "t3", "k", "rho_min"):
-        v = getattr(m, key)
-        assert isinstance(v, float) and math.isfinite(v), (key, v)
-    assert m.t1 > 0 and m.t3 != 0 and m.k > 0 and m.rho_min >= 0
-    assert m.rho_max is None or (math.isfinite(m.rho_max) and m.rho_max > m.rho_min)
+    values = [v for p in m.base + m.platform for v in p] + list(m.rho_min)
+    assert all(isinstance(v, float) and math.isfinite(v) for v in values), values
+    assert all(v >= 0 for v in m.rho_min)
+    assert m.rho_max is None or all(math.isfinite(b) and b > a for a, b in zip(m.rho_min, m.rho_max))
     lo, hi = m.phi_range
     assert math.isfinite(lo) and math.isfinite(hi) and lo <= hi
-    assert lo % 180 != 0 and hi % 180 != 0 and math.floor(lo / 180) == math.floor(hi / 180)
+    if m.similar is not None:  # the similar form (issue 4); any geometry otherwise (issue 11)
+        t1, t2, t3, k = m.similar
+        assert all(isinstance(v, float) and math.isfinite(v) for v in m.similar)
+        assert t1 > 0 and t3 != 0 and k > 0
+        assert lo % 180 != 0 and hi % 180 != 0 and math.floor(lo / 180) == math.floor(hi / 180)
+    else:
+        assert m.rho_max is not None
 
 
 @pytest.fixture(scope="module")
@@ -191,7 +196,7 @@ def test_the_valid_configs_load(tmp_path):
         assert_valid_mechanism(load_config(CONFIGS / name))
     path = tmp_path / "platform.yaml"
     path.write_text(yaml.safe_dump(VALID_DATA[-1]))
-    assert load_config(path).k == pytest.approx(0.6)
+    assert load_config(path).similar[3] == pytest.approx(0.6)
 
 
 def test_platform_ratio_cannot_underflow_to_zero(tmp_path):

@@ -55,8 +55,11 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, case):
     assert not (tmp_path / "out").exists()
 
 
-def test_synthesize_needs_a_range_and_sweep_checks_its_options(tmp_path):
-    one_line(run("synthesize", CONFIGS / "rpr3-equilateral.yaml", "-o", tmp_path), 2, "phi_range")
+def test_synthesize_at_one_orientation_and_sweep_checks_its_options(tmp_path):
+    # a zero-width range (issue 11): the six cases exist, cases 5 and 6 are said to be degenerate
+    result = run("synthesize", CONFIGS / "rpr3-equilateral.yaml", "-o", tmp_path, "--no-plot")
+    assert result.status == 0, result.stderr
+    assert "case 5: degenerate" in result.stdout and "case 6: degenerate" in result.stdout
     for args in (("--over", "phi", "--range", "0", "90"), ("--over", "t2", "--angles", "30,180"),
                  ("--over", "rho_min", "--range", "0.5", "0.1"), ("--over", "volume")):
         one_line(run("sweep", CONFIGS / "rpr3-equilateral.yaml", *args, "-o", tmp_path), 2)

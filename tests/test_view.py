@@ -319,14 +319,15 @@ def test_pointing_reads_cells_and_links_aspects_in_chromium(chromium, pages):
     assert probe["torus"] == [0, 0]  # the aspects' joint space and the joint-space pair
 
 
-def test_reproduce_writes_the_pages_of_m1_and_m2():
-    """`fivebar reproduce` views each five-bar folder after its aspects (skipped with --no-plot)."""
+def test_reproduce_writes_the_pages_of_m1_m2_and_the_3rpr_octree():
+    """`fivebar reproduce` views each five-bar folder after its aspects, and the 3-RPR octrees after
+    `rpr3 pave` (skipped with --no-plot)."""
     from fivebar_cli.cli.reproduce import FIGURE_STEPS, REPRODUCTION
 
-    steps = [args for _, args in REPRODUCTION]
-    for name in ("M1", "M2"):
+    steps = [args for _, args, *_ in REPRODUCTION]
+    for name, command in (("M1", ["aspects"]), ("M2", ["aspects"]), ("rpr3-general", ["rpr3", "pave"])):
         page = ["view", f"{{out}}/{name}", "-o", f"{{out}}/{name}/view.html"]
         assert page in steps
-        aspects = next(i for i, a in enumerate(steps) if a[0] == "aspects" and a[-1] == f"{{out}}/{name}")
-        assert steps.index(page) > aspects
+        made = next(i for i, a in enumerate(steps) if a[:len(command)] == command and a[-1] == f"{{out}}/{name}")
+        assert steps.index(page) > made
     assert "view" in FIGURE_STEPS

@@ -3,7 +3,8 @@ the dense discretization, with our exact tests and, where the kind has one, the 
 
 For the five-bar, the paper's printed whole percents are its procedure's K rounded to one decimal
 with the decimal then dropped (8.97% -> "9", 25.91% -> "25"): `printed_form` reproduces all 24 of
-them from our counts of the paper's procedure.
+them from our counts of the paper's procedure. The table compares quadtrees: spaces of other
+dimensions (a 3-RPR's (x, y, phi) octree) are left out (`planar_spaces`).
 """
 
 from __future__ import annotations
@@ -25,18 +26,23 @@ def printed_form(k: float) -> int:
     return math.floor(round(100.0 * k, 1))
 
 
+def planar_spaces(m: Mechanism) -> list[str]:
+    """The spaces of `m` that are paved by quadtrees (the ones the table compares)."""
+    return [name for name, s in m.spaces().items() if s.dim == 2]
+
+
 def row_count(mechanisms: list[Mechanism], depths: list[int]) -> int:
     """How many rows (and progress steps) `kratio_rows` makes."""
-    return sum(len(m.spaces()) for m in mechanisms) * len(depths)
+    return sum(len(planar_spaces(m)) for m in mechanisms) * len(depths)
 
 
 def kratio_rows(mechanisms: list[Mechanism], depths: list[int], advance=lambda n=1: None) -> list[dict]:
     """One row per (space, mechanism, depth), spaces in the order the kinds declare them."""
-    spaces = list(dict.fromkeys(s for m in mechanisms for s in m.spaces()))
+    spaces = list(dict.fromkeys(s for m in mechanisms for s in planar_spaces(m)))
     rows = []
     for space in spaces:
         for m in mechanisms:
-            if space not in m.spaces():
+            if space not in planar_spaces(m):
                 continue
             dim = m.spaces()[space].dim
             for depth in depths:

@@ -1,7 +1,10 @@
 """A space of any mechanism as a certified paving: pave it, write it, read it back, deepen it.
 
-The glue between the mechanism kinds (their spaces and box tests), the paving engine and the
-files, kept out of the CLI so that scripts and tests can call it directly.
+The glue between the mechanism kinds (their spaces, regions and box tests), the paving engine
+and the files, kept out of the CLI so that scripts and tests can call it directly. A paving is
+of one region of a space: the space's own region (`<space>.qt`) unless another region the kind
+declares is named; its files are `<stem>.qt`, `<stem>.complement.qt` and `<stem>.csv`, and the
+`.qt` header records the region, so `refine` asks the kind for that region's box test.
 """
 
 from __future__ import annotations
@@ -30,16 +33,30 @@ def k_ratio(evaluations: int, dim: int, depth: int) -> float:
     return evaluations / 2.0 ** (dim * depth)
 
 
-def pave_space(m: Mechanism, space: str, depth: int, procedure: str = "exact", on_level=None) -> Paving:
-    """Certified paving of one space of `m` to `depth`."""
-    return pave(m.spaces()[space].grid(depth), m.box_test(space, procedure), on_level)
+def _test(m: Mechanism, space: str, procedure: str, region: str | None):
+    """The box test of a region (the space's own region asks with the two-argument call)."""
+    if region is None or region == m.spaces()[space].region:
+        return m.box_test(space, procedure)
+    return m.box_test(space, procedure, region)
 
 
-def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations: int) -> dict:
+def pave_space(m: Mechanism, space: str, depth: int, procedure: str = "exact", on_level=None,
+               region: str | None = None) -> Paving:
+    """Certified paving of one space (or one region of it) of `m` to `depth`."""
+    return pave(m.spaces()[space].grid(depth), _test(m, space, procedure, region), on_level)
+
+
+def pave_regions(m: Mechanism, space: str, depth: int, procedure: str = "exact", on_level=None) -> dict[str, Paving]:
+    """Certified pavings of every region the kind declares for a space, by region name."""
+    return {region: pave_space(m, space, depth, procedure, on_level, region) for region in m.regions(space)}
+
+
+def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations: int,
+              region: str | None = None) -> dict:
     """Header fields of a paving's .qt files; `mechanism`, `procedure` and `evaluations` let
     `refine` resume it; trees of three or more axes also name their axes and units."""
     s = m.spaces()[space]
-    fields = {"name": m.name, "space": space, "region": s.region, "colour": colour}
+    fields = {"name": m.name, "space": space, "region": region or s.region, "colour": colour}
     if s.dim > 2:
         fields["axes"] = s.axes_header()
     fields.update(mechanism=m.describe(), procedure=procedure, evaluations=evaluations)
@@ -52,29 +69,35 @@ def has_band(m: Mechanism) -> bool:
 
 
 def write_paving(folder: Path, m: Mechanism, space: str, paving: Paving, procedure: str,
-                 evaluations: int) -> list[Path]:
-    """`<space>.qt`, `<space>.complement.qt`, with interval lengths `<space>.band.qt`, and
-    `<space>.csv` (the summary row).
+                 evaluations: int, region: str | None = None, stem: str | None = None) -> list[Path]:
+    """`<stem>.qt`, `<stem>.complement.qt`, with interval lengths `<stem>.band.qt`, and `<stem>.csv`
+    (the summary row); the stem is the space's name unless given.
 
     `evaluations` counts every box tested to reach this paving (with those of a refined run).
     """
-    inside_path, outside_path = paving_paths(folder, space)
+    stem = stem or space
+    inside_path, outside_path = paving_paths(folder, stem)
+    fields = {colour: qt_fields(m, space, colour, procedure, evaluations, region) for colour in ("inside", "outside")}
     paths = [
-        write_qt(inside_path, paving.inside, **qt_fields(m, space, "inside", procedure, evaluations)),
-        write_qt(outside_path, paving.outside, **qt_fields(m, space, "outside", procedure, evaluations)),
+        write_qt(inside_path, paving.inside, **fields["inside"]),
+        write_qt(outside_path, paving.outside, **fields["outside"]),
     ]
     if has_band(m):
-        paths.append(write_qt(band_path(folder, space), paving.band, **qt_fields(m, space, "band", procedure, evaluations)))
-    paths.append(write_csv(folder / f"{space}.csv", SUMMARY_HEADER, [summary_row(m, space, procedure, paving, evaluations)]))
+        paths.append(write_qt(band_path(folder, stem), paving.band,
+                              **qt_fields(m, space, "band", procedure, evaluations, region)))
+    paths.append(write_csv(folder / f"{stem}.csv", SUMMARY_HEADER,
+                           [summary_row(m, space, procedure, paving, evaluations, region)]))
     return paths
 
 
-def summary_row(m: Mechanism, space: str, procedure: str, paving: Paving, evaluations: int) -> tuple:
+def summary_row(m: Mechanism, space: str, procedure: str, paving: Paving, evaluations: int,
+                region: str | None = None) -> tuple:
     """One CSV row; `exact_area` is the closed-form measure of the set, when one is known. The band
     of an interval mechanism counts with the undetermined cells (at depth D), so that the three
     areas still sum to the root's."""
     grid = paving.grid
-    exact = m.exact_measure(space)
+    own = region is None or region == m.spaces()[space].region
+    exact = m.exact_measure(space) if own else m.exact_measure(space, region)
     band_cells = int(np.sum(np.left_shift(1, grid.dim * (grid.depth - np.asarray(paving.band.level, np.int64)))))
     return (
         space, m.name, procedure, grid.depth, evaluations, k_ratio(evaluations, grid.dim, grid.depth),
@@ -95,6 +118,8 @@ class SavedPaving:
     inside: QtFile
     outside: QtFile
     source: str = ""
+    region: str | None = None  # None: the space's own region
+    stem: str = ""  # the file names of the pair: <stem>.qt, <stem>.complement.qt
     band: QtFile | None = None
 
 
@@ -115,8 +140,9 @@ def load_saved(path: str | Path) -> SavedPaving:
     mechanism = from_description(inside.get("mechanism"), inside.get("name", "unnamed") or "unnamed", source)
     space = inside.get("space")
     spaces = mechanism.spaces()
-    if space not in spaces or inside.get("region") != spaces[space].region:
-        raise InputError(source, "space", f"cannot resume a paving of space {space!r}, region {inside.get('region')!r}")
+    region = inside.get("region")
+    if space not in spaces or region not in mechanism.regions(space):
+        raise InputError(source, "space", f"cannot resume a paving of space {space!r}, region {region!r}")
     procedure = inside.get("procedure", "exact")
     if procedure not in mechanism.procedures:
         raise InputError(source, "procedure", f"unknown procedure {procedure!r}")
@@ -129,18 +155,20 @@ def load_saved(path: str | Path) -> SavedPaving:
     except ValueError:
         raise InputError(source, "evaluations", f"expected an integer, got {inside.get('evaluations')!r}") from None
     pair = f"{inside_path} + {outside_path.name}"
+    own = None if region == spaces[space].region else region
+    stem = inside_path.name[: -len(".qt")]
     band = None
     if has_band(mechanism):
-        path = band_path(inside_path.parent, inside_path.name[: -len(".qt")])
+        path = band_path(inside_path.parent, stem)
         band = read_qt(path)
         if band.get("mechanism") != inside.get("mechanism") or band.tree.grid != inside.tree.grid:
             raise InputError(str(path), "mechanism", f"does not match {inside_path.name}")
-    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair, band)
+    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair, own, stem, band)
 
 
 def refine_saved(saved: SavedPaving, depth: int, on_level=None) -> Paving:
-    """Deepen a saved paving, testing only its undetermined cells."""
-    test = saved.mechanism.box_test(saved.space, saved.procedure)
+    """Deepen a saved paving, testing only its undetermined cells (with its region's box test)."""
+    test = _test(saved.mechanism, saved.space, saved.procedure, saved.region)
     band = saved.band.tree if saved.band is not None else None
     try:
         return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level, band)

@@ -208,9 +208,10 @@ def _stem(label: str) -> str:
 
 
 def _pair(trees: list[ViewTree], members: list[int]) -> dict | None:
-    """The first tree of the group with its complement (same stem), or None."""
+    """The tree of the group named after its space (`workspace.qt`, not one of the 3-RPR's other
+    regions), else the first one, with its complement (same stem), or None."""
     by_label = {trees[i].label: i for i in members}
-    for i in members:
+    for i in sorted(members, key=lambda i: _stem(trees[i].label).split("/")[-1] != trees[i].qt.get("space")):
         label = trees[i].label
         if trees[i].role != "outside" and not label.endswith(COMPLEMENT):
             j = by_label.get(_stem(label) + COMPLEMENT)

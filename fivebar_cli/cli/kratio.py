@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.analyses.kratio import HEADER, kratio_rows, row_count
+from fivebar_cli.analyses.kratio import HEADER, kratio_rows, planar_spaces, row_count
 from fivebar_cli.cli.options import CONFIG, MAX_DEPTH, figure, progress, report, wrote
 from fivebar_cli.io.files import ensure_dir, write_csv
 from fivebar_cli.io.layout import DEFAULT_ROOT
@@ -54,8 +54,8 @@ def kratio(config_paths, depths, out, no_plot, quiet):
     """
     mechanisms = [load_config(p) for p in config_paths]
     for path, m in zip(config_paths, mechanisms):
-        if not m.spaces():
-            raise ConfigError(str(path), "type", f"a {m.kind} has no space to pave")
+        if not planar_spaces(m):
+            raise ConfigError(str(path), "type", f"a {m.kind} has no 2-D space to pave (the table compares quadtrees)")
     folder = ensure_dir(out if out is not None else DEFAULT_ROOT)
     with progress(quiet, row_count(mechanisms, depths), "Table 1") as advance:
         rows = kratio_rows(mechanisms, depths, advance)

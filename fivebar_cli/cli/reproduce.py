@@ -7,9 +7,10 @@ from pathlib import Path
 import click
 
 from fivebar_cli.cli.options import report
+from fivebar_cli.errors import FivebarError
 
 BASES = ("{configs}/rpr3-acute.yaml", "{configs}/rpr3-equilateral.yaml", "{configs}/rpr3-obtuse.yaml")
-REPRODUCTION = (  # (what, arguments); {configs} and {out} are filled in
+REPRODUCTION = (  # (what, arguments[, expected exit status]); {configs} and {out} are filled in
     ("five-bar Table 1", ["kratio", "{configs}/m1.yaml", "{configs}/m2.yaml", "--depths", "5-10", "-o", "{out}"]),
     ("M1 joint space (figs. 3, 4)", ["jointspace", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
     ("M1 workspace (fig. 6)", ["workspace", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
@@ -29,8 +30,17 @@ REPRODUCTION = (  # (what, arguments); {configs} and {out} are filled in
     ("3-RPR area vs t2, t1 of the equilateral base (fig. 8)",
      ["rpr3", "sweep", "{configs}/rpr3-equilateral.yaml", "--over", "t2", "-o", "{out}/rpr3-equilateral"]),
     ("3-RPR synthesis (Table 1, figs. 9, 10)", ["rpr3", "synthesize", "{configs}/rpr3-table1.yaml", "-o", "{out}/rpr3-table1"]),
-    # MERGE WITH ISSUE 9 (`rpr3 pave`): after its step, add the octree page, e.g.
-    # ("3-RPR octree in a browser (view.html)", ["view", "{out}/<rpr3 pave folder>", "-o", "{out}/<rpr3 pave folder>/view.html"]),
+    ("3-RPR general geometry: octree of the workspace and its singularity-free parts",
+     ["rpr3", "pave", "{configs}/rpr3-general.yaml", "--depth", "7", "-o", "{out}/rpr3-general"]),
+    ("3-RPR octree in a browser (view.html)", ["view", "{out}/rpr3-general", "-o", "{out}/rpr3-general/view.html"]),
+    *((f"3-RPR verify: {what}", ["rpr3", "verify", f"{{configs}}/rpr3-verify/{name}.yaml",
+                                 "-o", f"{{out}}/rpr3-verify/{name}"], status) for what, name, status in (
+        ("the paper's leg range [1, 1.5] over [100, 165] deg (certified)", "table1-legs-1-1.5", 0),
+        ("obtuse base, rho_max at phi1 (a singular pose)", "obtuse-phi1-rule", 1),
+        ("obtuse base, rho_max below the range minimum (certified)", "obtuse-range-minimum", 0),
+        *((f"Table 1 case {case}, rho_max 0.001 below the limit (certified)", f"table1-case{case}", 0)
+          for case in range(1, 7)),
+    )),
 )
 FIGURE_STEPS = ("view",)  # commands that only draw: skipped with --no-plot (tables and trees only)
 
@@ -47,9 +57,11 @@ def reproduce(configs, out, no_plot, quiet):
 
     Runs, in order: the five-bar Table 1 (kratio), the joint space, workspace and aspects of
     M1 and M2 at depth 10 with a view.html page of each (fivebar view), their sensitivity to
-    manufacturing tolerances (depth 9), and the 3-RPR construction, sweeps and synthesis. The
-    .qt and CSV files are deterministic: the tests diff them against tests/golden/ (make
-    golden). --no-plot skips the figures and the pages.
+    manufacturing tolerances (depth 9), the 3-RPR construction, sweeps and synthesis, the octree
+    of a general 3-RPR (and its page) and the `rpr3 verify` checks of the paper's designs (one of
+    them must find a singular pose: exit 1 is its expected result). The .qt and CSV files are
+    deterministic: the tests diff them against tests/golden/ (make golden). --no-plot skips the
+    figures and the pages.
 
     \b
     Example:
@@ -58,9 +70,12 @@ def reproduce(configs, out, no_plot, quiet):
     """
     root = click.get_current_context().find_root().command
     flags = (["--no-plot"] if no_plot else []) + (["--quiet"] if quiet else [])
-    for number, (what, args) in enumerate(REPRODUCTION, start=1):
+    for number, (what, args, *expected) in enumerate(REPRODUCTION, start=1):
         if no_plot and args[0] in FIGURE_STEPS:
             continue
         argv = [a.format(configs=configs.as_posix(), out=out.as_posix()) for a in args] + flags
         report(quiet, f"[{number}/{len(REPRODUCTION)}] {what}: fivebar {' '.join(argv)}")
-        root.main(args=argv, prog_name="fivebar", standalone_mode=False)
+        status = root.main(args=argv, prog_name="fivebar", standalone_mode=False) or 0
+        if status != (expected[0] if expected else 0):
+            raise FivebarError(f"reproduction step {number} ({what}) exited with status {status}, "
+                               f"expected {expected[0] if expected else 0}")

@@ -1,4 +1,5 @@
-"""`fivebar rpr3 area | sweep | synthesize`: the 3-RPR with similar base and platform (Jiang & Gosselin)."""
+"""`fivebar rpr3 area | sweep | synthesize` (closed forms, similar base and platform, Jiang & Gosselin)
+and `fivebar rpr3 pave | verify` (certified octrees of any 3-RPR in (x, y, phi))."""
 
 from __future__ import annotations
 
@@ -14,14 +15,15 @@ from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.mechanisms.registry import load_config
 from fivebar_cli.mechanisms.rpr3 import closed_form as geo
 from fivebar_cli.mechanisms.rpr3 import paper, sweeps
-from fivebar_cli.mechanisms.rpr3.model import Rpr3, reaches_singular_orientation
+from fivebar_cli.mechanisms.rpr3.model import SimilarDesign, reaches_singular_orientation, to_radians
 from fivebar_cli.mechanisms.rpr3.synthesis import OBJECTIVES, synthesize
 
 CONFIG = click.Path(path_type=Path)
 
 
-def load_rpr3(path) -> Rpr3:
-    return load_config(path, kind="rpr3")
+def load_rpr3(path) -> SimilarDesign:
+    """The similar-form design of a config, for the closed forms (one line naming the field if not)."""
+    return load_config(path, kind="rpr3").closed_form(str(path))
 
 
 def _figure(make, path: Path, paths: list) -> None:
@@ -39,13 +41,16 @@ def _check_phis(values, where: str) -> None:
 
 @click.group()
 def rpr3() -> None:
-    """3-RPR with similar base and platform: singularity-free workspace, its exact area, synthesis.
+    """3-RPR: closed forms for a platform similar to the base (area, sweep, synthesize) and
+    certified octrees of any 3-RPR in (x, y, phi) (pave, verify).
 
     \b
     Examples:
       fivebar rpr3 area configs/rpr3-equilateral.yaml
       fivebar rpr3 sweep configs/rpr3-acute.yaml configs/rpr3-equilateral.yaml configs/rpr3-obtuse.yaml --over phi
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 7
+      fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
     """
 
 
@@ -84,7 +89,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
                           "the annuli reach the singularity circle, which then bounds W")
     rows = []
     for phi_deg in phis:
-        phi = math.radians(phi_deg)
+        phi = to_radians(phi_deg, mech.phi_range[0])
         (cx, cy), radius = (np.asarray(v).tolist() for v in geo.singularity_circle(*t, phi))
         a = float(geo.area(*t, phi, mech.rho_min, rho_max))
         arcs_ = geo.boundary(*t, phi, mech.rho_min, rho_max)
@@ -180,14 +185,14 @@ def _sweep_phi(mechs, span, steps, angles, folder, no_plot, quiet):
 
 
 def _sweep_rho_min(mechs, span, steps, angles, folder, no_plot, quiet):
-    limits = [float(geo.rho_min_limit(*m.design, math.radians(m.phi))) for m in mechs]
+    limits = [float(geo.rho_min_limit(*m.design, to_radians(m.phi))) for m in mechs]
     lo, hi = span or (0.0, max(limits))
     if lo < 0:
         raise click.BadParameter(f"rho_min must not be negative, got {lo:g}", param_hint="--range")
     rhos = np.linspace(lo, hi, steps or 201)
     rows, series, marks = [], [], []
     for m in mechs:
-        phi = math.radians(m.phi)
+        phi = to_radians(m.phi)
         d = sweeps.sweep_rho_min(*m.design, phi, rhos)
         rows += [(m.name, m.phi, *vals) for vals in zip(d["rho_min"], d["rho_max"], d["area"])]
         series.append((f"{m.name} (phi = {m.phi:g})", rhos, d["area"]))
@@ -261,11 +266,9 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
     """
     mech = load_rpr3(config)
-    if mech.phi_range[0] == mech.phi_range[1]:
-        raise ConfigError(str(config), "phi", "synthesize needs an orientation range 'phi_range: [phi1, phi2]'")
     t = mech.design
     p1, p2 = mech.phi_range
-    r1, r2 = math.radians(p1), math.radians(p2)
+    r1, r2 = mech.radians
     if mech.rho_max is not None:
         report(quiet, f"note: legs.rho_max = {mech.rho_max:g} is not used: the synthesis computes rho_max")
     cases = synthesize(*t, r1, r2, mech.rho_min)
@@ -290,11 +293,18 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
     else:
         report(quiet, "(not the paper's Table-1 setup: no comparison with the printed values)")
 
+    for c in cases:
+        if c.note:
+            report(quiet, f"  case {c.number}: {c.note}")
     best, flat = cases[3], cases[4]
     report(quiet, f"Recommended leg range (section 4.2): [{best.rho_min:.6f}, {best.rho_max:.6f}] for the largest "
                   f"mean area (case 4),")
-    report(quiet, f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
-                  f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
+    if flat.note:
+        report(quiet, f"  (case 5 is not a recommendation here: {flat.note}); any leg range inside keeps W "
+                      f"singularity-free for phi in [{p1:g}, {p2:g}] deg.")
+    else:
+        report(quiet, f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
+                      f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
 
     if not no_plot:
         from fivebar_cli.plotting.rpr3 import construction, lines
@@ -310,3 +320,144 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
         _figure(lambda: construction(mech, [p1, p2], c2.rho_min, c2.rho_max, title),
                 folder / "singularity-free-workspace-case2.png", paths)
     wrote(quiet, paths)
+
+
+# ---------------------------------------------------------------- octrees: pave and verify
+
+MAX_OCTREE_DEPTH = 12  # an octree's boundary surface has ~4^d cells: about 0.1 GiB per million
+MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
+
+
+def load_octree(path):
+    """Any 3-RPR config whose legs are bounded (a workspace to pave)."""
+    mech = load_config(path, kind="rpr3")
+    if "workspace" not in mech.spaces():
+        raise ConfigError(str(path), "legs.rho_max", "'auto' is unbounded here (every point of the singularity "
+                          "circle is within rho_min of some C_i): give rho_max to pave or verify")
+    return mech
+
+
+@rpr3.command("pave", short_help="Certified octree of the workspace and its singularity-free parts.")
+@click.argument("config", type=CONFIG)
+@click.option("--depth", "-d", type=click.IntRange(0, MAX_OCTREE_DEPTH), default=7, show_default=True,
+              help=f"Depth d of the octree (cells are root/2^d wide; 0..{MAX_OCTREE_DEPTH}).")
+@common_options
+def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: bool) -> None:
+    """Certified octree over (x, y, phi) of the workspace and of its singularity-free parts.
+
+    Any 3-RPR: base and platform points (or the similar form), one leg range or one per leg,
+    an orientation range (a single phi gives the quadtree of (x, y) at that phi). Three pavings,
+    each a .qt pair (black cells certified in, complement cells certified out) and a summary CSV:
+    workspace (every pose has its three legs in range), singularity-free.plus and
+    singularity-free.minus (every pose reachable and det J > 0, resp. < 0; sign convention in
+    docs/rpr3.md). Also volumes.csv (reachable, unreachable, undetermined, each sign, the
+    singular-or-undetermined band; exact volumes for a similar platform) and the figures
+    workspace.png and singularity-free.png (slices at a few phi, with the closed-form singularity
+    circle for a similar platform). `fivebar refine` deepens any of the pairs.
+
+    \b
+    Example:
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 7 -o out/general
+    """
+    from fivebar_cli.analyses import spaces
+    from fivebar_cli.mechanisms.rpr3 import volumes
+    from fivebar_cli.mechanisms.rpr3.model import REGION_FILES, REACHABLE
+
+    mech = load_octree(config)
+    folder = prepare_out(out, mech.name)
+    space = mech.spaces()["workspace"]
+    regions = mech.regions("workspace")
+    paths = []
+    with progress(quiet, len(regions) * (depth + 1), f"octree depth {depth}") as advance:
+        pavings = spaces.pave_regions(mech, "workspace", depth, on_level=lambda level, n: advance(1))
+    for region, p in pavings.items():
+        own = None if region == REACHABLE else region
+        paths += spaces.write_paving(folder, mech, "workspace", p, "exact", p.evaluations, own, REGION_FILES[region])
+    v = volumes.volumes(mech, pavings)
+    paths.append(write_csv(folder / "volumes.csv", volumes.HEADER, [tuple(v.values())]))
+    unit = "area" if space.dim == 2 else "volume (x y deg)"
+    report(quiet, f"{mech.name}: workspace {'quadtree' if space.dim == 2 else 'octree'} depth {depth}, "
+                  f"{v['evaluations']} evaluations; {unit}:")
+    report(quiet, f"  reachable {v['reachable']:.8g}, unreachable {v['unreachable']:.8g}, "
+                  f"undetermined {v['undetermined']:.4g} (root {v['root']:.8g})")
+    report(quiet, f"  singularity-free det J > 0: {v['det_positive']:.8g}, det J < 0: {v['det_negative']:.8g}, "
+                  f"singular or undetermined: {v['singular_or_undetermined']:.4g}")
+    if v["exact_reachable"] != "":
+        report(quiet, f"  closed form: reachable {v['exact_reachable']:.8g}, det J > 0 {v['exact_det_positive']:.8g}, "
+                      f"det J < 0 {v['exact_det_negative']:.8g}")
+    if not no_plot:
+        from fivebar_cli.plotting.rpr3 import figure_singularity_free
+        from fivebar_cli.plotting.trees import figure_paving
+
+        reach = pavings[REACHABLE]
+        paths.append(figure(lambda: figure_paving(mech.name, space, reach.inside, reach.outside,
+                                                  reach.undetermined_tree(), False), folder / "workspace.png"))
+        design = mech.closed_form_or_none()
+        plus, minus = (pavings[r].inside for r in regions[1:])
+        title = f"{mech.name}: singularity-free workspace by sign of det J, depth {depth}"
+        paths.append(figure(lambda: figure_singularity_free(title, space, plus, minus, reach.outside, mech.phi_range,
+                                                            design),
+                            folder / "singularity-free.png"))
+    wrote(quiet, paths)
+
+
+@rpr3.command("verify", short_help="Prove a design singularity-free, or find a reachable singular pose.")
+@click.argument("config", type=CONFIG)
+@click.option("--depth", "-d", type=click.IntRange(0, MAX_VERIFY_DEPTH), default=14, show_default=True,
+              help="Maximum depth of the subdivision (it stops as soon as it has decided).")
+@common_options
+def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: bool) -> None:
+    """Can the robot reach a singular pose over its orientation range and leg ranges?
+
+    Subdivides (x, y, phi) until every box is certified unreachable or of one non-zero sign of
+    det J (then: exit 0, "certified singularity-free"), or until a box whose poses are all
+    reachable holds both signs of det J (exit 1: bisection to a pose with |det J| at rounding
+    level, printed and written to counterexample.csv: x,y,phi_deg,rho1,rho2,rho3,det_j). Exit 3:
+    undecided at --depth (the volume left open is printed; raise --depth, or the design touches
+    a singularity, e.g. rho_max exactly at the closed-form limit). Writes verify.csv (the verdict)
+    and, with a singular pose, counterexample.png (the robot at that pose, its leg lines meeting);
+    a counterexample of an earlier run in the same folder is removed when none is found.
+
+    \b
+    Examples:
+      fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
+      fivebar rpr3 verify configs/rpr3-verify/obtuse-phi1-rule.yaml --depth 14
+    """
+    from fivebar_cli.mechanisms.rpr3.verify import SINGULAR, UNDECIDED, verify
+
+    mech = load_octree(config)
+    folder = prepare_out(out, mech.name)
+    result = verify(mech, depth)
+    a, b = mech.leg_limits()
+    legs = ", ".join(f"[{lo:.8g}, {hi:.8g}]" for lo, hi in zip(a, b))
+    p1, p2 = mech.phi_range
+    report(quiet, f"{mech.name}: legs {legs}, phi in [{p1:g}, {p2:g}] deg")
+    report(quiet, f"  {result.status} (depth {result.depth} of {result.max_depth}, {result.evaluations} boxes tested)")
+    counterexample = folder / "counterexample.csv"
+    paths = []
+    if result.status == SINGULAR:
+        pose = result.pose
+        report(quiet, f"  singular pose: x = {pose.x:.12g}, y = {pose.y:.12g}, phi = {pose.phi:.12g} deg, legs "
+                      f"{', '.join(f'{v:.12g}' for v in pose.legs)}, det J = {pose.det_j:.3g}")
+        paths.append(write_csv(counterexample, ["x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j"],
+                               [(pose.x, pose.y, pose.phi, *pose.legs, pose.det_j)]))
+        if not no_plot:
+            from fivebar_cli.plotting.rpr3 import figure_pose
+
+            title = f"{mech.name}: a reachable singular pose (det J = {pose.det_j:.2g})"
+            paths.append(figure(lambda: figure_pose(mech, pose, title), folder / "counterexample.png"))
+    else:
+        for stale in (counterexample, folder / "counterexample.png"):
+            if stale.is_file():
+                stale.unlink()
+    if result.status == UNDECIDED:
+        advice = result.note or "raise --depth"
+        report(quiet, f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
+                      f"{result.depth}: {advice}")
+    header = ["name", "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume"]
+    row = (mech.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
+           result.undecided_volume, result.root_volume)
+    paths.insert(0, write_csv(folder / "verify.csv", header, [row]))
+    wrote(quiet, paths)
+    if result.exit_code:
+        raise click.exceptions.Exit(result.exit_code)

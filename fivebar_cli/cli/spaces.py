@@ -55,9 +55,11 @@ def _summary(m, space: str, paving, procedure: str) -> str:
                    f"undetermined {paving.undetermined_area:.4g}")
 
 
-def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int, no_plot: bool) -> list[Path]:
-    """The .qt pair, the summary CSV and (unless --no-plot) the figures of a paving."""
-    paths = spaces.write_paving(folder, m, space, paving, procedure, evaluations)
+def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int, no_plot: bool,
+           region: str | None = None, stem: str | None = None) -> list[Path]:
+    """The .qt pair, the summary CSV and (unless --no-plot) the figures of a paving (of a region)."""
+    stem = stem or space
+    paths = spaces.write_paving(folder, m, space, paving, procedure, evaluations, region, stem)
     if not no_plot:
         from fivebar_cli.plotting.trees import figure_paving
 
@@ -65,7 +67,7 @@ def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int
         s = m.spaces()[space]
         for complement, suffix in ((False, ""), (True, ".complement")):
             paths.append(figure(lambda: figure_paving(m.name, s, paving.inside, paving.outside, und, complement,
-                                                      paving.band), folder / f"{space}{suffix}.png"))
+                                                      paving.band, region), folder / f"{stem}{suffix}.png"))
     return paths
 
 
@@ -118,10 +120,10 @@ def workspace(config_path, depth, procedure, tolerance, out, no_plot, quiet):
 def refine(tree_path, depth, out, no_plot, quiet):
     """Deepen a saved paving, testing only its undetermined cells.
 
-    TREE.qt may be either file of a pair (X.qt and X.complement.qt, as written by `jointspace`
-    and `workspace`); the mechanism and box test are read from their headers. The deeper pair
-    replaces the old one in place, unless --out names another folder. The result equals a fresh
-    run at the new depth, with fewer evaluations.
+    TREE.qt may be either file of a pair (X.qt and X.complement.qt, as written by `jointspace`,
+    `workspace` and `rpr3 pave`); the mechanism, region and box test are read from their headers.
+    The deeper pair replaces the old one in place (same file names), unless --out names another
+    folder. The result equals a fresh run at the new depth, with fewer evaluations.
 
     \b
     Example:
@@ -137,8 +139,9 @@ def refine(tree_path, depth, out, no_plot, quiet):
         paving = spaces.refine_saved(saved, depth, on_level=lambda level, n: advance(1))
     total = saved.evaluations + paving.evaluations
     m, space = saved.mechanism, saved.space
-    paths = _write(folder, m, space, paving, saved.procedure, total, no_plot)
-    report(quiet, f"{m.name} {space}: refined depth {old_depth} -> {depth} with {paving.evaluations} evaluations "
+    paths = _write(folder, m, space, paving, saved.procedure, total, no_plot, saved.region, saved.stem)
+    what = space if saved.region is None else f"{space} ({saved.region})"
+    report(quiet, f"{m.name} {what}: refined depth {old_depth} -> {depth} with {paving.evaluations} evaluations "
            f"({saved.evaluations} saved by not retesting; a fresh run needs {total})")
     report(quiet, "  " + _summary(m, space, paving, saved.procedure))
     wrote(quiet, paths)

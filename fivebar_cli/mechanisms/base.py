@@ -8,8 +8,11 @@ point of group `fivebar.mechanisms` in a third-party package). It declares:
 - a one-line, round-trippable `describe()` (the `.qt` `mechanism:` header) and its inverse
   `from_description(fields, name, source)`, so that `refine` can resume a saved paving;
 - its spaces: name, what a black cell means, and the axes (name, unit, root interval, periodic);
-- a box test per space and procedure (`box_test`), the exact measure of a space when a closed
-  form is known, and, for 2-DOF mechanisms with working and assembly modes, an `AspectModel`.
+- optionally more regions of a space than its own (`regions`: e.g. the singularity-free parts
+  of a 3-RPR's workspace, one per sign of det J), each paved like the space itself;
+- a box test per space, procedure and region (`box_test`), the exact measure of a space (or
+  region) when a closed form is known, and, for 2-DOF mechanisms with working and assembly modes,
+  an `AspectModel`.
 
 A box test takes arrays lo, hi of shape (m, dim) and returns int8: 1 when every point of the box
 belongs to the set, -1 when none does, 0 when it cannot tell. It must be sound (docs/formats.md,
@@ -96,11 +99,17 @@ class Mechanism:
         """The spaces this mechanism can be paved in, by name (may be empty)."""
         return {}
 
-    def box_test(self, space: str, procedure: str = "exact") -> BoxTest:
+    def regions(self, space: str) -> tuple[str, ...]:
+        """The regions a space can be paved for (the `.qt` `region:` values); the first is the
+        space's own region, which is what `box_test` certifies when no region is given."""
+        return (self.spaces()[space].region,)
+
+    def box_test(self, space: str, procedure: str = "exact", region: str | None = None) -> BoxTest:
+        """The box test of a region of a space (None: the space's own region)."""
         raise NotImplementedError
 
-    def exact_measure(self, space: str) -> float | None:
-        """The exact area (volume) of the set a space's black cells approximate, when known."""
+    def exact_measure(self, space: str, region: str | None = None) -> float | None:
+        """The exact area (volume) of the set a space's (region's) black cells approximate, when known."""
         return None
 
     def printed_k_percent(self, space: str, depth: int) -> int | None:

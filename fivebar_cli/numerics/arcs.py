@@ -27,6 +27,7 @@ TWO_PI = 2.0 * math.pi
 _CUT_TOL = 1e-9  # relative: circles this close to tangency still get a cut point (harmless extra cut)
 _SNAP = 1e-7  # relative half-chord below which a cut is a tangency (lens area < 1e-20 r^2 ignored)
 _SAME_TOL = 1e-14  # relative: circles this close are the same circle
+_MERGE_TOL = 1e-9  # relative to the smallest radius: arcs meeting within it are one arc; shorter ones are points
 _CHUNK = 512  # regions per numpy pass (keeps the working arrays in cache)
 
 
@@ -46,18 +47,25 @@ def circle_intersections(c1, r1, c2, r2):
 
 
 def _cut_angles_pair(x1, y1, r1, x2, y2, r2):
-    """Angles on circle 1 of its intersections with circle 2: (..., 2) and a validity mask (...)."""
+    """Angles on circle 1 of its intersections with circle 2: (..., 2) and a validity mask (...).
+
+    Written so that nothing cancels when one circle is much larger than the other (a nearly
+    straight singularity circle): the distances a1, a2 from each centre to the foot of the common
+    chord use (d - r)(d + r), and the half-chord is taken on the side of the smaller circle.
+    """
     dx, dy = x2 - x1, y2 - y1
     d = np.hypot(dx, dy)
     scale = np.maximum(np.maximum(r1, r2), d)
     tol = _CUT_TOL * scale
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         ok = (d > _SAME_TOL * scale) & (d <= r1 + r2 + tol) & (d >= np.abs(r1 - r2) - tol)
-        a = (d * d + r1 * r1 - r2 * r2) / (2.0 * d)
-        h = np.sqrt(np.maximum(r1 * r1 - a * a, 0.0))
-        h = np.where(h < _SNAP * r1, 0.0, h)  # rounding noise near tangency: snap to one point
+        a1 = ((d - r2) * (d + r2) + r1 * r1) / (2.0 * d)
+        a2 = ((d - r1) * (d + r1) + r2 * r2) / (2.0 * d)
+        h2 = np.where(r1 <= r2, (r1 - a1) * (r1 + a1), (r2 - a2) * (r2 + a2))
+        h = np.sqrt(np.maximum(h2, 0.0))
+        h = np.where(h < _SNAP * np.minimum(r1, r2), 0.0, h)  # rounding noise near tangency: one point
         alpha = np.arctan2(dy, dx)
-        beta = np.arctan2(h, a)
+        beta = np.arctan2(h, a1)
     ang = np.stack([alpha - beta, alpha + beta], -1)
     return np.where(ok[..., None], ang, np.nan), ok
 
@@ -124,7 +132,9 @@ def _arcs(centres, radii, sides):
     # Midpoint p = c_j + r_j u against constraint m: (|p - c_m|^2 - r_m^2) s_m <= 0, expanded as
     # A_jm + B_jm . u with A = (|c_j - c_m|^2 + r_j^2 - r_m^2) s_m and B = 2 r_j (c_j - c_m) s_m.
     # Trivial constraints give -inf (always satisfied). An arc satisfies its own circle; of two
-    # identical circles with the same side only the first one carries the boundary.
+    # identical circles with the same side only the first one carries the boundary. (Against a
+    # huge circle of radius R the rounding of A is ~R^2 eps: a misplaced midpoint would have to be
+    # within ~R eps of it.)
     with np.errstate(invalid="ignore", over="ignore"):
         dx = x[:, :, None] - x[:, None, :]
         dy = y[:, :, None] - y[:, None, :]
@@ -146,13 +156,25 @@ def _arcs(centres, radii, sides):
             np.maximum(worst, t, out=worst)
     keep = valid & (worst <= 0.0) & ~empty[:, None, None]
 
-    # Green: 1/2 s_j [r^2 (e - s) + r x (sin e - sin s) - r y (cos e - cos s)], with the half-angle
-    # identities sin e - sin s = 2 cos(mid) sin(h), cos e - cos s = -2 sin(mid) sin(h), h = (e - s)/2.
+    # Green, as chord plus circular segment: 1/2 s_j [P_s x P_e + r^2 (theta - sin theta)], theta = e - s,
+    # with P_s x P_e = 2 r sin(h) (c . u + r cos h), h = theta / 2. Unlike r^2 theta + 2 r sin(h) c . u,
+    # nothing large cancels for a huge circle with a short arc (a nearly collinear base): there
+    # theta is known to its rounding only, and r^2 theta is huge.
     rr = np.where(active, r, 0.0)[..., None]
-    g = 0.5 * s[..., None] * (
-        rr * rr * (end - start) + 2.0 * rr * np.sin(0.5 * (end - start)) * (x[..., None] * ux + y[..., None] * uy)
-    )
+    half = 0.5 * (end - start)
+    ch, sh = np.cos(half), np.sin(half)
+    theta = end - start
+    seg = np.where(theta < 0.05, theta_minus_sin(theta), theta - 2.0 * sh * ch)
+    g = 0.5 * s[..., None] * (2.0 * rr * sh * (x[..., None] * ux + y[..., None] * uy + rr * ch) + rr * rr * seg)
     return start, end, keep, np.where(keep, g, 0.0)
+
+
+def theta_minus_sin(t):
+    """t - sin t without cancellation for small t (a series below 0.05; its next term is < 1e-17 t^3)."""
+    t = np.asarray(t, float)
+    t2 = t * t
+    series = t * t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0)))
+    return np.where(t < 0.05, series, t - np.sin(t))
 
 
 def _green(x, y, r, side, start, end):
@@ -160,6 +182,16 @@ def _green(x, y, r, side, start, end):
     return 0.5 * side * (
         r * r * (end - start) + r * x * (np.sin(end) - np.sin(start)) - r * y * (np.cos(end) - np.cos(start))
     )
+
+
+def _origin(centres, radii, sides):
+    """Working origin of each region (N, 1, 2): the centre of its smallest constraining circle.
+
+    Green's theorem is translation invariant; working near the region keeps the coordinates small.
+    """
+    active = np.isfinite(radii) & (radii > 0)
+    i = np.argmin(np.where(active, radii, np.inf), axis=1)
+    return np.take_along_axis(centres, i[:, None, None], axis=1)
 
 
 def area(centres, radii, sides):
@@ -176,8 +208,7 @@ def area(centres, radii, sides):
     for lo in range(0, len(r), _CHUNK):
         sl = slice(lo, lo + _CHUNK)
         cc, rr, ss = c[sl], r[sl], s[sl]
-        # Green's theorem is translation invariant: work about the first centre, for accuracy.
-        out[sl] = np.sum(_arcs(cc - cc[:, :1, :], rr, ss)[3], axis=(1, 2))
+        out[sl] = np.sum(_arcs(cc - _origin(cc, rr, ss), rr, ss)[3], axis=(1, 2))
     bounded = np.any((s > 0) & np.isfinite(r), axis=-1)  # else the region is unbounded (or empty)
     return np.where(bounded, np.maximum(out, 0.0), np.where(out < 0, np.inf, 0.0)).reshape(batch)
 
@@ -225,17 +256,41 @@ class Arc:
 
 
 def boundary_arcs(centres, radii, sides) -> list[Arc]:
-    """Boundary of one region as elementary arcs (zero-length arcs at tangencies dropped)."""
+    """Boundary of one region as maximal arcs: elementary arcs of one circle that meet end to
+    start (also across angle 0) are merged and arcs of negligible length (tangency points) dropped,
+    so that the list is a property of the region, not of where its circles happen to be cut."""
     centres, radii, sides = _prepare(centres, radii, sides)
     if centres.ndim != 2:
         raise ValueError("boundary_arcs takes one region: centres (M, 2)")
     start, end, keep, _ = _arcs(centres[None], radii[None], sides[None])
+    active = np.isfinite(radii) & (radii > 0)
+    tol = _MERGE_TOL * (float(radii[active].min()) if active.any() else 1.0)  # a length
     arcs = []
-    for j, kk in zip(*np.nonzero(keep[0])):
-        a, b = float(start[0, j, kk]), float(end[0, j, kk])
-        if b - a > 1e-15:
-            arcs.append(Arc(int(j), (float(centres[j, 0]), float(centres[j, 1])), float(radii[j]), a, b, int(sides[j])))
+    for j in range(len(radii)):
+        pieces = sorted((float(a), float(b)) for a, b in zip(start[0, j][keep[0, j]], end[0, j][keep[0, j]]))
+        r = float(radii[j])
+        for a, b in _merge_pieces(pieces, tol / r if r > 0 else 0.0):
+            if r * (b - a) > tol:
+                arcs.append(Arc(j, (float(centres[j, 0]), float(centres[j, 1])), r, a, b, int(sides[j])))
     return arcs
+
+
+def _merge_pieces(pieces: list[tuple[float, float]], gap: float) -> list[tuple[float, float]]:
+    """Sorted angle intervals of one circle merged where they meet (within `gap` radians), the
+    last one joined to the first across 2 pi."""
+    merged: list[list[float]] = []
+    for a, b in pieces:
+        if merged and a - merged[-1][1] <= gap:
+            merged[-1][1] = max(merged[-1][1], b)
+        else:
+            merged.append([a, b])
+    if len(merged) > 1 and merged[0][0] + TWO_PI - merged[-1][1] <= gap:
+        last = merged.pop()
+        merged[0] = [last[0], merged[0][1] + TWO_PI]
+    for piece in merged:
+        if piece[1] - piece[0] >= TWO_PI - gap:
+            piece[1] = piece[0] + TWO_PI
+    return [(a, b) for a, b in merged]
 
 
 def loops(arcs: list[Arc], tol: float = 1e-7) -> list[list[Arc]]:

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from fivebar_cli.mechanisms.rpr3 import closed_form as rpr3
+from fivebar_cli.mechanisms.rpr3.model import to_radians
 from fivebar_cli.numerics import arcs
 from fivebar_cli.plotting import pyplot
 
@@ -30,6 +31,18 @@ def _inner_point(loops_xy: list[np.ndarray], centres, radii) -> np.ndarray | Non
     return grid[int(np.argmax(depth))]
 
 
+def _finish_plane(fig, ax, title: str):
+    """Equal axes x, y, title, legend and grid of a figure in the plane; the figure."""
+    ax.set_aspect("equal")
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    ax.set_title(title, fontsize=10)
+    ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
 def construction(mech, phis_deg, rho_min: float, rho_max: float, title: str):
     """Base, platform, workspace circles, singularity circle and the hatched region W at each phi
     (one phi: figure 2; two: figure 9, with the second region cross-hatched)."""
@@ -45,7 +58,7 @@ def construction(mech, phis_deg, rho_min: float, rho_max: float, title: str):
         ax.annotate(f"B{i + 1}", p, textcoords="offset points", xytext=(-12, -12), fontsize=9)
     platform_drawn = False
     for n, phi_deg in enumerate(phis_deg):
-        phi = math.radians(phi_deg)
+        phi = to_radians(phi_deg, mech.phi_range[0])
         col = _COLOURS[n % len(_COLOURS)]
         centres, radii = rpr3.region(*t, phi, rho_min, rho_max)
         ax.add_patch(Circle(centres[0], radii[0], fill=False, ec=col, lw=2.0,
@@ -82,15 +95,8 @@ def construction(mech, phis_deg, rho_min: float, rho_max: float, title: str):
                 platform_drawn = True
     ax.plot([], [], "k--", lw=0.7, label=f"rho_max = {rho_max:.6g} circles")
     ax.plot([], [], "k:", lw=0.7, label=f"rho_min = {rho_min:.6g} circles")
-    ax.set_aspect("equal")
     ax.autoscale_view()
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
-    ax.set_title(title, fontsize=10)
-    ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return fig
+    return _finish_plane(fig, ax, title)
 
 
 def lines(series, xlabel: str, ylabel: str, title: str, marks=None):
@@ -118,3 +124,76 @@ def lines(series, xlabel: str, ylabel: str, title: str, marks=None):
 
 def close(fig) -> None:
     pyplot().close(fig)
+
+
+# ---------------------------------------------------------------- octrees of the general 3-RPR
+
+PLUS_COLOUR, MINUS_COLOUR = (0.16, 0.42, 0.78), (0.93, 0.55, 0.13)
+SLICES = 4
+
+
+def figure_singularity_free(title: str, space, plus, minus, unreachable, phi_range, design=None):
+    """Constant-orientation slices of the sign trees (the 2-D quadtree of each slice): det J > 0 in
+    blue, det J < 0 in orange, certified unreachable in grey, the singular-or-undetermined band in
+    red; for a similar platform (`design`), the closed-form singularity circle at each slice's phi.
+    A single-orientation space (phi_range[0]) is one panel."""
+    from matplotlib.patches import Circle, Patch
+
+    from fivebar_cli.paving.tree import Tree
+    from fivebar_cli.plotting.trees import PALE, RED, draw_layers
+
+    plt = pyplot()
+    if space.dim == 2:
+        values, shape = [None], (1, 1)
+    else:
+        last = space.axes[-1]
+        values = [last.lo + (k + 0.5) * (last.hi - last.lo) / SLICES for k in range(SLICES)]
+        shape = (2, SLICES // 2)
+    fig, panels = plt.subplots(*shape, figsize=(6.4, 6.0) if space.dim == 2 else (10, 10), dpi=120, squeeze=False)
+    for ax, value in zip(panels.ravel(), values):
+        trees = [t if value is None else t.slice(2, value) for t in (unreachable, plus, minus)]
+        band = Tree.full(trees[0].grid) - (trees[0] | trees[1] | trees[2])
+        layers = [(trees[0], PALE), (trees[1], PLUS_COLOUR), (trees[2], MINUS_COLOUR), (band, RED)]
+        draw_layers(ax, layers, space.axes[:2], outline=[])
+        phi = phi_range[0] if value is None else value
+        if design is not None:
+            (cx, cy), radius = rpr3.singularity_circle(*design.design, to_radians(phi, phi_range[0]))
+            ax.add_patch(Circle((float(cx), float(cy)), float(radius), fill=False, ec="k", lw=1.0, ls="--"))
+        ax.set_title(f"phi = {phi:.4g} deg", fontsize=9)
+    handles = [Patch(facecolor=c, edgecolor="0.3", label=t) for t, c in (
+        ("det J > 0, reachable", PLUS_COLOUR), ("det J < 0, reachable", MINUS_COLOUR),
+        ("certified unreachable", PALE), ("singular or undetermined", RED))]
+    if design is not None:
+        from matplotlib.lines import Line2D
+
+        handles.append(Line2D([], [], color="k", ls="--", lw=1.0, label="singularity circle (closed form)"))
+    panels.ravel()[0].legend(handles=handles, loc="upper right", fontsize=7, framealpha=0.9)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def figure_pose(mech, pose, title: str):
+    """A pose of a 3-RPR: base, platform, legs, and the leg lines extended (at a singular pose they
+    meet in one point, or are parallel)."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6.4, 6.0), dpi=120)
+    base = np.array(mech.base, float)
+    phi = math.radians(pose.phi)
+    rot = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+    joints = np.array([pose.x, pose.y]) + np.array(mech.platform, float) @ rot.T
+    ax.fill(base[:, 0], base[:, 1], facecolor="0.85", edgecolor="k", lw=1.5, label="base")
+    ax.fill(joints[:, 0], joints[:, 1], facecolor="tab:olive", edgecolor="k", alpha=0.6, label="platform")
+    span = float(np.ptp(np.vstack([base, joints]), axis=0).max()) or 1.0
+    for i in range(3):
+        ax.plot(*zip(base[i], joints[i]), "k-", lw=2.0)
+        d = (joints[i] - base[i]) / (np.linalg.norm(joints[i] - base[i]) or 1.0)
+        ax.plot(*zip(base[i] - 2 * span * d, base[i] + 3 * span * d), ls="--", lw=0.7, color=_COLOURS[i],
+                label=f"leg {i + 1} line ({pose.legs[i]:.6g})")
+        ax.annotate(f"B{i + 1}", base[i], textcoords="offset points", xytext=(-12, -12), fontsize=9)
+    ax.plot([pose.x], [pose.y], "k+", ms=9, label=f"platform origin, phi = {pose.phi:.6g} deg")
+    pts = np.vstack([base, joints])
+    lo, hi = pts.min(0) - 0.6 * span, pts.max(0) + 0.6 * span
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    return _finish_plane(fig, ax, title)

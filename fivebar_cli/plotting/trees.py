@@ -70,13 +70,15 @@ def _legend(ax, legend) -> None:
 
 
 def figure_paving(name: str, space: Space, inside: Tree, outside: Tree, undetermined: Tree, complement: bool,
-                  band: Tree | None = None):
+                  band: Tree | None = None, region: str | None = None):
     """Paper figures 3 and 6 (certified inside in black) or 4 (complementary space in black); a
     3-D paving as slices at a few values of its last axis. With interval lengths the uncertain band
-    (valid for some lengths only) is drawn in amber."""
+    (valid for some lengths only) is drawn in amber; a region other than the space's own is named
+    in the title."""
     shown, other = (outside, inside) if complement else (inside, outside)
     what = "complementary " if complement else ""
-    title = (f"{name}: {what}{SPACE_TITLES.get(space.name, space.name)}, depth {inside.grid.depth} "
+    where = SPACE_TITLES.get(space.name, space.name) + (f" ({region})" if region else "")
+    title = (f"{name}: {what}{where}, depth {inside.grid.depth} "
              f"(black {'area' if space.dim == 2 else 'volume'} {shown.area:.6g}, undetermined {undetermined.area:.3g})")
     legend = [
         ("certified outside" if complement else "certified inside", BLACK),

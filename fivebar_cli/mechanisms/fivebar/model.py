@@ -128,7 +128,9 @@ class FiveBar(Mechanism):
             "workspace": Space("workspace", "reachable", (Axis("x", -reach, reach), Axis("y", -reach, reach))),
         }
 
-    def box_test(self, space: str, procedure: str = "exact"):
+    def box_test(self, space: str, procedure: str = "exact", region: str | None = None):
+        if region not in (None, self.spaces()[space].region):
+            raise KeyError(region)
         if self.is_interval:
             if procedure != "exact":
                 raise schema.ConfigError(self.name, "--procedure", "the paper's procedure has no interval version")
@@ -141,11 +143,11 @@ class FiveBar(Mechanism):
         }
         return tests[space, procedure](self)
 
-    def exact_measure(self, space: str) -> float | None:
+    def exact_measure(self, space: str, region: str | None = None) -> float | None:
         """The workspace is the intersection of two annuli: its area is exact (arcs, Green); with
         interval lengths, that of the nominal five-bar. No closed form is known for the joint space
         (`jointspace_area` integrates one numerically)."""
-        return boxtests.workspace_area(self) if space == "workspace" else None
+        return boxtests.workspace_area(self) if space == "workspace" and region is None else None
 
     def printed_k_percent(self, space: str, depth: int) -> int | None:
         """The paper's Table 1, for M1 and M2 (recognised by their lengths)."""

@@ -70,11 +70,13 @@ class Rpr2(Mechanism):
             "workspace": Space("workspace", "reachable", (Axis("x", mid - half, mid + half), Axis("y", -half, half))),
         }
 
-    def box_test(self, space: str, procedure: str = "exact"):
+    def box_test(self, space: str, procedure: str = "exact", region: str | None = None):
+        if region not in (None, self.spaces()[space].region):
+            raise KeyError(region)
         tests = {"jointspace": boxtests.joint_space_test, "workspace": boxtests.workspace_test}
         return tests[space](self)
 
-    def exact_measure(self, space: str) -> float | None:
+    def exact_measure(self, space: str, region: str | None = None) -> float | None:
         """Workspace: the intersection of two annuli (exact, by arcs); joint space: the part of the
         box [rho_min, rho_max]^2 between the lines |rho1 - rho2| = d and rho1 + rho2 = d."""
         if space == "workspace":

@@ -1,0 +1,253 @@
+"""Certified box tests of the 3-RPR over boxes of poses (x, y, phi), phi in degrees.
+
+With q_i = R(phi) P_i (platform point i relative to the platform origin, in the fixed frame) and
+the leg vector e_i = (x, y) + q_i - B_i:
+
+- **reachable**: rho_min_i <= |e_i| <= rho_max_i for the three legs. For a box, |e_i| is the
+  distance from a point X of the rectangle [x] x [y] to the point C_i(phi) = B_i - q_i, which runs
+  along an arc of radius |P_i| about B_i: the exact range of the distance between a rectangle and
+  an arc (the minimum at an arc end, an arc point where the arc crosses or faces a side, or a
+  corner facing the arc; the maximum at a corner and an arc end or the arc point opposite it).
+  Distances are moved out by ETA_REL x scale and arc ends by ANGLE_TOL before deciding, far above
+  their rounding. A box is outside when one leg is out of range at all of its poses.
+- **det J**, sign convention: J is the 3x3 matrix whose row i is (e_ix, e_iy, q_i x e_i), with
+  a x b = a_x b_y - a_y b_x, so that J (x', y', phi') = (rho_1 rho_1', rho_2 rho_2', rho_3 rho_3')
+  with phi' in rad/s. Its sign over a box is certified with outward-rounded interval arithmetic
+  (`numerics/interval.py`): the natural enclosure intersected with the mean-value form
+  det(mid) + grad(box) . (box - mid), whose excess shrinks quadratically with the box.
+
+A region test returns 1 when every pose of the box is in the region, -1 when none is, 0 otherwise:
+reachable; "singularity-free det J > 0" (reachable and det J > 0: outside when unreachable or
+det J < 0 on the whole box); "singularity-free det J < 0" likewise.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from fivebar_cli.numerics import interval as iv
+from fivebar_cli.numerics.interval import Interval
+from fivebar_cli.numerics.ranges import angle_inside
+
+ETA_REL = 1e-9  # distances: margin relative to the scale of the mechanism
+ANGLE_TOL = 1e-9  # radians added to each end of an arc (covers the rounding of degrees -> radians)
+D2R = math.pi / 180.0
+_D2R = Interval(D2R * (1.0 - 4e-16), D2R * (1.0 + 4e-16))  # encloses pi / 180
+_HALF_PI = 0.5 * math.pi
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """The numbers the tests use, as arrays: base B (3, 2), platform P (3, 2) in the platform
+    frame, leg limits, |P_i| and the angle of P_i, the multiple of 360 degrees subtracted from phi
+    before taking radians, the fixed phi of a single-orientation space, and the margin `eta`."""
+
+    base: np.ndarray
+    platform: np.ndarray
+    rho_min: np.ndarray
+    rho_max: np.ndarray
+    radius: np.ndarray
+    angle: np.ndarray
+    shift: float
+    phi: float
+    eta: float
+
+    @classmethod
+    def of(cls, m) -> "Geometry":
+        base, platform = np.array(m.base, float), np.array(m.platform, float)
+        rho_min, rho_max = (np.array(v, float) for v in m.leg_limits())
+        radius = np.hypot(platform[:, 0], platform[:, 1])
+        scale = float(np.abs(base).max() + radius.max() + rho_max.max())
+        return cls(base, platform, rho_min, rho_max, radius, np.arctan2(platform[:, 1], platform[:, 0]),
+                   360.0 * math.floor(m.phi_range[0] / 360.0), float(m.phi_range[0]), ETA_REL * scale)
+
+    def poses(self, a: np.ndarray) -> np.ndarray:
+        """(m, 3) poses or box bounds from (m, 2) ones of a single-orientation space."""
+        a = np.asarray(a, float)
+        return a if a.shape[1] == 3 else np.column_stack([a, np.full(len(a), self.phi)])
+
+
+# ---------------------------------------------------------------- reachability
+
+
+def leg_distance_ranges(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Exact (min, max) of each leg length over boxes (m, 3), before margins."""
+    out = []
+    for i in range(3):
+        cx, cy = g.base[i]
+        r = g.radius[i]
+        start = g.angle[i] + math.pi  # C_i - B_i = -q_i
+        t_lo = (lo[:, 2] - g.shift) * D2R + start - ANGLE_TOL
+        t_hi = (hi[:, 2] - g.shift) * D2R + start + ANGLE_TOL
+        out.append(_rect_arc_distance(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1], cx, cy, r, t_lo, t_hi))
+    return out
+
+
+def _box_distance(px, py, xlo, xhi, ylo, yhi):
+    """Distance from points to rectangles (exact up to rounding)."""
+    dx = np.maximum(np.maximum(xlo - px, px - xhi), 0.0)
+    dy = np.maximum(np.maximum(ylo - py, py - yhi), 0.0)
+    return np.hypot(dx, dy)
+
+
+def _rect_arc_distance(xlo, xhi, ylo, yhi, cx, cy, r, t_lo, t_hi):
+    """Range of |X - C| for X in the rectangles and C on the arcs c + r (cos t, sin t), t in [t_lo, t_hi]."""
+    inf = np.inf
+    ends = [(cx + r * np.cos(t), cy + r * np.sin(t)) for t in (t_lo, t_hi)]
+    # farthest: a corner and the arc point opposite it, or an arc end
+    far = np.zeros_like(xlo)
+    near = np.full_like(xlo, inf)
+    for px in (xlo, xhi):
+        for py in (ylo, yhi):
+            wx, wy = px - cx, py - cy
+            rho, psi = np.hypot(wx, wy), np.arctan2(wy, wx)
+            tip = np.where(angle_inside(psi + math.pi, t_lo, t_hi, 0.0), rho + r, 0.0)
+            far = np.maximum(far, np.maximum(tip, np.maximum(*(np.hypot(px - ex, py - ey) for ex, ey in ends))))
+            near = np.minimum(near, np.where(angle_inside(psi, t_lo, t_hi, 0.0), np.abs(rho - r), inf))
+    # nearest: an arc end, an arc point facing a side (radius along an axis), or a crossing of a side
+    candidates = list(ends)
+    for k in range(4):
+        t = k * _HALF_PI
+        ok = angle_inside(t, t_lo, t_hi, 0.0)
+        candidates.append((np.where(ok, cx + r * math.cos(t), np.nan), np.where(ok, cy + r * math.sin(t), np.nan)))
+    with np.errstate(invalid="ignore"):
+        for y0 in (ylo, yhi):  # horizontal sides
+            dy = y0 - cy
+            half = np.sqrt(r * r - dy * dy)
+            for sx in (-1.0, 1.0):
+                ok = angle_inside(np.arctan2(dy, sx * half), t_lo, t_hi, 0.0) & (np.abs(dy) <= r)
+                candidates.append((np.where(ok, cx + sx * half, np.nan), np.where(ok, y0, np.nan)))
+        for x0 in (xlo, xhi):  # vertical sides
+            dx = x0 - cx
+            half = np.sqrt(r * r - dx * dx)
+            for sy in (-1.0, 1.0):
+                ok = angle_inside(np.arctan2(sy * half, dx), t_lo, t_hi, 0.0) & (np.abs(dx) <= r)
+                candidates.append((np.where(ok, x0, np.nan), np.where(ok, cy + sy * half, np.nan)))
+    for px, py in candidates:
+        d = _box_distance(px, py, xlo, xhi, ylo, yhi)
+        near = np.minimum(near, np.where(np.isnan(d), inf, d))
+    return near, far
+
+
+def reach_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """1: every pose of each box has its three legs in range; -1: no pose has; 0: cannot tell."""
+    lo, hi = g.poses(lo), g.poses(hi)
+    inside = np.ones(len(lo), dtype=bool)
+    outside = np.zeros(len(lo), dtype=bool)
+    for (near, far), a, b in zip(leg_distance_ranges(g, lo, hi), g.rho_min, g.rho_max):
+        near, far = np.maximum(near - g.eta, 0.0), far + g.eta
+        inside &= (near >= a) & (far <= b)
+        outside |= (far < a) | (near > b)
+    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+
+
+# ---------------------------------------------------------------- det J
+
+
+def _det3(a, b, c):
+    """det of the 3x3 matrix with columns a, b, c (lists of three row entries)."""
+    return (c[0] * (a[1] * b[2] - a[2] * b[1]) + c[1] * (a[2] * b[0] - a[0] * b[2])
+            + c[2] * (a[0] * b[1] - a[1] * b[0]))
+
+
+def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
+    """Interval columns of J and the pieces its derivatives need: e_x, e_y, q x e, q_x, q_y, u, v."""
+    ph = (phi_deg - g.shift) * _D2R
+    ex, ey, mm, qx, qy, us, vs = ([] for _ in range(7))
+    for i in range(3):
+        (bx, by), (px, py) = g.base[i], g.platform[i]
+        r = iv.hypot(px, py)
+        a = math.atan2(py, px)
+        t = ph + Interval(a - 1e-15, a + 1e-15)
+        qxi, qyi = r * iv.cos(t), r * iv.sin(t)
+        u, v = x - bx, y - by
+        ex.append(u + qxi)
+        ey.append(v + qyi)
+        mm.append(qxi * v - qyi * u)
+        qx.append(qxi)
+        qy.append(qyi)
+        us.append(u)
+        vs.append(v)
+    return ex, ey, mm, qx, qy, us, vs
+
+
+def det_enclosure(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Certified bounds of det J over boxes (m, 3): natural enclosure and mean-value form intersected."""
+    lo, hi = g.poses(lo), g.poses(hi)
+    box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
+    mid = 0.5 * (lo + hi)
+    ex, ey, mm, qx, qy, u, v = _columns(g, *box)
+    natural = _det3(ex, ey, mm)
+    point = _det3(*_columns(g, *(Interval.point(mid[:, k]) for k in range(3)))[:3])
+    one = [Interval.point(1.0)] * 3
+    gx = _det3(one, ey, mm) + _det3(ex, ey, [-q for q in qy])
+    gy = _det3(ex, one, mm) + _det3(ex, ey, qx)
+    dm = [-(qx[i] * u[i] + qy[i] * v[i]) for i in range(3)]
+    gp = (_det3([-q for q in qy], ey, mm) + _det3(ex, qx, mm) + _det3(ex, ey, dm)) * _D2R
+    mean = point + gx * (box[0] - mid[:, 0]) + gy * (box[1] - mid[:, 1]) + gp * (box[2] - mid[:, 2])
+    return np.maximum(natural.lo, mean.lo), np.minimum(natural.hi, mean.hi)
+
+
+def det_sign(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """+1 / -1 where det J is certified positive / negative on the whole box, else 0."""
+    dlo, dhi = det_enclosure(g, lo, hi)
+    return np.where(dlo > 0, 1, np.where(dhi < 0, -1, 0)).astype(np.int8)
+
+
+def det_point_sign(g: Geometry, poses: np.ndarray) -> np.ndarray:
+    """Certified sign of det J at poses (m, 3) (0 where rounding cannot tell)."""
+    poses = g.poses(poses)
+    d = _det3(*_columns(g, *(Interval.point(poses[:, k]) for k in range(3)))[:3])
+    return np.where(d.lo > 0, 1, np.where(d.hi < 0, -1, 0)).astype(np.int8)
+
+
+def _legs_and_arms(m, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Leg vectors e_i and arms q_i = R(phi) P_i, each (m, 3, 2), at poses (m, 3) in floating point."""
+    g = Geometry.of(m) if not isinstance(m, Geometry) else m
+    poses = g.poses(poses)
+    phi = (poses[:, 2] - g.shift) * D2R
+    c, s = np.cos(phi), np.sin(phi)
+    q = np.stack([np.stack([c * px - s * py, s * px + c * py], -1) for px, py in g.platform], -2)
+    return poses[:, None, :2] + q - np.asarray(g.base, float)[None], q
+
+
+def det_j(m, poses: np.ndarray) -> np.ndarray:
+    """det J at poses (m, 3) in floating point (for reports; signs come from `det_point_sign`)."""
+    e, q = _legs_and_arms(m, poses)
+    moment = q[..., 0] * e[..., 1] - q[..., 1] * e[..., 0]
+    return np.linalg.det(np.concatenate([e, moment[..., None]], -1))
+
+
+def leg_lengths(m, poses: np.ndarray) -> np.ndarray:
+    """Leg lengths (m, 3) at poses (m, 3) in floating point."""
+    e, _ = _legs_and_arms(m, poses)
+    return np.hypot(e[..., 0], e[..., 1])
+
+
+# ---------------------------------------------------------------- region tests
+
+
+def region_test(m, region: str):
+    """The box test of one region of the workspace (see the module docstring)."""
+    from fivebar_cli.mechanisms.rpr3.model import MINUS, PLUS, REACHABLE
+
+    g = Geometry.of(m)
+    if region == REACHABLE:
+        return lambda lo, hi: reach_status(g, lo, hi)
+    if region not in (PLUS, MINUS):
+        raise KeyError(region)
+    want = 1 if region == PLUS else -1
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        reach = reach_status(g, lo, hi)
+        sign = np.zeros(len(lo), dtype=np.int8)
+        some = np.flatnonzero(reach != -1)
+        if len(some):
+            sign[some] = det_sign(g, lo[some], hi[some])
+        status = np.where((reach == 1) & (sign == want), 1, 0)
+        return np.where((reach == -1) | (sign == -want), -1, status).astype(np.int8)
+
+    return test
