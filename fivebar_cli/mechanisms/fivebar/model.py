@@ -8,7 +8,7 @@ interval procedure), the exact workspace area and the aspect model.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -18,6 +18,33 @@ from fivebar_cli.mechanisms.fivebar import boxtests, paper
 from fivebar_cli.mechanisms.fivebar.modes import FiveBarModes
 
 LENGTHS = ("L0", "L1", "L2", "L3", "L4")
+
+
+def _num(x: float) -> str:
+    return f"{x:.12g}"
+
+
+def assembles(lengths: Mapping[str, float] | Sequence[float]) -> str | None:
+    """None when the loop closes on a set of positive area, else the violated inequality (one line).
+
+    |B1B2| ranges over [max(0, L0 - L1 - L2, |L1 - L2| - L0), L0 + L1 + L2] (two points on
+    circles of radii L1, L2 whose centres are L0 apart), and the loop closes exactly where it lies
+    in [|L3 - L4|, L3 + L4]; when the two ranges only touch, the loop closes in flat, singular
+    configurations only. Used by `FiveBar.parse`, and by sweeps that build designs directly.
+    """
+    L0, L1, L2, L3, L4 = (float(lengths[k]) for k in LENGTHS) if isinstance(lengths, Mapping) else map(float, lengths)
+    far, inner, outer = L0 + L1 + L2, abs(L3 - L4), L3 + L4
+    checks = (  # (left name, left value, right name, right value): the loop needs left < right
+        ("|L3 - L4|", inner, "L0 + L1 + L2", far),
+        ("L0", L0, "L1 + L2 + L3 + L4", L1 + L2 + outer),
+        ("|L1 - L2|", abs(L1 - L2), "L0 + L3 + L4", L0 + outer),
+    )
+    for left, a, right, b in checks:
+        if a > b:
+            return f"{left} = {_num(a)} > {right} = {_num(b)}: the loop never closes"
+        if a == b:
+            return f"{left} = {right} = {_num(a)}: the loop closes only in flat, singular configurations"
+    return None
 
 
 @dataclass(frozen=True)
@@ -45,6 +72,9 @@ class FiveBar(Mechanism):
         lengths = schema.mapping(data, "lengths", source)
         schema.check_keys(lengths, set(LENGTHS), set(LENGTHS), source, "lengths.")
         values = {k: schema.number(lengths[k], source, f"lengths.{k}", positive=True) for k in LENGTHS}
+        problem = assembles(values)
+        if problem is not None:
+            raise schema.ConfigError(source, "lengths", problem)
         return cls(name=name, **values)
 
     @classmethod
