@@ -59,9 +59,9 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     Give two endpoints, --joints or --pose, in the order of the motion. Without --allow-serial
     the motion stays in one generalized aspect (no serial and no parallel singularity); with it,
     it may change working mode across serial singularities but never crosses a parallel one.
-    The motion is a polyline in the joint space (unwrapped: angles may leave [-pi, pi] when a
-    crank turns past it) whose every straight segment is proven, in exact arithmetic, to lie in
-    certified cells at --depth; it is shortened by string pulling through the cells. Writes
+    The motion is a polyline in the joint space whose every straight segment is proven, in exact
+    arithmetic, to lie in certified cells at --depth; it is shortened by string pulling through
+    the cells. Rows are in [-pi, pi); each segment goes the short way round on each angle. Writes
     path.csv (theta1,theta2,x,y per waypoint; the first and last rows are the requested
     configurations) and path.png. Reuses the aspect trees an `aspects` run wrote into -o for
     the same mechanism and depth. Exit status 1, with the reason, when no such motion exists
