@@ -32,6 +32,7 @@ import tracemalloc
 from pathlib import Path
 
 import numpy as np
+from bench_paving import measured  # (result, seconds, peak MiB); benchmarks/ is on sys.path
 
 from fivebar_cli.analyses.aspects import analyse_aspects
 from fivebar_cli.analyses.inscribed import largest_disc, largest_square
@@ -51,18 +52,6 @@ def run(args: list[str]) -> int:
     except SystemExit as exc:
         return int(exc.code or 0)
     return 0
-
-
-def measured(func):
-    """(result, seconds, peak MiB): timed alone, then re-run under tracemalloc."""
-    t0 = time.perf_counter()
-    result = func()
-    seconds = time.perf_counter() - t0
-    tracemalloc.start()
-    func()
-    peak = tracemalloc.get_traced_memory()[1] / 2**20
-    tracemalloc.stop()
-    return result, seconds, peak
 
 
 def mode_grid(m, depth: int) -> np.ndarray:

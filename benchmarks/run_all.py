@@ -1,4 +1,4 @@
-"""Run every benchmark (what `make bench` does): paving, aspects, path, 3-RPR. Prints their tables."""
+"""Run every benchmark (what `make bench` does): paving, aspects, tolerances, path, 3-RPR, view pages. Prints their tables."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_path.py", "bench_rpr3.py")
+SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_tolerance.py", "bench_path.py", "bench_rpr3.py", "bench_view.py")
 
 
 def main() -> int:
