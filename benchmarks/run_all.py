@@ -1,4 +1,4 @@
-"""Run every benchmark (what `make bench` does): paving, aspects, tolerances, 3-RPR, 3-RPR octrees, view pages. Prints their tables."""
+"""Run every benchmark (what `make bench` does): paving, aspects, tolerances, path, 3-RPR, 3-RPR octrees, view pages. Prints their tables."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_tolerance.py", "bench_rpr3.py", "bench_rpr3_octree.py",
-           "bench_view.py")
+SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_tolerance.py", "bench_path.py", "bench_rpr3.py",
+           "bench_rpr3_octree.py", "bench_view.py")
 
 
 def main() -> int:

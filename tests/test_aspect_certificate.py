@@ -140,13 +140,14 @@ def test_report_and_csv_say_whether_the_count_is_certified(tmp_path):
     assert first.startswith("X: between 12 and ") and ", not certified at depth 8: " in first
     assert first.endswith("pieces undecided (raise --depth or --budget)")
     rows = (tmp_path / "none" / "aspects.csv").read_text().splitlines()
-    assert rows[0].endswith(",certified")
-    flags = [row.rsplit(",", 1)[1] for row in rows[1:]]
+    column = rows[0].split(",").index("certified")
+    assert column == 11
+    flags = [row.split(",")[column] for row in rows[1:]]
     assert set(flags) == {"true", "false"}
     assert r.stdout.count("(not certified)") == flags.count("false")
     r = run_cli("aspects", cfg, "--depth", "8", "-o", tmp_path / "budget", "--no-plot")
     assert r.stdout.splitlines()[0].startswith("X: 12 generalized aspects at depth 8 (certified;")
-    assert all(row.endswith(",true") for row in (tmp_path / "budget" / "aspects.csv").read_text().splitlines()[1:])
+    assert all(row.split(",")[11] == "true" for row in (tmp_path / "budget" / "aspects.csv").read_text().splitlines()[1:])
 
 
 def test_a_rerun_leaves_exactly_its_own_aspect_files(tmp_path):
@@ -156,9 +157,10 @@ def test_a_rerun_leaves_exactly_its_own_aspect_files(tmp_path):
     assert len(list((out / "aspects").glob("*.qt"))) == 24
     assert run_cli("aspects", cfg, "--depth", "9", "-o", out, "--no-plot", "-q").status == 0
     rows = (out / "aspects.csv").read_text().splitlines()[1:]
-    expected = {f"aspect-{int(r.split(',')[0]):02d}.{s}.qt" for r in rows for s in ("workspace", "jointspace")}
+    expected = {f"aspect-{int(r.split(',')[0]):02d}.{s}" for r in rows
+                for s in ("workspace.qt", "jointspace.qt", "workspace.geojson")}
     assert {p.name for p in (out / "aspects").iterdir()} == expected
-    assert all(read_qt(p).tree.grid.depth == 9 for p in (out / "aspects").iterdir())
+    assert all(read_qt(p).tree.grid.depth == 9 for p in (out / "aspects").glob("*.qt"))
 
 
 def test_locate_says_when_the_aspect_is_not_certified(tmp_path):
@@ -166,8 +168,8 @@ def test_locate_says_when_the_aspect_is_not_certified(tmp_path):
     out = tmp_path / "out"
     assert run_cli("aspects", cfg, "--depth", "8", "--budget", "0", "-o", out, "--no-plot", "-q").status == 0
     rows = [r.split(",") for r in (out / "aspects.csv").read_text().splitlines()[1:]]
-    uncertified = max((r for r in rows if r[-1] == "false"), key=lambda r: float(r[3]))
-    certified = next(r for r in rows if r[-1] == "true")
+    uncertified = max((r for r in rows if r[11] == "false"), key=lambda r: float(r[3]))
+    certified = next(r for r in rows if r[11] == "true")
     r = run_cli("locate", cfg, "--depth", "8", "-o", out, "--pose", uncertified[7], uncertified[8],
                 "--pose", certified[7], certified[8])
     assert r.status == 0, r.stderr

@@ -25,7 +25,7 @@ M2_YAML = REPO / "configs" / "m2.yaml"
 L = {"L0": 9.0, "L1": 8.0, "L2": 5.0, "L3": 5.0, "L4": 8.0}  # M1, section 3 of the paper
 DEPTH = "8"
 HEADER = ("aspect,working_mode,assembly_mode,workspace_area,jointspace_area,workspace_cells,"
-          "jointspace_cells,x,y,theta1,theta2,certified")
+          "jointspace_cells,x,y,theta1,theta2,certified,circle_x,circle_y,circle_r,square_x,square_y,square_side")
 LOCATE_HEADER = "input,location,x,y,theta1,theta2,working_mode,assembly_mode,aspect,singular,aspect_certified"
 WM_ORDER = ["++", "+-", "-+", "--"]
 PNGS = {"aspects-workspace.png", "aspects-jointspace-assembly+.png", "aspects-jointspace-assembly-.png"}
@@ -106,7 +106,8 @@ def test_aspects_csv_columns_and_rows(runs, rows):
 def test_one_qt_file_per_aspect_and_space_matching_the_csv(runs, rows):
     out = runs[0]
     names = sorted(p.name for p in (out / "aspects").iterdir())
-    assert names == sorted(f"aspect-{k:02d}.{s}.qt" for k in range(1, 11) for s in ("workspace", "jointspace"))
+    assert names == sorted([f"aspect-{k:02d}.{s}.qt" for k in range(1, 11) for s in ("workspace", "jointspace")]
+                           + [f"aspect-{k:02d}.workspace.geojson" for k in range(1, 11)])
     reach = L["L1"] + L["L3"]
     for r in rows:
         k = int(r["aspect"])
@@ -205,7 +206,7 @@ def test_figures_only_without_no_plot(runs):
 def test_two_runs_write_identical_bytes(runs):
     a, _, b, _ = runs
     files = ["aspects.csv", "aspects-adjacency.csv"] + [
-        f"aspects/aspect-{k:02d}.{s}.qt" for k in range(1, 11) for s in ("workspace", "jointspace")]
+        f"aspects/aspect-{k:02d}.{s}" for k in range(1, 11) for s in ("workspace.qt", "jointspace.qt", "workspace.geojson")]
     for f in files:
         assert (a / f).read_bytes() == (b / f).read_bytes(), f
     text = "".join((a / f).read_text() for f in files)

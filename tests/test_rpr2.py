@@ -47,7 +47,7 @@ DEMO = Rpr2("rpr2-demo", D, RHO_MIN, RHO_MAX)
 SUMMARY = ["space", "name", "procedure", "depth", "evaluations", "K", "inside_area", "undetermined_area",
            "outside_area", "inside_cells", "outside_cells", "undetermined_cells", "exact_area"]
 ASPECTS_HEADER = ("aspect,working_mode,assembly_mode,workspace_area,jointspace_area,workspace_cells,"
-                  "jointspace_cells,x,y,rho1,rho2,certified")
+                  "jointspace_cells,x,y,rho1,rho2,certified,circle_x,circle_y,circle_r,square_x,square_y,square_side")
 HYP = settings(max_examples=50, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
@@ -608,8 +608,8 @@ def test_cli_writes_the_same_files_as_for_the_five_bar(out):
         "workspace.qt", "workspace.complement.qt", "workspace.csv",
         "jointspace.qt", "jointspace.complement.qt", "jointspace.csv",
         "aspects.csv", "aspects-adjacency.csv",
-        "aspects/aspect-01.workspace.qt", "aspects/aspect-01.jointspace.qt",
-        "aspects/aspect-02.workspace.qt", "aspects/aspect-02.jointspace.qt",
+        "aspects/aspect-01.workspace.qt", "aspects/aspect-01.jointspace.qt", "aspects/aspect-01.workspace.geojson",
+        "aspects/aspect-02.workspace.qt", "aspects/aspect-02.jointspace.qt", "aspects/aspect-02.workspace.geojson",
     ])
 
 

@@ -154,7 +154,11 @@ def test_aspect_folder_sections(pages):
     assert [p["space"] for p in asp["panels"]] == ["workspace", "jointspace"]
     assert [a["aspect"] for a in asp["aspects"]] == list(range(1, 11))
     assert len(asp["crossings"]) == 12 and {c["singularity"] for c in asp["crossings"]} == {"B11", "B22"}
-    assert all(a["circle"] is None and a["square"] is None for a in asp["aspects"])
+    rows = [line.split(",") for line in (GOLDEN_M1 / "aspects.csv").read_text().splitlines()]
+    columns = {name: k for k, name in enumerate(rows[0])}
+    for a, row in zip(asp["aspects"], rows[1:]):  # issue 12's columns, as `aspects` writes them
+        assert a["circle"] == [float(row[columns[c]]) for c in ("circle_x", "circle_y", "circle_r")]
+        assert a["square"] == [float(row[columns[c]]) for c in ("square_x", "square_y", "square_side")]
     joint = next(s for s in data["sections"] if "jointspace" in s["title"])
     trees = data["trees"]
     assert trees[joint["undetermined"]["inside"]]["label"] == "jointspace.qt"
@@ -173,10 +177,11 @@ def test_octree_section(pages):
 
 
 def test_optional_tables_of_later_analyses(tmp_path):
-    """Issue 10's columns and path.csv are drawn when present: circle/square per aspect, the path."""
+    """Issue 12's columns and path.csv are drawn when present: circle/square per aspect, the path."""
     folder = tmp_path / "m1"
     shutil.copytree(GOLDEN_M1, folder)
-    lines = (folder / "aspects.csv").read_text().splitlines()
+    lines = [",".join(line.split(",")[:12]) for line in (folder / "aspects.csv").read_text().splitlines()]
+    assert lines[0].endswith(",certified")  # the columns before issue 12
     lines[0] += ",circle_x,circle_y,circle_r,square_x,square_y,square_side"
     lines[1:] = [line + (",4.5,5,1.25,4.5,5,1.5" if i == 0 else ",,,,,,") for i, line in enumerate(lines[1:])]
     (folder / "aspects.csv").write_text("\n".join(lines) + "\n")

@@ -1,21 +1,26 @@
-"""The files of an aspect analysis: `aspects.csv`, `aspects-adjacency.csv` and one `.qt` per
-aspect and space; written so that a folder holds exactly one run's set, and read back so that
-`locate` reuses them instead of recomputing.
+"""The files of an aspect analysis: `aspects.csv`, `aspects-adjacency.csv`, one `.qt` per aspect
+and space and one GeoJSON per aspect's workspace; written so that a folder holds exactly one run's
+set, and read back so that `locate` and `path` reuse them instead of recomputing.
 """
 
 from __future__ import annotations
 
 import csv
+from dataclasses import dataclass
 from pathlib import Path
 
 from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis, signs_text
+from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import ASPECTS_CSV, CROSSINGS_CSV, aspect_path
+from fivebar_cli.io.geojson import write_geojson
+from fivebar_cli.io.layout import ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
 from fivebar_cli.io.qtfile import read_qt, write_qt
 from fivebar_cli.mechanisms.base import Mechanism
+from fivebar_cli.paving.tree import Tree
 
 SPACES = ("workspace", "jointspace")
+SHAPE_COLUMNS = ("circle_x", "circle_y", "circle_r", "square_x", "square_y", "square_side")
 CROSSING_HEADER = (
     "aspect_a", "aspect_b", "assembly_mode", "singularity", "working_mode_a", "working_mode_b", "band_cells",
 )
@@ -27,15 +32,29 @@ def aspect_header(m: Mechanism) -> tuple[str, ...]:
     spaces = m.spaces()
     axes = [a.name for s in SPACES for a in spaces[s].axes]
     return ("aspect", "working_mode", "assembly_mode", "workspace_area", "jointspace_area",
-            "workspace_cells", "jointspace_cells", *axes, "certified")
+            "workspace_cells", "jointspace_cells", *axes, "certified", *SHAPE_COLUMNS)
+
+
+def _shape_cells(a: Aspect) -> tuple:
+    """The six circle and square cells; empty for an aspect without workspace cells."""
+    circle = (a.circle.x, a.circle.y, a.circle.r) if a.circle is not None else ("", "", "")
+    square = (a.square.x, a.square.y, a.square.side) if a.square is not None else ("", "", "")
+    return (*circle, *square)
 
 
 def aspect_rows(analysis: AspectAnalysis) -> list[tuple]:
     return [
         (a.number, signs_text(a.working), signs_text(a.assembly), a.workspace.area, a.jointspace.area,
-         len(a.workspace), len(a.jointspace), *a.pose, *a.joints, "true" if a.certified else "false")
+         len(a.workspace), len(a.jointspace), *a.pose, *a.joints, "true" if a.certified else "false",
+         *_shape_cells(a))
         for a in analysis.aspects
     ]
+
+
+def aspect_properties(m: Mechanism, a: Aspect, depth: int) -> dict:
+    """The properties of an aspect's GeoJSON feature (`area` equals `workspace_area`)."""
+    return {"name": m.name, "space": "workspace", "depth": depth, "aspect": a.number,
+            "working_mode": signs_text(a.working), "assembly_mode": signs_text(a.assembly), "area": a.workspace.area}
 
 
 def crossing_rows(analysis: AspectAnalysis) -> list[tuple]:
@@ -50,8 +69,9 @@ def _qt_fields(m: Mechanism, a: Aspect, space: str) -> dict:
 
 
 def write_aspects(folder: Path, analysis: AspectAnalysis) -> list[Path]:
-    """Write the two CSV tables and every aspect tree; then remove the aspect trees of an earlier
-    run that this one does not have, so the folder holds exactly this run's set."""
+    """Write the two CSV tables, every aspect tree and every aspect's workspace GeoJSON; then remove
+    the aspect files of an earlier run that this one does not have, so the folder holds exactly
+    this run's set."""
     m = analysis.mechanism
     paths = [
         write_csv(folder / ASPECTS_CSV, aspect_header(m), aspect_rows(analysis)),
@@ -61,42 +81,92 @@ def write_aspects(folder: Path, analysis: AspectAnalysis) -> list[Path]:
         for space in SPACES:
             tree = a.workspace if space == "workspace" else a.jointspace
             paths.append(write_qt(aspect_path(folder, a.number, space), tree, **_qt_fields(m, a, space)))
+        paths.append(write_geojson(aspect_geojson_path(folder, a.number), a.workspace,
+                                   aspect_properties(m, a, analysis.depth)))
     keep = {p.name for p in paths}
-    for old in sorted((folder / "aspects").glob("aspect-*.qt")):
-        if old.name not in keep:
-            old.unlink(missing_ok=True)
+    for pattern in ("aspect-*.qt", "aspect-*.geojson"):
+        for old in sorted((folder / "aspects").glob(pattern)):
+            if old.name not in keep:
+                old.unlink(missing_ok=True)
     return paths
 
 
-def load_aspects(folder: Path, m: Mechanism, depth: int) -> list[Aspect] | None:
-    """The aspects a run of `aspects` wrote into `folder` for this mechanism at this depth, or None
-    when the folder does not hold such a complete set (then the caller recomputes them)."""
+@dataclass(frozen=True)
+class SavedRow:
+    """One row of a saved `aspects.csv` (its trees are read on demand)."""
+
+    number: int
+    working: tuple[int, ...]
+    assembly: int
+    pose: tuple[float, float]
+    joints: tuple[float, float]
+    certified: bool
+    circle: Disc | None
+    square: Square | None
+
+    def aspect(self, workspace: Tree | None = None, jointspace: Tree | None = None) -> Aspect:
+        """The aspect with the trees given (empty trees of size 0 grids stand for those not read)."""
+        empty = workspace if workspace is not None else jointspace
+        return Aspect(self.number, self.working, self.assembly,
+                      workspace if workspace is not None else Tree.empty(empty.grid),
+                      jointspace if jointspace is not None else Tree.empty(empty.grid),
+                      self.pose, self.joints, self.certified, self.circle, self.square)
+
+
+def read_aspect_table(folder: Path, m: Mechanism) -> list[SavedRow] | None:
+    """The rows of `aspects.csv` in `folder` when it was written for this kind of mechanism (its
+    header), else None. The trees' headers say which mechanism and depth (`read_aspect_tree`)."""
     table = folder / ASPECTS_CSV
     if not table.is_file():
         return None
     try:
         with open(table, newline="", encoding="utf-8") as fh:
             rows = list(csv.reader(fh))
-        header, body = tuple(rows[0]), rows[1:]
-        if header != aspect_header(m):
+        if tuple(rows[0]) != aspect_header(m):
             return None
-        aspects = []
-        for row in body:
-            number = int(row[0])
-            trees = {}
-            for space in SPACES:
-                qt = read_qt(aspect_path(folder, number, space))
-                if (qt.get("mechanism") != m.describe() or qt.tree.grid.depth != depth
-                        or qt.tree.grid != m.spaces()[space].grid(depth) or qt.get("region") != f"aspect {number}"
-                        or qt.get("working_mode") != row[1] or qt.get("assembly_mode") != row[2]):
-                    return None
-                trees[space] = qt.tree
-            working = tuple(1 if c == "+" else -1 for c in row[1])
-            values = [float(v) for v in row[7:11]]
-            if row[11] not in ("true", "false"):
+        out = []
+        for row in rows[1:]:
+            if row[11] not in ("true", "false") or not set(row[1]) <= {"+", "-"} or row[2] not in ("+", "-"):
                 return None
-            aspects.append(Aspect(number, working, 1 if row[2] == "+" else -1, trees["workspace"],
-                                  trees["jointspace"], tuple(values[:2]), tuple(values[2:]), row[11] == "true"))
-    except (OSError, ValueError, IndexError, InputError):
+            values = [float(v) for v in row[7:11]]
+            circle, square = _read_shapes(row[12:18])
+            out.append(SavedRow(int(row[0]), tuple(1 if c == "+" else -1 for c in row[1]), 1 if row[2] == "+" else -1,
+                                tuple(values[:2]), tuple(values[2:]), row[11] == "true", circle, square))
+        return out
+    except (OSError, ValueError, IndexError, UnicodeDecodeError):
         return None
+
+
+def read_aspect_tree(folder: Path, m: Mechanism, depth: int, row: SavedRow, space: str) -> Tree | None:
+    """An aspect's saved tree in one space, or None unless it is this mechanism's at this depth."""
+    try:
+        qt = read_qt(aspect_path(folder, row.number, space))
+    except InputError:
+        return None
+    if (qt.get("mechanism") != m.describe() or qt.tree.grid.depth != depth
+            or qt.tree.grid != m.spaces()[space].grid(depth) or qt.get("region") != f"aspect {row.number}"
+            or qt.get("working_mode") != signs_text(row.working) or qt.get("assembly_mode") != signs_text(row.assembly)):
+        return None
+    return qt.tree
+
+
+def load_aspects(folder: Path, m: Mechanism, depth: int) -> list[Aspect] | None:
+    """The aspects a run of `aspects` wrote into `folder` for this mechanism at this depth, or None
+    when the folder does not hold such a complete set (then the caller recomputes them)."""
+    rows = read_aspect_table(folder, m)
+    if rows is None:
+        return None
+    aspects = []
+    for row in rows:
+        trees = {space: read_aspect_tree(folder, m, depth, row, space) for space in SPACES}
+        if any(t is None for t in trees.values()):
+            return None
+        aspects.append(row.aspect(**trees))
     return aspects
+
+
+def _read_shapes(cells: list[str]) -> tuple[Disc | None, Square | None]:
+    """The circle and square of an `aspects.csv` row (None where the cells are empty)."""
+    circle = Disc(*(float(v) for v in cells[:3])) if all(cells[:3]) else None
+    square = Square(*(float(v) for v in cells[3:6])) if all(cells[3:6]) else None
+    return circle, square

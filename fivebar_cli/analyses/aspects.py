@@ -20,16 +20,18 @@ certificate for their count, for every kind whose model declares an `AspectModel
    except for components lying wholly inside the undetermined cells of a piece that already holds
    one (docs/formats.md, "What a certified aspect count means").
 5. Crossings (`crossings.py`): aspects joined across one serial singularity.
+6. The largest disc and axis-aligned square in each aspect's workspace cells (`inscribed.py`).
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from fivebar_cli.analyses.crossings import Crossing, find_crossings
+from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_square
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism
@@ -105,6 +107,8 @@ class Aspect:
     pose: tuple[float, float]
     joints: tuple[float, float]
     certified: bool = True
+    circle: Disc | None = None  # the largest disc in the workspace cells (None: no workspace cells)
+    square: Square | None = None  # the largest axis-aligned square in them
 
 
 @dataclass
@@ -162,9 +166,11 @@ def region_count(m: Mechanism) -> int:
     return len(model.working_modes) + len(model.assembly_modes)
 
 
-def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: int = DEFAULT_BUDGET) -> AspectAnalysis:
+def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: int = DEFAULT_BUDGET,
+                    shapes: bool = True) -> AspectAnalysis:
     """Pave the mode regions, find the mode sets' anchors and outer components, link and join the
-    anchors into generalized aspects, certify the count, find the crossings."""
+    anchors into generalized aspects, certify the count, find the crossings; with `shapes`, the
+    largest disc and square of each aspect's workspace (what `aspects.csv` reports)."""
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
@@ -186,9 +192,18 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
     crossings = find_crossings(model, regions, aspects, leaf_aspect)
     timings["crossings"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    if shapes:
+        aspects = [with_inscribed(a) for a in aspects]
+    timings["inscribed"] = time.perf_counter() - t0
     advance(1)
     return AspectAnalysis(m, model, depth, regions, aspects, crossings, count.lower, count.upper, count.undecided,
                           count.empty_undecided, count.merged, count.budget.spent, timings)
+
+
+def with_inscribed(a: Aspect) -> Aspect:
+    """The aspect with its largest certified disc and square in the workspace."""
+    return replace(a, circle=largest_disc(a.workspace), square=largest_square(a.workspace))
 
 
 def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:

@@ -105,3 +105,14 @@ def paper_claim_verdict(aspects, crossings: list[Crossing], assembly: int) -> st
     if count != 5:
         return f"not comparable ({count} aspects, the paper has 5)"
     return "holds" if is_complete_bipartite_2_3(aspects, crossings, assembly) else "does NOT hold"
+
+
+def crossing_pattern(aspects, crossings: list[Crossing], assembly: int) -> str:
+    """Whether the crossing graph of an assembly mode has the K_{2,3} pattern of the paper's M1 and
+    M2, for mechanisms the paper's claim is not about."""
+    numbers, adj = adjacency_matrix(aspects, crossings, assembly)
+    edges = int(adj.sum()) // 2
+    shape = f"{len(numbers)} aspects, {edges} crossing pair{'s' if edges != 1 else ''}"
+    if is_complete_bipartite_2_3(aspects, crossings, assembly):
+        return f"K_{{2,3}} ({shape}), like the paper's M1 and M2"
+    return f"not K_{{2,3}} ({shape})"

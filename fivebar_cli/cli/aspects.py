@@ -9,7 +9,7 @@ import numpy as np
 
 from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
-from fivebar_cli.analyses.crossings import paper_claim_verdict
+from fivebar_cli.analyses.crossings import crossing_pattern, paper_claim_verdict
 from fivebar_cli.analyses.locate import locate_configurations, motions
 from fivebar_cli.analyses.tolerance import aspect_fates, fate_text
 from fivebar_cli.cli.options import (
@@ -53,10 +53,12 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     approximations of every mode, locally refined below --depth within --budget), and finds
     which aspects touch across a serial singularity. Prints "N generalized aspects (certified)"
     or the bounds of an uncertified count. Writes aspects.csv (with a `certified` column),
-    aspects-adjacency.csv, aspects/aspect-NN.workspace.qt and aspect-NN.jointspace.qt (and
-    removes the aspect trees of an earlier run that this one does not have), and the figures
-    aspects-workspace.png (paper figs. 7, 8) and aspects-jointspace-assembly+.png / -.png
-    (figs. 9, 10).
+    aspects-adjacency.csv, aspects/aspect-NN.workspace.qt and aspect-NN.jointspace.qt, the
+    workspace region of each aspect as GeoJSON (aspect-NN.workspace.geojson), and the figures
+    aspects-workspace.png (paper figs. 7, 8, with each aspect's largest certified circle and
+    square) and aspects-jointspace-assembly+.png / -.png (figs. 9, 10); aspect files of an
+    earlier run that this one does not have are removed. aspects.csv also gives the largest
+    circle and axis-aligned square inside each aspect's certified workspace cells.
 
     With interval lengths (in the config, or --tolerance T) the aspects are robust: a
     configuration belongs to one when, for every length vector in the box, it is reachable,
@@ -73,7 +75,8 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     robust = getattr(m, "is_interval", False)
     with progress(quiet, region_count(m) * (2 if robust else 1) + 1, f"aspects depth {depth}") as advance:
         analysis = analyse_aspects(m, depth, advance, budget)
-        fates = aspect_fates(analyse_aspects(m.nominal(), depth, advance, budget), analysis) if robust else []
+        nominal = analyse_aspects(m.nominal(), depth, advance, budget, shapes=False) if robust else None
+        fates = aspect_fates(nominal, analysis) if robust else []
     paths = write_aspects(folder, analysis)
     if not no_plot:
         from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
@@ -84,20 +87,41 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
                                 folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
     report(quiet, analysis.headline())
     for a in analysis.aspects:
+        shapes = (f", largest circle r {a.circle.r:.6g}, square side {a.square.side:.6g}"
+                  if a.circle is not None and a.square is not None else "")
         report(quiet, f"  aspect {a.number:2d}: working mode {signs_text(a.working)}, det A {signs_text(a.assembly)}, "
-               f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}"
+               f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}{shapes}"
                + ("" if a.certified else " (not certified)"))
     for c in analysis.crossings:
         report(quiet, f"  aspects {c.a} and {c.b} (det A {signs_text(c.assembly)}) touch across {c.singularity} = 0")
     if not analysis.aspects:
-        report(quiet, "  no aspect can be certified at this depth: try --depth 8 or more")
+        report(quiet, f"  {_no_aspect_hint(depth, robust)}")
     for f in fates:
         report(quiet, f"  nominal aspect {f.number:2d}: {fate_text(f)}")
     if m.kind == "fivebar":
+        from fivebar_cli.mechanisms.fivebar.paper import is_paper_mechanism
+
         for am in analysis.model.assembly_modes:
-            verdict = paper_claim_verdict(analysis.aspects, analysis.crossings, am)
-            report(quiet, f"  paper's claim on single working-mode changes (det A {signs_text(am)}): {verdict}")
+            if is_paper_mechanism(m):
+                verdict = paper_claim_verdict(analysis.aspects, analysis.crossings, am)
+                report(quiet, f"  paper's claim on single working-mode changes (det A {signs_text(am)}): {verdict}")
+            elif analysis.aspects:
+                pattern = crossing_pattern(analysis.aspects, analysis.crossings, am)
+                report(quiet, f"  crossing graph (det A {signs_text(am)}): {pattern}")
     wrote(quiet, paths)
+
+
+def _no_aspect_hint(depth: int, robust: bool = False) -> str:
+    """Why no aspect is listed. The (nominal) mechanism assembles (an empty joint space is refused
+    when the file is read), so its non-singular configurations fill open sets: deeper cells find
+    them. Robust aspects may not exist at all: the tolerance can leave none."""
+    text = f"no {'robust ' if robust else ''}aspect has certified cells at depth {depth}"
+    if robust:
+        return (f"{text}: the tolerance may leave no configuration non-singular for every length vector "
+                f"(a deeper paving can only find thin ones; the nominal aspects' fates follow)")
+    if depth + 2 <= MAX_ASPECT_DEPTH:
+        return f"{text}: a deeper paving finds them (try --depth {max(depth + 2, 8)})"
+    return f"{text} (the maximum depth): the singularity-free regions are thinner than the cells"
 
 
 @click.command(short_help="Aspect of a configuration; singularity-free motion or not.")
@@ -140,7 +164,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
     m = _load_with_aspects(config_path, tolerance)
     folder = output_dir(out, m.name)
     saved = load_aspects(folder, m, depth)
-    found = saved if saved is not None else analyse_aspects(m, depth, budget=budget).aspects
+    found = saved if saved is not None else analyse_aspects(m, depth, budget=budget, shapes=False).aspects
     joint_space = m.spaces()["jointspace"]
     locations = [("pose", tuple(p)) for p in poses] + [("joints", tuple(j)) for j in joints]
     rows = []

@@ -16,6 +16,7 @@ import click
 from fivebar_cli import __version__
 from fivebar_cli.cli.aspects import aspects, locate
 from fivebar_cli.cli.kratio import kratio
+from fivebar_cli.cli.path import path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
@@ -37,6 +38,7 @@ def cli() -> None:
       fivebar workspace configs/m2.yaml --depth 12 -o out/m2
       fivebar aspects configs/m1.yaml --depth 10
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
+      fivebar path configs/m1.yaml --pose 4 5 --pose 6 8 --working-mode ++
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
       fivebar view outputs/M1
@@ -44,7 +46,7 @@ def cli() -> None:
     """
 
 
-for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, tolerance, view, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, path, kratio, refine, diff, tolerance, view, rpr3, reproduce):
     cli.add_command(command)
 
 

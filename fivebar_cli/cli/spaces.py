@@ -13,7 +13,7 @@ from fivebar_cli.cli.options import (
 )
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import ensure_dir
-from fivebar_cli.io.layout import sibling_paths
+from fivebar_cli.io.layout import geojson_path, sibling_paths
 from fivebar_cli.io.qtfile import read_qt
 from fivebar_cli.mechanisms.registry import load_config
 
@@ -27,16 +27,33 @@ def _procedure_option(func):
     )(func)
 
 
+def _geojson_option(func):
+    return click.option(
+        "--geojson", is_flag=True,
+        help="Also write <space>.geojson: the certified inside region (robust with --tolerance) as a "
+             "(Multi)Polygon with holes (the joint space in its [-pi, pi]^2 chart).",
+    )(func)
+
+
 def _space_command(space: str, config_path: Path, depth: int, procedure: str, tolerance: float, out, no_plot: bool,
-                   quiet: bool) -> None:
+                   quiet: bool, geojson: bool = False) -> None:
     m = with_tolerance(load_config(config_path, space=space), tolerance, config_path)
     if procedure not in m.procedures:
         raise InputError(str(config_path), "--procedure", f"a {m.kind} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
+    if geojson and m.spaces()[space].dim != 2:
+        raise InputError(str(config_path), "--geojson", f"GeoJSON is for 2-D spaces; the {space} of a {m.kind} "
+                         f"has {m.spaces()[space].dim} axes")
     folder = prepare_out(out, m.name)
     with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
         paving = spaces.pave_space(m, space, depth, procedure, on_level=lambda level, n: advance(1))
     paths = _write(folder, m, space, paving, procedure, paving.evaluations, no_plot)
+    if geojson:
+        from fivebar_cli.io.geojson import write_geojson
+
+        properties = {"name": m.name, "space": space, "region": m.spaces()[space].region, "depth": depth,
+                      "procedure": procedure, "area": paving.inside.area}
+        paths.append(write_geojson(geojson_path(folder, space), paving.inside, properties))
     report(quiet, _summary(m, space, paving, procedure))
     wrote(quiet, paths)
 
@@ -76,21 +93,22 @@ def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int
 @depth_option()
 @_procedure_option
 @tolerance_option
+@_geojson_option
 @common_options
-def jointspace(config_path, depth, procedure, tolerance, out, no_plot, quiet):
+def jointspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, quiet):
     """Certified joint space of a mechanism: (th1, th2) on the torus [-pi, pi]^2 for a five-bar,
     the leg lengths (rho1, rho2) for a 2-RPR.
 
     Black cells can be assembled at every point (five-bar: |L3-L4| <= |B1B2| <= L3+L4,
     B1 != B2); complement cells at no point. Writes jointspace.qt, jointspace.complement.qt,
     jointspace.csv and the figures jointspace.png (paper fig. 3) and jointspace.complement.png
-    (fig. 4).
+    (fig. 4); with --geojson, jointspace.geojson (the black cells as polygons).
 
     \b
     Example:
       fivebar jointspace configs/m1.yaml --depth 10 -o out/m1
     """
-    _space_command("jointspace", config_path, depth, procedure, tolerance, out, no_plot, quiet)
+    _space_command("jointspace", config_path, depth, procedure, tolerance, out, no_plot, quiet, geojson)
 
 
 @click.command(short_help="Certified workspace (x, y) of a mechanism (fig. 6).")
@@ -98,19 +116,21 @@ def jointspace(config_path, depth, procedure, tolerance, out, no_plot, quiet):
 @depth_option()
 @_procedure_option
 @tolerance_option
+@_geojson_option
 @common_options
-def workspace(config_path, depth, procedure, tolerance, out, no_plot, quiet):
+def workspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, quiet):
     """Certified workspace (x, y) of a mechanism, on the root box [-(L1+L3), L1+L3]^2 for a five-bar.
 
     Black cells are reachable at every point; complement cells at no point. Writes workspace.qt,
     workspace.complement.qt, workspace.csv and the figures workspace.png (paper fig. 6) and
-    workspace.complement.png.
+    workspace.complement.png; with --geojson, workspace.geojson (the black cells as polygons,
+    for CAD and GIS tools).
 
     \b
     Example:
       fivebar workspace configs/m2.yaml --depth 12 -o out/m2
     """
-    _space_command("workspace", config_path, depth, procedure, tolerance, out, no_plot, quiet)
+    _space_command("workspace", config_path, depth, procedure, tolerance, out, no_plot, quiet, geojson)
 
 
 @click.command(short_help="Deepen a saved paving, testing only undetermined cells.")

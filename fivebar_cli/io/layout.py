@@ -2,7 +2,8 @@
 
 One place for the layout that users' scripts rely on (docs/formats.md, "Output layout"):
 `outputs/<name>/<space>.qt` and `<space>.complement.qt`, `<space>.csv`, `aspects.csv`,
-`aspects-adjacency.csv`, `aspects/aspect-NN.<space>.qt`.
+`aspects-adjacency.csv`, `aspects/aspect-NN.<space>.qt` and `aspect-NN.workspace.geojson`,
+`<space>.geojson`, `path.csv` and `path.png`.
 """
 
 from __future__ import annotations
@@ -49,5 +50,17 @@ def aspect_path(folder: Path, number: int, space: str) -> Path:
     return folder / "aspects" / f"aspect-{number:02d}.{space}.qt"
 
 
+def aspect_geojson_path(folder: Path, number: int) -> Path:
+    """`aspects/aspect-NN.workspace.geojson`: one generalized aspect's workspace region."""
+    return folder / "aspects" / f"aspect-{number:02d}.workspace.geojson"
+
+
+def geojson_path(folder: Path, space: str) -> Path:
+    """`<space>.geojson`: the certified inside region of a paving."""
+    return folder / f"{space}.geojson"
+
+
 ASPECTS_CSV = "aspects.csv"
 CROSSINGS_CSV = "aspects-adjacency.csv"
+PATH_CSV = "path.csv"
+PATH_PNG = "path.png"

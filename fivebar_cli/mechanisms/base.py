@@ -188,3 +188,7 @@ class AspectModel(Protocol):
     def serial_band_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Per joint-space box: (certified free of parallel singularity, working signs with 0 where
         not constant), to find the cells crossed by one serial singularity only."""
+
+    # Optional (`fivebar path --allow-serial`): a joint-space box test, 1 where every point
+    # assembles in `assembly` with det A != 0 (serial singularities allowed), -1 where none does.
+    # def parallel_free_test(self, assembly: int) -> BoxTest: ...

@@ -1,5 +1,6 @@
 """Figures of generalized aspects: the parallel aspects in the workspace, one panel per working
-mode (the paper's figures 7, 8), and the serial aspects in the joint space (figures 9, 10)."""
+mode (the paper's figures 7, 8), with each aspect's largest certified circle and square, and the
+serial aspects in the joint space (figures 9, 10)."""
 
 from __future__ import annotations
 
@@ -26,21 +27,40 @@ def _label_aspects(ax, aspects, space: str) -> None:
                     color="white", bbox={"boxstyle": "circle,pad=0.2", "fc": "0.15", "ec": "none", "alpha": 0.8})
 
 
+def _draw_shapes(ax, aspects) -> None:
+    """Each aspect's largest certified circle (dashed) and axis-aligned square (solid)."""
+    from matplotlib.patches import Circle, Rectangle
+
+    for a in aspects:
+        if a.circle is not None:
+            ax.add_patch(Circle((a.circle.x, a.circle.y), a.circle.r, fill=False, ec="white", lw=0.9, ls="--"))
+        if a.square is not None:
+            half = 0.5 * a.square.side
+            ax.add_patch(Rectangle((a.square.x - half, a.square.y - half), a.square.side, a.square.side,
+                                   fill=False, ec="white", lw=0.9))
+
+
 def _aspect_panel(ax, analysis, region, aspects, space: str, title: str) -> None:
     layers = [(region.paving.outside, PALE), (region.paving.undetermined_tree(), BLACK)]
     layers += [(a.workspace if space == "workspace" else a.jointspace, _aspect_colour(a.number)) for a in aspects]
     draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[])
+    if space == "workspace":
+        _draw_shapes(ax, aspects)
     _label_aspects(ax, aspects, space)
     ax.set_title(title, fontsize=9)
 
 
-def _aspect_legend(fig, aspects) -> None:
+def _aspect_legend(fig, aspects, shapes: bool = False) -> None:
+    from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 
     handles = [Patch(facecolor=_aspect_colour(a.number), label=f"aspect {a.number}: working mode "
                      f"{signs_text(a.working)}, det A {signs_text(a.assembly)}") for a in aspects]
     handles += [Patch(facecolor=PALE, label="complement (certified outside)"),
                 Patch(facecolor=BLACK, label="undetermined (singularities)")]
+    if shapes:
+        handles += [Line2D([], [], color="0.4", ls="--", label="largest certified circle"),
+                    Line2D([], [], color="0.4", label="largest certified square")]
     fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=7, frameon=False)
 
 
@@ -57,8 +77,8 @@ def figure_aspects_workspace(analysis):
         mine = [a for a in analysis.aspects if a.working == wm]
         _aspect_panel(ax, analysis, region, mine, "workspace", f"working mode {signs_text(wm)} (signs of {signs})")
     fig.suptitle(f"{analysis.mechanism.name}: parallel aspects in the workspace, depth {analysis.depth}")
-    _aspect_legend(fig, analysis.aspects)
-    fig.tight_layout(rect=(0, 0.07, 1, 0.97), h_pad=2.0)
+    _aspect_legend(fig, analysis.aspects, shapes=True)
+    fig.tight_layout(rect=(0, 0.08, 1, 0.97), h_pad=2.0)
     return fig
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from typing import Mapping
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -20,6 +20,33 @@ from fivebar_cli.mechanisms.fivebar.modes import FiveBarModes
 from fivebar_cli.mechanisms.fivebar.robust_modes import RobustFiveBarModes
 
 LENGTHS = ("L0", "L1", "L2", "L3", "L4")
+
+
+def _num(x: float) -> str:
+    return f"{x:.12g}"
+
+
+def assembles(lengths: Mapping[str, float] | Sequence[float]) -> str | None:
+    """None when the loop closes on a set of positive area, else the violated inequality (one line).
+
+    |B1B2| ranges over [max(0, L0 - L1 - L2, |L1 - L2| - L0), L0 + L1 + L2] (two points on
+    circles of radii L1, L2 whose centres are L0 apart), and the loop closes exactly where it lies
+    in [|L3 - L4|, L3 + L4]; when the two ranges only touch, the loop closes in flat, singular
+    configurations only. Used by `FiveBar.parse`, and by sweeps that build designs directly.
+    """
+    L0, L1, L2, L3, L4 = (float(lengths[k]) for k in LENGTHS) if isinstance(lengths, Mapping) else map(float, lengths)
+    far, inner, outer = L0 + L1 + L2, abs(L3 - L4), L3 + L4
+    checks = (  # (left name, left value, right name, right value): the loop needs left < right
+        ("|L3 - L4|", inner, "L0 + L1 + L2", far),
+        ("L0", L0, "L1 + L2 + L3 + L4", L1 + L2 + outer),
+        ("|L1 - L2|", abs(L1 - L2), "L0 + L3 + L4", L0 + outer),
+    )
+    for left, a, right, b in checks:
+        if a > b:
+            return f"{left} = {_num(a)} > {right} = {_num(b)}: the loop never closes"
+        if a == b:
+            return f"{left} = {right} = {_num(a)}: the loop closes only in flat, singular configurations"
+    return None
 
 
 @dataclass(frozen=True)
@@ -79,15 +106,19 @@ class FiveBar(Mechanism):
 
     @classmethod
     def parse(cls, data: Mapping, source: str = "<config>") -> "FiveBar":
-        """Lengths are positive numbers or intervals `[lo, hi]` with 0 < lo <= hi."""
+        """Lengths are positive numbers or intervals `[lo, hi]` with 0 < lo <= hi; the (nominal)
+        five-bar must close on a set of positive area (`assembles`), else a ConfigError."""
         schema.check_keys(data, {"name", "type", "lengths"}, {"name", "type", "lengths"}, source)
         name = schema.name_field(data, source)
         lengths = schema.mapping(data, "lengths", source)
         schema.check_keys(lengths, set(LENGTHS), set(LENGTHS), source, "lengths.")
         bounds = [_length(lengths[k], source, f"lengths.{k}") for k in LENGTHS]
-        if all(lo == hi for lo, hi in bounds):
-            return cls(name, *(lo for lo, _ in bounds))
-        return cls.with_bounds(name, bounds)
+        m = cls(name, *(lo for lo, _ in bounds)) if all(lo == hi for lo, hi in bounds) else cls.with_bounds(name, bounds)
+        problem = assembles(m.lengths)  # interval lengths: the nominal five-bar must close
+        if problem is not None:
+            nominal = "nominal lengths: " if m.is_interval else ""
+            raise schema.ConfigError(source, "lengths", nominal + problem)
+        return m
 
     @classmethod
     def from_description(cls, fields: Mapping[str, str], name: str, source: str) -> "FiveBar":

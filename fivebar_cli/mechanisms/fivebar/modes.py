@@ -113,6 +113,27 @@ def assembly_mode_joint_test(m, assembly: int):
     return test
 
 
+def parallel_free_joint_test(m):
+    """Box test in the joint space: 1 when every (th1, th2) of the box assembles with det A != 0
+    (|L3-L4| < |B1B2| < L3+L4 strictly, so B1 != B2), -1 when none assembles, 0 otherwise.
+
+    det A vanishes exactly where B1, P, B2 are aligned, i.e. where |B1B2| reaches L3 + L4 or
+    |L3 - L4|: the set is the same for both assembly modes (each DKP branch is then smooth and
+    non-singular), and B11, B22 may vanish in it (serial singularities are allowed). The motions
+    of `fivebar path --allow-serial` stay in it.
+    """
+    r, big = abs(m.L3 - m.L4), m.L3 + m.L4
+    delta = DELTA_REL * scale(m) ** 2
+
+    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        dmin, dmax = crank_distance2_range(m, lo, hi)
+        status = assembly_status(m, dmin, dmax)
+        strict = _strict(dmin, dmax, r, big, delta)
+        return np.where(strict, 1, np.where(status == -1, -1, 0)).astype(np.int8)
+
+    return test
+
+
 def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray):
     """Per box: (assembly status 1/-1/0, certified free of parallel singularity, sign B11, sign B22).
 
@@ -181,6 +202,10 @@ class FiveBarModes:
 
     def jointspace_test(self, assembly):
         return assembly_mode_joint_test(self.m, assembly)
+
+    def parallel_free_test(self, assembly):
+        """Joint-space boxes assemblable in `assembly` with det A != 0 (serial singularities allowed)."""
+        return parallel_free_joint_test(self.m)
 
     def assembly_signs(self, working, points):
         return workspace_assembly_sign(self.m, working, points)

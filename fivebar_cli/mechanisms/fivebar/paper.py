@@ -37,6 +37,11 @@ PAPER_TABLE1 = {  # Chablat (2010), Table 1, in percent, depths 5..10
 }
 
 
+def is_paper_mechanism(m) -> bool:
+    """Whether a five-bar is the paper's M1 or M2 (recognised by its lengths)."""
+    return tuple(m.lengths.values()) in (M1_LENGTHS, M2_LENGTHS)
+
+
 def printed_percent(m, space: str, depth: int) -> int | None:
     """The paper's printed K (percent) for this mechanism (recognised by its lengths), if any."""
     key = (space, tuple(m.lengths.values()))

@@ -105,6 +105,19 @@ def assembly_mode_joint_test(m, assembly: int):
     return test
 
 
+def parallel_free_joint_test(m):
+    """Black when every (th1, th2) of the box assembles with det A != 0 for every L (|B1B2|
+    strictly inside the robust range, serial singularities allowed); -1 when none assembles for
+    any L. The cells of `fivebar path --allow-serial` with interval lengths."""
+
+    def test(lo, hi):
+        b = robust.crank_distance_bounds(m, lo, hi)
+        black, impossible = robust.joint_status(m, b["low"], b["high"], strict=True)
+        return np.where(black, 1, np.where(impossible, -1, 0)).astype(np.int8)
+
+    return test
+
+
 @dataclass(frozen=True)
 class RobustFiveBarModes(modes.FiveBarModes):
     """The `AspectModel` of a five-bar with interval lengths: black cells are non-singular with their
@@ -116,6 +129,9 @@ class RobustFiveBarModes(modes.FiveBarModes):
 
     def jointspace_test(self, assembly):
         return assembly_mode_joint_test(self.m, assembly)
+
+    def parallel_free_test(self, assembly):
+        return parallel_free_joint_test(self.m)
 
     def serial_band_signs(self, assembly, lo, hi):
         _, strict, u, v = joint_mode_classes(self.m, assembly, lo, hi)

@@ -1,0 +1,228 @@
+"""The largest disc and the largest axis-aligned square inside a 2-D tree's cells (a union of
+closed boxes), found within `TOLERANCE` of the optimum and certified by exact arithmetic.
+
+Search. f(c), the distance (Euclidean for the disc, Chebyshev for the square) from a centre c to
+the cells *not* in the set (the complement tree's leaves and the outside of the root box), is the
+radius (half side) of the largest disc (square) centred at c; it is 1-Lipschitz, so over a box of
+centres f <= f(box centre) + half its diagonal (half its widest side). Branch and bound on the
+set's leaves: a canonical leaf of side s has a parent that is not all in the set, so f <= 2 s
+hypot(1, 1) on it, while the largest leaf already gives f >= s_max / 2: only leaves at most three
+levels below the largest can hold the optimum. Boxes whose bound is not above the best value by
+more than the tolerance are dropped, the others split in four, until none is left: the result is
+within TOLERANCE of the best that the cells allow.
+
+Certificate. The reported numbers are those written to CSV (`%.10g`): the centre is rounded to 10
+significant digits, the radius (side) rounded *down* to 10 digits, then checked exactly (Python
+fractions on the exact dyadic cells of the grid): the closed disc (square) stays in the root box
+and meets no complement cell in more than boundary points, hence lies in the union of the set's
+closed cells (a point of it outside every set cell would lie inside a complement cell). Only the
+complement cells whose floating-point distance is within a relative 1e-6 of the radius are
+checked exactly: rounding errs by about 1e-15 relative, so the others are certainly farther.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+import math
+
+import numpy as np
+
+from fivebar_cli.paving.tree import Tree
+
+TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
+CHUNK = 1 << 20  # centre-box pairs per vectorised distance evaluation
+MAX_ROUNDS = 60
+BIG_LEVEL = 6  # complement cells above this level are few: looked at for every centre
+NEAR = 1e-6  # complement cells within this relative margin of the radius are checked exactly
+
+
+@dataclass(frozen=True)
+class Disc:
+    x: float
+    y: float
+    r: float
+
+
+@dataclass(frozen=True)
+class Square:
+    x: float  # centre
+    y: float
+    side: float
+
+
+def largest_disc(tree: Tree) -> Disc | None:
+    """The largest disc in the tree's cells (within TOLERANCE), certified; None for an empty tree."""
+    found = _search(tree, "l2")
+    if found is None:
+        return None
+    (x, y), r = found
+    return Disc(x, y, r)
+
+
+def largest_square(tree: Tree) -> Square | None:
+    """The largest axis-aligned square in the tree's cells (within TOLERANCE), certified; None when empty."""
+    found = _search(tree, "linf")
+    if found is None:
+        return None
+    (x, y), half = found
+    return Square(x, y, 2.0 * half)  # exact: the half side is a 10-digit side halved
+
+
+# ---------------------------------------------------------------- search
+
+
+class _Obstacles:
+    """The complement cells (sorted by their low x) and the root box, with distances from centres."""
+
+    def __init__(self, tree: Tree, metric: str):
+        self.metric = metric
+        self.tree = tree
+        self.cells = tree.complement()
+        lo, hi = self.cells.bounds()
+        # small cells sorted by their low x (found by bisection); the few big ones always looked at
+        big = self.cells.level < BIG_LEVEL
+        order = np.concatenate([np.flatnonzero(~big)[np.argsort(lo[~big, 0], kind="stable")], np.flatnonzero(big)])
+        self.order, self.lo, self.hi = order, lo[order], hi[order]
+        self.x0, self.y0 = self.lo[:, 0].copy(), self.lo[:, 1].copy()  # contiguous: sliced per centre
+        self.x1, self.y1 = self.hi[:, 0].copy(), self.hi[:, 1].copy()
+        self.n_small = int(np.count_nonzero(~big))
+        self.widest = float((hi[~big, 0] - lo[~big, 0]).max()) if self.n_small else 0.0
+        self.root_lo, self.root_hi = tree.grid.lo, tree.grid.lo + tree.grid.size
+
+    def _metric(self, gap: np.ndarray) -> np.ndarray:
+        return np.hypot(gap[..., 0], gap[..., 1]) if self.metric == "l2" else gap.max(axis=-1)
+
+    def distance(self, centres: np.ndarray, bounds: np.ndarray | None = None) -> np.ndarray:
+        """f at each centre: the distance to the nearest complement cell or to the outside of the
+        root. `bounds` (upper bounds on f, one per centre) limit the cells looked at."""
+        out = np.min(np.concatenate([centres - self.root_lo, self.root_hi - centres], axis=1), axis=1)
+        if not len(self.lo):
+            return out
+        bounds = out if bounds is None else np.minimum(bounds, out)
+        xs = self.x0[:self.n_small]
+        first = np.searchsorted(xs, centres[:, 0] - bounds - self.widest, side="left")
+        last = np.searchsorted(xs, centres[:, 0] + bounds, side="right")
+        spans = [(first[k], last[k]) for k in range(len(centres))]
+        for k, (a, z) in enumerate(spans):
+            (cx, cy), b = centres[k], bounds[k]
+            for part in (slice(a, z), slice(self.n_small, len(self.x0))):
+                x0, x1, y0, y1 = self.x0[part], self.x1[part], self.y0[part], self.y1[part]
+                near = np.flatnonzero((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))
+                if len(near):
+                    gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
+                    gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
+                    d = np.hypot(gx, gy) if self.metric == "l2" else np.maximum(gx, gy)
+                    out[k] = min(out[k], float(d.min()))
+        return out
+
+    def near(self, centre, radius: float) -> np.ndarray:
+        """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
+        gap = np.maximum(np.maximum(self.lo - centre, np.asarray(centre) - self.hi), 0.0)
+        return np.sort(self.order[self._metric(gap) <= radius])
+
+
+def _reach(width: np.ndarray, metric: str) -> np.ndarray:
+    """How far f can rise above its value at a box's centre: half the diagonal (half the widest side)."""
+    return 0.5 * (np.hypot(width[:, 0], width[:, 1]) if metric == "l2" else width.max(axis=1))
+
+
+def _search(tree: Tree, metric: str):
+    """Branch and bound for the best centre, then the certified (centre, radius or half side)."""
+    if tree.grid.dim != 2:
+        raise ValueError("inscribed shapes are for 2-D trees")
+    if not len(tree):
+        return None
+    obstacles = _Obstacles(tree, metric)
+    lo, hi = tree.bounds()
+    width = hi - lo
+    inner = 0.5 * width.min(axis=1)  # f >= this at a leaf's centre (the leaf is in the set)
+    best = float(inner.max())
+    bound = 4.0 * _reach(width, metric)  # on a canonical leaf: its parent holds a complement point
+    keep = bound > best
+    lo, width = lo[keep], width[keep]
+    bound = bound[keep]
+    best_centre = None
+    for _ in range(MAX_ROUNDS):
+        if not len(lo):
+            break
+        centres = lo + 0.5 * width
+        f = obstacles.distance(centres, bound)
+        k = int(np.argmax(f))
+        if best_centre is None or f[k] > best:
+            best, best_centre = float(f[k]), centres[k]
+        upper = f + _reach(width, metric)
+        alive = upper > best * (1.0 + TOLERANCE)
+        lo, width, upper = lo[alive], width[alive], upper[alive]
+        half = 0.5 * width
+        lo = np.concatenate([lo, lo + half * [1, 0], lo + half * [0, 1], lo + half])
+        width = np.concatenate([half] * 4)
+        bound = np.concatenate([upper] * 4)  # f at a child's centre is at most its parent's bound
+    return _certify(obstacles, best_centre)
+
+
+# ---------------------------------------------------------------- certificate
+
+
+def _round_down(value: float) -> float:
+    """The largest number of at most 10 significant digits that is below `value` (by > 1e-12 relative)."""
+    if value <= 0:
+        return 0.0
+    quantum = 10.0 ** (math.floor(math.log10(value)) - 9)
+    out = float(f"{math.floor(value * (1 - 1e-12) / quantum) * quantum:.10g}")
+    while out >= value * (1 - 1e-12):
+        out = float(f"{out - quantum:.10g}")
+    return out
+
+
+def _exact_cells(tree: Tree, index: np.ndarray) -> list[tuple[Fraction, Fraction, Fraction, Fraction]]:
+    """Exact dyadic bounds (x0, x1, y0, y1) of some leaves of a tree, on the grid's float root box."""
+    grid = tree.grid
+    (ax, bx), (ay, by) = grid.root
+    out = []
+    for level, (cx, cy) in zip(tree.level[index].tolist(), tree.coords[index].tolist()):
+        n = 1 << level
+        fx, fy = (Fraction(bx) - Fraction(ax)) / n, (Fraction(by) - Fraction(ay)) / n
+        out.append((Fraction(ax) + cx * fx, Fraction(ax) + (cx + 1) * fx,
+                    Fraction(ay) + cy * fy, Fraction(ay) + (cy + 1) * fy))
+    return out
+
+
+def _contained(obstacles: _Obstacles, centre: tuple[float, float], radius: float) -> bool:
+    """Exactly: the closed disc (square) of this centre and radius (half side) lies in the root box
+    and meets no complement cell in more than boundary points."""
+    cx, cy = (Fraction(v) for v in centre)
+    r = Fraction(radius)
+    (ax, bx), (ay, by) = obstacles.tree.grid.root
+    if not (Fraction(ax) + r <= cx <= Fraction(bx) - r and Fraction(ay) + r <= cy <= Fraction(by) - r):
+        return False
+    if not len(obstacles.lo):
+        return True
+    slack = 1e-9 * float(np.max(np.abs(obstacles.tree.grid.root)))
+    for x0, x1, y0, y1 in _exact_cells(obstacles.cells, obstacles.near(centre, radius * (1 + NEAR) + slack)):
+        gx = max(x0 - cx, cx - x1, Fraction(0))
+        gy = max(y0 - cy, cy - y1, Fraction(0))
+        if obstacles.metric == "l2":
+            if gx * gx + gy * gy < r * r:
+                return False
+        elif max(gx, gy) < r:
+            return False
+    return True
+
+
+def _certify(obstacles: _Obstacles, centre: np.ndarray):
+    """The centre rounded to 10 digits and the radius (half side) rounded down, checked exactly;
+    shrunk by 1e-9 relative steps if rounding ever defeats the check (it has not been seen to)."""
+    c = tuple(float(f"{v:.10g}") for v in centre)
+    value = float(obstacles.distance(np.array([c]))[0])
+    if obstacles.metric == "linf":  # the side is what gets rounded: make the half side exact
+        radius = _round_down(2.0 * value) / 2.0
+    else:
+        radius = _round_down(value)
+    for _ in range(8):
+        if radius <= 0:
+            break
+        if _contained(obstacles, c, radius):
+            return c, radius
+        radius = _round_down(radius * (1 - 1e-9)) if obstacles.metric == "l2" else _round_down(2 * radius * (1 - 1e-9)) / 2
+    return c, 0.0

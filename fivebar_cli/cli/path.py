@@ -1,0 +1,113 @@
+"""`fivebar path`: a certified singularity-free motion between two configurations."""
+
+from __future__ import annotations
+
+import click
+
+from fivebar_cli.analyses.paths import Endpoint, find_path, resolve
+from fivebar_cli.cli.aspects import _load_with_aspects
+from fivebar_cli.cli.options import CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, prepare_out, report, wrote
+from fivebar_cli.errors import InputError
+from fivebar_cli.io.files import csv_text, write_text
+from fivebar_cli.io.layout import PATH_CSV, PATH_PNG
+
+WORKING_MODES = ["++", "+-", "-+", "--"]
+
+
+def _record_order(ctx, param, value):
+    """Click processes options in the order they first appear on the command line: remember it, so
+    that `--pose A --joints B` starts at A and `--joints B --pose A` starts at B."""
+    if value:
+        ctx.meta.setdefault("path_order", []).append(param.name)
+    return value
+
+
+def exact_text(value: float) -> str:
+    """A float in its shortest form that reads back exactly (so the file holds the checked path)."""
+    v = float(value)
+    if v != v:
+        return ""
+    return "0" if v == 0 else repr(v)
+
+
+def path_csv(result) -> str:
+    m = result.mechanism
+    names = [a.name for s in ("jointspace", "workspace") for a in m.spaces()[s].axes]
+    rows = [[exact_text(v) for v in (*j, *p)] for j, p in zip(result.joints, result.poses)]
+    return csv_text(names, rows)
+
+
+@click.command(short_help="A certified singularity-free motion between two configurations.")
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@click.option("--joints", "joints", type=(float, float), multiple=True, metavar="TH1 TH2", callback=_record_order,
+              help="An endpoint by its joint values (radians); its assembly mode is --assembly-mode (or that of "
+                   "a --pose endpoint).")
+@click.option("--pose", "poses", type=(float, float), multiple=True, metavar="X Y", callback=_record_order,
+              help="An endpoint by the position of P, in the working mode of --working-mode.")
+@click.option("--working-mode", "working_modes", type=click.Choice(WORKING_MODES), multiple=True,
+              help="Working mode of the --pose endpoints: once for all, or once per --pose in order (needed "
+                   "when several working modes reach a pose).")
+@click.option("--assembly-mode", type=click.Choice(["+", "-"]), default=None,
+              help="Assembly mode (sign of det A) of the --joints endpoints.")
+@click.option("--allow-serial", is_flag=True,
+              help="Allow crossing serial singularities (changing working mode), never parallel ones.")
+@depth_option(limit=MAX_ASPECT_DEPTH)
+@common_options
+def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial, depth, out, no_plot, quiet):
+    """A certified singularity-free motion between two configurations.
+
+    Give two endpoints, --joints or --pose, in the order of the motion. Without --allow-serial
+    the motion stays in one generalized aspect (no serial and no parallel singularity); with it,
+    it may change working mode across serial singularities but never crosses a parallel one.
+    The motion is a polyline in the joint space whose every straight segment is proven, in exact
+    arithmetic, to lie in certified cells at --depth; it is shortened by string pulling through
+    the cells. Rows are in [-pi, pi); each segment goes the short way round on each angle. Writes
+    path.csv (theta1,theta2,x,y per waypoint; the first and last rows are the requested
+    configurations) and path.png. Reuses the aspect trees an `aspects` run wrote into -o for
+    the same mechanism and depth. Exit status 1, with the reason, when no such motion exists
+    at this depth.
+
+    \b
+    Examples:
+      fivebar path configs/m1.yaml --joints 0.1 0.7 --joints 1.2 -2.6 --assembly-mode +
+      fivebar path configs/m1.yaml --pose 4 5 --pose 6 8 --working-mode ++
+      fivebar path configs/m1.yaml --joints 0.1 0.7 --joints -0.5 -3.1 --assembly-mode + --allow-serial
+    """
+    order = click.get_current_context().meta.get("path_order", [])
+    values = {"joints": list(joints), "poses": list(poses)}
+    if len(joints) + len(poses) != 2:
+        raise click.UsageError("give exactly two endpoints (--joints TH1 TH2 or --pose X Y, twice in all)")
+    if working_modes and len(working_modes) not in (1, len(poses)):
+        raise click.UsageError(f"give --working-mode once, or once per --pose ({len(poses)})")
+    pose_modes = list(working_modes) * len(poses) if len(working_modes) == 1 else list(working_modes) or [None] * len(poses)
+    endpoints = []
+    for name in order:
+        for k, value in enumerate(values[name]):
+            endpoints.append(Endpoint("pose", value, pose_modes[k]) if name == "poses" else Endpoint("joints", value))
+    m = _load_with_aspects(config_path)
+    if allow_serial and not hasattr(m.aspect_model(), "parallel_free_test"):
+        raise InputError(str(config_path), "--allow-serial", f"a {m.kind} has no test for parallel singularities")
+    folder = prepare_out(out, m.name)
+    start, end = resolve(m, endpoints, assembly_mode, str(config_path))
+    result = find_path(m, depth, start, end, allow_serial, folder)
+    paths = [write_text(folder / PATH_CSV, path_csv(result))]
+    if not no_plot:
+        from fivebar_cli.analyses.paths import component_of, workspace_backdrop
+        from fivebar_cli.plotting.paths import figure_path
+
+        backdrop = workspace_backdrop(result, folder)
+        paths.append(figure(lambda: figure_path(result, component_of(result), backdrop), folder / PATH_PNG))
+    if allow_serial:
+        what = (f"motion free of parallel singularities, det A {start.assembly}, working mode {start.working} to "
+                f"{end.working} (serial singularities may be crossed)")
+    else:
+        where = (f"aspect {result.aspect.number}, {'certified' if result.aspect.certified else 'not certified'}"
+                 if result.aspect is not None else "one generalized aspect")
+        what = f"singularity-free motion in {where}: working mode {start.working}, det A {start.assembly}"
+    report(quiet, f"{m.name}: {what}, depth {depth}")
+    report(quiet, f"  from {start.label} to {end.label}: {len(result.joints)} waypoints, joint-space length "
+           f"{result.length:.6g}; every segment lies in the certified cells ({result.checked_cells} cells, "
+           "checked in exact arithmetic)")
+    if result.source == "saved":
+        report(quiet, f"  aspect trees read from {folder}")
+    wrote(quiet, paths)

@@ -1,0 +1,158 @@
+"""GeoJSON of certified regions (issue 12, item 3), read back with shapely: valid (Multi)Polygons
+whose areas equal the CSV areas, holes where the region has holes, every cell centre of the set
+inside and every centre of the other cells outside, deterministic bytes."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+from cli_helpers import run_cli
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from shapely.geometry import shape
+
+from fivebar_cli.io.geojson import geojson_text, feature
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree
+
+REPO = Path(__file__).resolve().parents[1]
+M1_YAML = REPO / "configs" / "m1.yaml"
+RPR2_YAML = REPO / "configs" / "rpr2.yaml"
+
+
+def read(path: Path) -> tuple[dict, object]:
+    data = json.loads(path.read_text())
+    assert data["type"] == "FeatureCollection" and len(data["features"]) == 1
+    f = data["features"][0]
+    assert f["type"] == "Feature" and f["geometry"]["type"] in ("Polygon", "MultiPolygon")
+    return f["properties"], shape(f["geometry"])
+
+
+def check_against_cells(tree: Tree, geometry) -> None:
+    """Valid; the area of the cells; cell centres of the set inside, of its complement outside;
+    exterior rings counter-clockwise and holes clockwise (RFC 7946)."""
+    assert geometry.is_valid, shapely.is_valid_reason(geometry)
+    assert geometry.area == pytest.approx(tree.area, rel=1e-9, abs=1e-12)
+    inside = tree.centres()
+    outside = tree.complement().centres()
+    assert shapely.contains_xy(geometry, inside[:, 0], inside[:, 1]).all()
+    if len(outside):
+        assert not shapely.intersects_xy(geometry, outside[:, 0], outside[:, 1]).any()
+    for part in shapely.get_parts(geometry):
+        assert part.exterior.is_ccw and all(not hole.is_ccw for hole in part.interiors)
+
+
+@pytest.fixture(scope="module")
+def aspects_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("geojson")
+    result = run_cli("aspects", M1_YAML, "--depth", 8, "-o", out, "--no-plot", "-q", cwd=REPO)
+    assert result.status == 0, result.stderr
+    return out
+
+
+def test_every_aspect_has_its_geojson(aspects_run):
+    from fivebar_cli.io.qtfile import read_qt
+
+    rows = list(csv.DictReader((aspects_run / "aspects.csv").open()))
+    holes = 0
+    for r in rows:
+        k = int(r["aspect"])
+        props, geometry = read(aspects_run / "aspects" / f"aspect-{k:02d}.workspace.geojson")
+        assert props["aspect"] == k and props["working_mode"] == r["working_mode"]
+        assert props["assembly_mode"] == r["assembly_mode"] and props["depth"] == 8 and props["name"] == "M1"
+        assert props["area"] == pytest.approx(float(r["workspace_area"]), rel=1e-9)
+        assert geometry.area == pytest.approx(float(r["workspace_area"]), rel=1e-9)
+        check_against_cells(read_qt(aspects_run / "aspects" / f"aspect-{k:02d}.workspace.qt").tree, geometry)
+        holes += sum(len(p.interiors) for p in shapely.get_parts(geometry))
+    assert holes >= 2  # aspects 4 and 7 of M1 go round a hole of the workspace
+
+
+def test_geojson_bytes_are_deterministic(aspects_run, tmp_path):
+    assert run_cli("aspects", M1_YAML, "--depth", 8, "-o", tmp_path, "--no-plot", "-q", cwd=REPO).status == 0
+    for path in sorted((aspects_run / "aspects").glob("*.geojson")):
+        assert (tmp_path / "aspects" / path.name).read_bytes() == path.read_bytes()
+    text = path.read_text()
+    assert text.endswith("\n") and text.count("\n") == 1 and "-0.0," not in text and "NaN" not in text
+
+
+@pytest.mark.parametrize("space", ["workspace", "jointspace"])
+def test_space_geojson(tmp_path, space):
+    """--geojson: the certified inside region; the joint space in its [-pi, pi]^2 chart."""
+    from fivebar_cli.io.qtfile import read_qt
+
+    result = run_cli(space, M1_YAML, "--depth", 7, "--geojson", "-o", tmp_path, "--no-plot", cwd=REPO)
+    assert result.status == 0, result.stderr
+    assert f"wrote {tmp_path / (space + '.geojson')}" in result.stdout
+    props, geometry = read(tmp_path / f"{space}.geojson")
+    row = next(csv.DictReader((tmp_path / f"{space}.csv").open()))
+    assert props == {"name": "M1", "space": space, "region": "reachable" if space == "workspace" else "assemblable",
+                     "depth": 7, "procedure": "exact", "area": pytest.approx(float(row["inside_area"]), rel=1e-9)}
+    check_against_cells(read_qt(tmp_path / f"{space}.qt").tree, geometry)
+    if space == "jointspace":
+        minx, miny, maxx, maxy = geometry.bounds
+        assert -np.pi <= minx and maxx <= np.pi and -np.pi <= miny and maxy <= np.pi
+    assert not (tmp_path / "workspace.geojson").exists() or space == "workspace"
+
+
+def test_without_the_flag_no_geojson(tmp_path):
+    assert run_cli("workspace", M1_YAML, "--depth", 5, "-o", tmp_path, "--no-plot", "-q", cwd=REPO).status == 0
+    assert not list(tmp_path.glob("*.geojson"))
+
+
+def test_rpr2_geojson(tmp_path):
+    result = run_cli("workspace", RPR2_YAML, "--depth", 6, "--geojson", "-o", tmp_path, "--no-plot", "-q", cwd=REPO)
+    assert result.status == 0, result.stderr
+    _, geometry = read(tmp_path / "workspace.geojson")
+    assert geometry.is_valid and geometry.area > 0
+
+
+# ---------------------------------------------------------------- synthetic sets
+
+
+GRID = Grid(((-2.0, 6.0), (1.0, 9.0)), 3, (False, False))
+
+
+def tree_of(cells) -> Tree:
+    return Tree.from_cells(GRID, 3, np.array(cells))
+
+
+def test_ring_has_one_hole():
+    ring = [(x, y) for x in range(1, 7) for y in range(1, 7) if not (2 < x < 5 and 2 < y < 5)]
+    geometry = shape(feature(tree_of(ring), {})["geometry"])
+    assert geometry.geom_type == "Polygon" and len(geometry.interiors) == 1
+    assert geometry.area == pytest.approx(32.0) and len(geometry.exterior.coords) == 5  # collinear edges merged
+
+
+def test_cells_touching_at_a_corner_are_two_polygons():
+    geometry = shape(feature(tree_of([(0, 0), (1, 1)]), {})["geometry"])
+    assert geometry.geom_type == "MultiPolygon" and len(geometry.geoms) == 2 and geometry.is_valid
+
+
+def test_hole_touching_the_shell_at_a_corner():
+    """A 3 x 3 block without its centre and one corner-adjacent cell: the region's hole touches
+    its outline at one point; the result stays valid."""
+    cells = [(x, y) for x in range(3) for y in range(3) if (x, y) not in ((1, 1), (2, 2))]
+    geometry = shape(feature(tree_of(cells), {})["geometry"])
+    assert geometry.is_valid and geometry.area == pytest.approx(7.0)
+
+
+def test_empty_tree():
+    text = geojson_text([feature(Tree.empty(GRID), {"area": 0.0})])
+    assert json.loads(text)["features"][0]["geometry"] == {"type": "MultiPolygon", "coordinates": []}
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), density=st.floats(0.2, 0.9))
+def test_random_sets(seed, density):
+    """Random cells of three sizes (checkerboard-like pinches included)."""
+    rng = np.random.default_rng(seed)
+    grid = Grid(((-2.0, 6.0), (1.0, 9.0)), 5, (False, False))
+    level = int(rng.integers(3, 6))
+    n = 1 << level
+    tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < density))
+    check_against_cells(tree, shape(feature(tree, {})["geometry"]))

@@ -1,0 +1,199 @@
+"""The largest certified circle and axis-aligned square of each aspect (issue 12, item 2).
+
+References computed here, independently of fivebar_cli/analyses/inscribed.py: the aspect's cells
+are rasterised at their depth (exactly: every cell is a union of pixels), and the grid optimum is
+the best centre among the pixel centres, with its radius measured exactly
+against the pixels outside the aspect (scipy's Euclidean distance transform only shortlists the
+candidates; the chessboard transform is exact for squares). Ours must be at least 95 % of it, and
+at most the grid optimum plus the pixel half-diagonal (the true optimum is no larger). Every disc
+and square is also sampled, inside and on its boundary, against the reference kinematics: every
+point is reachable in the aspect's working mode with det A of the aspect's sign.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from reference_kinematics import ref_ikp
+from scipy import ndimage
+
+from fivebar_cli.analyses.aspects import analyse_aspects
+from fivebar_cli.analyses.inscribed import largest_disc, largest_square
+from fivebar_cli.mechanisms.fivebar.model import FiveBar
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree
+
+M1 = FiveBar("M1", 9.0, 8.0, 5.0, 5.0, 8.0)
+M2 = FiveBar("M2", 2.55, 2.3, 2.3, 2.3, 2.3)
+DEPTH = 10
+RATIOS: dict = {}
+
+
+@pytest.fixture(scope="module", params=[M1, M2], ids=["M1", "M2"])
+def analysis(request):
+    return analyse_aspects(request.param, DEPTH)
+
+
+def raster(tree: Tree, level: int) -> tuple[np.ndarray, np.ndarray]:
+    """Pixels at `level` (indexed [x, y]) in the tree's cells, over the cells' bounding box with a
+    border of one outside pixel; and the integer coordinates of the first pixel."""
+    span = 1 << (level - tree.level)
+    lo = tree.coords * span[:, None]
+    first = lo.min(axis=0) - 1
+    size = (lo + span[:, None]).max(axis=0) + 1 - first
+    image = np.zeros(tuple(size), bool)
+    for (x, y), s in zip((lo - first).tolist(), span.tolist()):
+        image[x:x + s, y:y + s] = True
+    return image, first
+
+
+def grid_optimum(tree: Tree, metric: str) -> tuple[float, float]:
+    """(best radius or half side over the pixel centres, pixel size), pixels of the finest cells."""
+    level = tree.grid.depth
+    padded, first = raster(tree, level)  # the border (and anything outside the root) is outside
+    pixel = tree.grid.size[0] / (1 << level)
+    origin = tree.grid.lo + first * pixel
+    if metric == "linf":
+        cb = ndimage.distance_transform_cdt(padded, metric="chessboard")
+        return float((cb.max() - 0.5) * pixel), pixel
+    # shortlist: the distance to the box of the nearest outside pixel centre (scipy's transform)
+    # is an upper bound; measure the best candidates exactly against every outside pixel box
+    # next to the aspect, until no candidate's bound can beat the best exact value
+    _, (nx, ny) = ndimage.distance_transform_edt(padded, return_indices=True)
+    ix, iy = np.nonzero(padded)
+    centres = origin + (np.column_stack([ix, iy]) + 0.5) * pixel
+    near_lo = origin + np.column_stack([nx[ix, iy], ny[ix, iy]]) * pixel
+    gap = np.maximum(np.maximum(near_lo - centres, centres - near_lo - pixel), 0.0)
+    upper = np.hypot(gap[:, 0], gap[:, 1])
+    order = np.argsort(upper)[::-1]
+    border = ~padded & ndimage.binary_dilation(padded, structure=np.ones((3, 3)))
+    bx, by = np.nonzero(border)
+    lo = origin + np.column_stack([bx, by]) * pixel
+    hi = lo + pixel
+    best = 0.0
+    for start in range(0, order.size, 64):
+        chunk = order[start:start + 64]
+        if upper[chunk[0]] <= best:
+            break
+        c = centres[chunk]
+        reach = upper[chunk].max()
+        keep = np.all((hi >= c.min(axis=0) - reach) & (lo <= c.max(axis=0) + reach), axis=1)
+        gap = np.maximum(np.maximum(lo[keep][None] - c[:, None], c[:, None] - hi[keep][None]), 0.0)
+        r = np.hypot(gap[..., 0], gap[..., 1]).min(axis=1)
+        best = max(best, float(r.max()))
+    return best, pixel
+
+
+def test_circles_and_squares_against_the_grid_optimum(analysis):
+    """Aspects of det A > 0 against the grid optimum; those of det A < 0 are their mirror images
+    (y -> -y), with the same radius and side."""
+    plus = [a for a in analysis.aspects if a.assembly > 0]
+    minus = [a for a in analysis.aspects if a.assembly < 0]
+    assert sorted((a.circle.r, a.square.side) for a in plus) == sorted((a.circle.r, a.square.side) for a in minus)
+    for a in plus:
+        if not len(a.workspace):
+            continue
+        for metric, found in (("l2", a.circle.r), ("linf", 0.5 * a.square.side)):
+            best, pixel = grid_optimum(a.workspace, metric)
+            slack = pixel * (math.sqrt(0.5) if metric == "l2" else 0.5)
+            assert found >= 0.95 * best, (analysis.mechanism.name, a.number, metric, found, best)
+            assert found <= best + slack + 1e-12, (analysis.mechanism.name, a.number, metric, found, best)
+            RATIOS[(analysis.mechanism.name, a.number, metric)] = found / best
+
+
+def sample_disc(x, y, r, n=4000, rng=np.random.default_rng(1)):
+    rho = r * np.sqrt(rng.random(n))
+    phi = rng.random(n) * 2 * np.pi
+    ring = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    return np.concatenate([np.column_stack([x + rho * np.cos(phi), y + rho * np.sin(phi)]),
+                           np.column_stack([x + r * np.cos(ring), y + r * np.sin(ring)])])
+
+
+def sample_square(x, y, side, n=4000, rng=np.random.default_rng(2)):
+    h = 0.5 * side
+    inner = np.column_stack([x, y]) + rng.uniform(-h, h, (n, 2))
+    t = np.linspace(-h, h, 200)
+    edges = np.concatenate([np.column_stack([x + t, np.full_like(t, y - h)]), np.column_stack([x + t, np.full_like(t, y + h)]),
+                            np.column_stack([np.full_like(t, x - h), y + t]), np.column_stack([np.full_like(t, x + h), y + t])])
+    return np.concatenate([inner, edges])
+
+
+def closed_member(tree: Tree, pts: np.ndarray, tol: float = 1e-9) -> np.ndarray:
+    """Points in the closed cells: the cell of the point, or of the point moved by tol (a point
+    on an edge belongs to the cells on both sides)."""
+    out = np.zeros(len(pts), bool)
+    for dx in (-tol, 0.0, tol):
+        for dy in (-tol, 0.0, tol):
+            out |= tree.locate(pts + [dx, dy]) >= 0
+    return out
+
+
+def test_every_point_of_the_discs_and_squares_is_in_the_aspect(analysis):
+    m = analysis.mechanism
+    for a in analysis.aspects:
+        if a.circle is None:
+            continue
+        for pts in (sample_disc(a.circle.x, a.circle.y, a.circle.r), sample_square(a.square.x, a.square.y, a.square.side)):
+            assert closed_member(a.workspace, pts).all()
+            *_, u, v, t, ok = ref_ikp(m, pts[:, 0], pts[:, 1], a.working)
+            assert ok.all()
+            assert np.all(np.sign(u) == a.working[0]) and np.all(np.sign(v) == a.working[1])
+            assert np.all(np.sign(t) == a.assembly)
+
+
+def test_the_csv_numbers_are_what_was_certified(analysis):
+    """10 significant digits at most: the values in aspects.csv are exactly the certified ones."""
+    for a in analysis.aspects:
+        if a.circle is None:
+            continue
+        for v in (a.circle.x, a.circle.y, a.circle.r, a.square.x, a.square.y, a.square.side):
+            assert float("%.10g" % v) == v
+
+
+def test_report_ratios():
+    """Print the ratios to the grid optimum (seen with pytest -s); they are also asserted above."""
+    if RATIOS:
+        worst = min(RATIOS.values())
+        assert worst >= 0.95
+        print("\nworst ratio to the grid optimum:", worst)
+
+
+# ---------------------------------------------------------------- shapes with known answers
+
+
+def test_known_answers():
+    grid = Grid(((0.0, 8.0), (0.0, 8.0)), 3, (False, False))
+    full = Tree.full(grid)
+    d, s = largest_disc(full), largest_square(full)
+    assert d.r == pytest.approx(4.0, rel=1e-9) and d.r <= 4.0 and s.side == pytest.approx(8.0, rel=1e-9)
+    # an L of arms 3 wide: squares of side 3; the largest disc sits in the corner, touching the
+    # root's two edges and the inner corner (3, 3): centre (c, c) with c = sqrt(2) (3 - c)
+    ell = Tree.from_cells(grid, 3, np.array([(x, y) for x in range(8) for y in range(8) if x < 3 or y < 3]))
+    d, s = largest_disc(ell), largest_square(ell)
+    assert 0.99 * 3.0 <= s.side <= 3.0
+    best = 3 * math.sqrt(2) / (1 + math.sqrt(2))
+    assert 0.99 * best <= d.r <= best
+    assert largest_disc(Tree.empty(grid)) is None and largest_square(Tree.empty(grid)) is None
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 10 ** 6))
+def test_random_cell_sets(seed):
+    """Random sets of cells of several sizes: the disc and square lie in the cells, and reach 95 %
+    of the grid optimum."""
+    rng = np.random.default_rng(seed)
+    grid = Grid(((-3.0, 5.0), (-1.0, 7.0)), 5, (False, False))
+    coords = np.argwhere(rng.random((16, 16)) < 0.75)
+    tree = Tree.from_cells(grid, 4, coords)
+    if not len(tree):
+        return
+    d, s = largest_disc(tree), largest_square(tree)
+    assert closed_member(tree, sample_disc(d.x, d.y, d.r, 1500), tol=1e-12).all()
+    assert closed_member(tree, sample_square(s.x, s.y, s.side, 1500), tol=1e-12).all()
+    for metric, found in (("l2", d.r), ("linf", 0.5 * s.side)):
+        best, _ = grid_optimum(tree, metric)
+        assert found >= 0.95 * best
