@@ -19,7 +19,7 @@ from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
-from fivebar_cli.errors import FivebarError
+from fivebar_cli.errors import FivebarError, Interrupted
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -43,11 +43,6 @@ def cli() -> None:
 
 for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, rpr3, reproduce):
     cli.add_command(command)
-
-
-class Interrupted(FivebarError):
-    """Ctrl-C or SIGTERM. Raised from the signal handler so that click does not turn it into its own
-    Abort, and so that the atomic writer removes its temporary file on the way out."""
 
 
 def _on_sigint(signum, frame):
