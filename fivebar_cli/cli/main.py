@@ -15,6 +15,7 @@ import click
 
 from fivebar_cli import __version__
 from fivebar_cli.cli.aspects import aspects, locate
+from fivebar_cli.cli.atlas import atlas
 from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
@@ -35,13 +36,14 @@ def cli() -> None:
       fivebar workspace configs/m2.yaml --depth 12 -o out/m2
       fivebar aspects configs/m1.yaml --depth 10
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
+      fivebar atlas configs/atlas-l1-l3.yaml --workers 2
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
       fivebar reproduce
     """
 
 
-for command in (jointspace, workspace, aspects, locate, kratio, refine, diff, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, atlas, kratio, refine, diff, rpr3, reproduce):
     cli.add_command(command)
 
 
