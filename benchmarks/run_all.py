@@ -1,4 +1,4 @@
-"""Run every benchmark (what `make bench` does): paving, aspects, 3-RPR. Prints their tables."""
+"""Run every benchmark (what `make bench` does): paving, aspects, 3-RPR, atlas. Prints their tables."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_rpr3.py")
+SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_rpr3.py", "bench_atlas.py")
 
 
 def main() -> int:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import logging
 import signal
 import threading
+import warnings
 from contextlib import contextmanager
 from functools import partial
 from typing import Iterator
@@ -117,12 +118,15 @@ def _one_line(exc: BaseException) -> str:
 
 @contextmanager
 def _quiet_dask():
-    """Dask's loggers silenced for the run (their lines would break the one-line error contract)."""
+    """Dask's loggers and warnings silenced for the run (their lines would break the one-line error
+    contract): e.g. "Port 8787 is already in use" when another cluster runs on this machine."""
     logger = logging.getLogger("distributed")
     level = logger.level
     logger.setLevel(logging.CRITICAL)
     try:
-        yield
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", module=r"distributed\.")
+            yield
     finally:
         logger.setLevel(level)
 
