@@ -1,4 +1,5 @@
-"""Run every benchmark (what `make bench` does): paving, aspects, 3-RPR, atlas. Prints their tables."""
+"""Run every benchmark (what `make bench` does): paving, aspects, tolerances, 3-RPR, view pages, atlas.
+Prints their tables."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_rpr3.py", "bench_atlas.py")
+SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_tolerance.py", "bench_rpr3.py", "bench_view.py",
+           "bench_atlas.py")
 
 
 def main() -> int:

@@ -167,6 +167,9 @@ def problem_with(path: Path, old: bytes | None) -> str | None:
     elif name.endswith(".png"):
         if not (data.startswith(PNG_MAGIC) and data.endswith(PNG_END)):
             return "PNG cut short"
+    elif name.endswith(".html"):
+        if not (data.startswith(b"<!DOCTYPE html>") and data.endswith(b"</html>\n")):
+            return "HTML page cut short"
     return None
 
 

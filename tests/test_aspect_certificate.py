@@ -14,7 +14,7 @@ from scipy import ndimage
 
 import reference_aspects as ref
 from cli_helpers import run_cli
-from fivebar_cli.analyses.aspects import analyse_aspects
+from fivebar_cli.analyses.aspects import _Count, analyse_aspects
 from fivebar_cli.io.qtfile import read_qt
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
@@ -176,3 +176,37 @@ def test_locate_says_when_the_aspect_is_not_certified(tmp_path):
     assert f"-> aspect {certified[0]}\n" in r.stdout
     r = run_cli("locate", cfg, "--depth", "8", "-o", out, "--pose", uncertified[7], uncertified[8], "--csv")
     assert any(line.endswith(f",{uncertified[0]},,false") for line in r.stdout.splitlines())
+
+
+# A random five-bar (bench_aspects --random 200, seed 7, design 156) whose count at depth 8 is
+# certified only by splitting an outer component that holds two groups of anchors.
+SPLIT_DESIGN = (1.4822528155876429, 1.2131967573043474, 0.6975639464281526, 1.9589870709496031, 1.5436534226859724)
+
+
+def test_a_component_also_holding_a_partner_group_is_never_taken_as_separated(monkeypatch):
+    """Separating the anchored groups of an outer component says nothing of a partner group whose
+    images land there (it may be one of them): with a partner injected there the count must lose
+    its certificate."""
+    m = FiveBar("split", *SPLIT_DESIGN)
+    separated = []
+    separate = _Count._separate
+    monkeypatch.setattr(_Count, "_separate", lambda self, *a: separated.append(separate(self, *a)) or separated[-1])
+    assert analyse_aspects(m, 8).certified and separated and all(separated)
+
+    partners = _Count._partners
+
+    def with_stranger(self):
+        result = partners(self)
+        groups = set(np.unique(self.roots).tolist())
+        for k, s in enumerate(self.sets):
+            local = self.roots[self.offset[k]:self.offset[k + 1]]
+            for o in range(s.n_outer):
+                held = set(np.unique(local[s.anchors_in(o)]).tolist())
+                if len(held) > 1:
+                    self.partner_of.setdefault((k, o), set()).add(min(groups - held))
+        return result
+
+    monkeypatch.setattr(_Count, "_partners", with_stranger)
+    separated.clear()
+    analysis = analyse_aspects(m, 8)
+    assert not analysis.certified and separated == []

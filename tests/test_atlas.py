@@ -9,7 +9,6 @@ import io
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,25 +22,13 @@ from fivebar_cli.analyses.spaces import pave_space
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
 HEADER = "L0,L1,L2,L3,L4,assemblable,aspects,certified,workspace_area,largest_aspect_area"
-# 12 designs: L0 in {0.5, 1.75, 3}, L3 in {0.3, 0.6, 0.9, 1.2}; six cannot be assembled
-SPEC = """name: t
-type: fivebar-atlas
-lengths: {L0: [0.5, 3.0, 3], L1: 0.4, L2: 0.4, L3: [0.3, 1.2, 4], L4: 0.3}
-depth: 6
-batch: 1
-"""
+ROBUST = ",robust_aspects,robust_certified,robust_workspace_area,robust_largest_aspect_area"  # with a tolerance
+# the designs of ATLAS_SPEC (conftest.py, fixture spec_file) that cannot be assembled
 UNASSEMBLABLE = {(1.75, 0.3), (1.75, 0.6), (3.0, 0.3), (3.0, 0.6), (3.0, 0.9), (3.0, 1.2)}
 
 
 def table(text: str) -> list[dict]:
     return list(csv.DictReader(io.StringIO(text)))
-
-
-@pytest.fixture(scope="module")
-def spec_file(tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("spec") / "t.yaml"
-    path.write_text(SPEC)
-    return path
 
 
 @pytest.fixture(scope="module")
@@ -167,7 +154,8 @@ def test_rows_agree_with_fivebar_aspects_and_workspace(atlas_run, tmp_path):
 
 def test_one_metric_is_one_entry():
     assert columns() == tuple(HEADER.split(","))
-    assert [m.name for m in METRICS] == HEADER.split(",")[5:]
+    assert [m.name for m in METRICS] == (HEADER + ROBUST).split(",")[5:]
+    assert columns(0.01) == tuple((HEADER + ROBUST).split(","))
 
 
 # ---------------------------------------------------------------- parts, resume, determinism
@@ -259,14 +247,16 @@ def test_figures_for_one_or_three_swept_lengths(tmp_path, lengths, figure):
     ("type: fivebar\nlengths: {L0: 1, L1: 1, L2: 1, L3: 1, L4: 1}", "type", "fivebar-atlas"),
     ("type: fivebar-atlas\nlengths: {L0: 1, L1: 1, L2: 1, L3: 1}", "lengths.L4", "missing"),
     ("type: fivebar-atlas\nlenghts: {L0: 1, L1: 1, L2: 1, L3: 1, L4: 1}", "lenghts", "unknown key"),
-    ("type: fivebar-atlas\nlengths: {L0: 1, L1: [0.4, 1.6], L2: 1, L3: 1, L4: 1}", "lengths.L1", "[from, to, steps]"),
+    ("type: fivebar-atlas\nlengths: {L0: 1, L1: [0.4, 1.6], L2: 1, L3: 1, L4: 1}", "lengths.L1", "give 'tolerance: T'"),
+    ("type: fivebar-atlas\nlengths: {L0: 1, L1: [0.4, 1.6, 2, 3], L2: 1, L3: 1, L4: 1}", "lengths.L1", "[from, to, steps]"),
     ("type: fivebar-atlas\nlengths: {L0: 1, L1: [0.4, 1.6, 2.5], L2: 1, L3: 1, L4: 1}", "lengths.L1[2]", "integer"),
     ("type: fivebar-atlas\nlengths: {L0: 1, L1: [0.4, 1.6, 1], L2: 1, L3: 1, L4: 1}", "lengths.L1[2]", "between 2"),
     ("type: fivebar-atlas\nlengths: {L0: 1, L1: [1.6, 0.4, 5], L2: 1, L3: 1, L4: 1}", "lengths.L1", "less than"),
     ("type: fivebar-atlas\nlengths: {L0: 1, L1: [-1, 0.4, 5], L2: 1, L3: 1, L4: 1}", "lengths.L1[0]", "positive"),
     ("type: fivebar-atlas\nlengths: {L0: 0, L1: 1, L2: 1, L3: 1, L4: 1}", "lengths.L0", "positive"),
-    ("type: fivebar-atlas\nlengths: {L0: 1, L1: 1, L2: 1, L3: 1, L4: 1}\ntolerance: 0.01", "tolerance",
-     "tolerance sweeps need interval lengths (not available yet)"),
+    ("type: fivebar-atlas\nlengths: {L0: 1, L1: [0.4, 1.6, 3], L2: 1, L3: 1, L4: 1}\ntolerance: 0.4", "tolerance",
+     "would make the shortest length (0.4) reach 0.0"),
+    ("type: fivebar-atlas\nlengths: {L0: 1, L1: 1, L2: 1, L3: 1, L4: 1}\ntolerance: -0.1", "tolerance", "must not be negative"),
     ("type: fivebar-atlas\nlengths: {L0: 1, L1: 1, L2: 1, L3: 1, L4: 1}\ndepth: 17", "depth", "between 0 and 16"),
     ("type: fivebar-atlas\nlengths: {L0: 1, L1: 1, L2: 1, L3: 1, L4: 1}\nbatch: 0", "batch", "between 1"),
     ("type: fivebar-atlas\nlengths: {L0: [1, 2, 10000], L1: [1, 2, 10000], L2: 1, L3: 1, L4: 1}", "lengths",
@@ -284,6 +274,47 @@ def test_tolerance_zero_is_accepted(tmp_path):
                                      "tolerance: 0.0\ndepth: 2\n")
     ok(run_cli("atlas", tmp_path / "s.yaml", "--workers", "0", "-o", "o", "-q", cwd=tmp_path))
     assert (tmp_path / "o" / "atlas.csv").read_text().split("\n")[0] == HEADER
+
+
+def test_tolerance_rows_agree_with_fivebar_aspects_and_workspace_with_tolerance(tmp_path):
+    """--tolerance T: the robust columns of each row equal `fivebar aspects --tolerance T` (count,
+    certified, largest aspect) and `fivebar workspace --tolerance T` (inside_area) on that design."""
+    (tmp_path / "r.yaml").write_text("name: r\ntype: fivebar-atlas\n"
+                                     "lengths: {L0: [0.5, 2.0, 3], L1: 0.4, L2: 0.4, L3: 0.6, L4: 0.3}\ndepth: 5\n")
+    res = ok(run_cli("atlas", tmp_path / "r.yaml", "--workers", "0", "--tolerance", "0.01", "-o", "o", cwd=tmp_path))
+    text = (tmp_path / "o" / "atlas.csv").read_text()
+    assert text.split("\n")[0] == HEADER + ROBUST
+    assert "tolerance 0.01" in res.stdout.splitlines()[0]
+    rows = table(text)
+    assert [r["assemblable"] for r in rows] == ["true", "true", "false"]
+    assert (rows[2]["robust_aspects"], rows[2]["robust_certified"], rows[2]["robust_workspace_area"]) == ("0", "true", "0")
+    assert [r["robust_certified"] for r in rows[:2]] == ["true", "false"]  # an uncertified count is marked
+    assert (tmp_path / "o" / "atlas.png").read_bytes()[:8] == PNG_MAGIC  # with the robust panels
+    for k, r in enumerate(rows):
+        if r["assemblable"] == "false":
+            continue
+        config = tmp_path / f"d{k}.yaml"
+        config.write_text(f"name: d{k}\ntype: fivebar\nlengths: {{{', '.join(f'{n}: {r[n]}' for n in 'L0 L1 L2 L3 L4'.split())}}}\n")
+        a = ok(run_cli("aspects", config, "--depth", "5", "--tolerance", "0.01", "-o", f"a{k}", "--no-plot", cwd=tmp_path))
+        aspects = table((tmp_path / f"a{k}" / "aspects.csv").read_text())
+        assert r["robust_aspects"] == str(len(aspects))
+        assert r["robust_certified"] == ("true" if "(certified;" in a.stdout.splitlines()[0] else "false")
+        largest = max((float(x["workspace_area"]) for x in aspects), default=0.0)
+        assert float(r["robust_largest_aspect_area"]) == largest
+        ok(run_cli("workspace", config, "--depth", "5", "--tolerance", "0.01", "-o", f"w{k}", "--no-plot", "-q", cwd=tmp_path))
+        inside = table((tmp_path / f"w{k}" / "workspace.csv").read_text())[0]["inside_area"]
+        assert r["robust_workspace_area"] == inside
+        # the robust workspace lies in the nominal one: less area than its exact area
+        assert 0 < float(inside) < float(r["workspace_area"])
+
+
+def test_tolerance_in_the_spec_and_too_large_on_the_command_line(spec_file, tmp_path):
+    spec = parse_spec({"name": "s", "type": "fivebar-atlas", "tolerance": 0.05,
+                       "lengths": {"L0": 1, "L1": 1, "L2": 1, "L3": 1, "L4": [0.5, 1, 2]}}, "s")
+    assert spec.tolerance == 0.05 and columns(spec.tolerance) == tuple((HEADER + ROBUST).split(","))
+    r = run_cli("atlas", spec_file, "--workers", "0", "--tolerance", "0.3", "-o", "o", cwd=tmp_path)
+    one_line(r, 2, "t.yaml: --tolerance: ", "would make the shortest length (0.3) reach 0.0")
+    assert not (tmp_path / "o").exists()
 
 
 def test_workers_and_scheduler_together_is_a_usage_error(spec_file, tmp_path):

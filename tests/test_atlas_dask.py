@@ -21,20 +21,7 @@ from pathlib import Path
 import pytest
 from cli_helpers import ENV, CliResult, check_whole, command, ok, one_line, run_cli, run_process
 
-SPEC = """name: t
-type: fivebar-atlas
-lengths: {L0: [0.5, 3.0, 3], L1: 0.4, L2: 0.4, L3: [0.3, 1.2, 4], L4: 0.3}
-depth: 6
-batch: 1
-"""
 DASK = Path(sys.executable).with_name("dask")
-
-
-@pytest.fixture(scope="module")
-def spec_file(tmp_path_factory) -> Path:
-    path = tmp_path_factory.mktemp("spec") / "t.yaml"
-    path.write_text(SPEC)
-    return path
 
 
 @pytest.fixture(scope="module")

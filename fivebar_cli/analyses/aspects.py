@@ -135,10 +135,11 @@ class AspectAnalysis:
     def headline(self) -> str:
         """One line: the certified count, or the bounds and what is left undecided."""
         name, depth = self.mechanism.name, self.depth
+        what = "robust generalized aspects" if getattr(self.mechanism, "is_interval", False) else "generalized aspects"
         if self.certified:
-            return (f"{name}: {len(self.aspects)} generalized aspects at depth {depth} (certified; "
+            return (f"{name}: {len(self.aspects)} {what} at depth {depth} (certified; "
                     f"{self.evaluations} box evaluations, {self.refinement_evaluations} in local refinement)")
-        return (f"{name}: between {self.lower} and {self.upper} generalized aspects, not certified at depth "
+        return (f"{name}: between {self.lower} and {self.upper} {what}, not certified at depth "
                 f"{depth}: {self.undecided_pieces} pieces undecided (raise --depth or --budget)")
 
     @property
@@ -245,7 +246,8 @@ class _Count:
     2. Joins: anchors of one outer component joined by black cells found by local refinement.
     3. Partners: a group with no anchor in one space takes the outer component its images land in.
     4. Empty outer components (no anchor, no partner) must vanish under refinement; outer
-       components still holding several groups must split under refinement (`pieces.py`).
+       components still holding several groups must split under refinement (`pieces.py`); one
+       that also holds a partner group is never taken as separated (`strangers`).
     """
 
     def __init__(self, model: AspectModel, sets: list[ModeSet], budget: Budget, depth: int):
@@ -265,13 +267,20 @@ class _Count:
                 anchors = s.anchors_in(o)
                 held = np.unique(local_roots[anchors])
                 if len(held) > 1:
-                    self.split_ok[(k, o)] = self._separate(s, o, anchors, local_roots, limit)
+                    self.split_ok[(k, o)] = (not self.strangers(k, o, held)
+                                             and self._separate(s, o, anchors, local_roots, limit))
                     self.undecided += not self.split_ok[(k, o)]
                 elif len(held) == 0 and (k, o) not in self.partner_of and not s.vanish(o, budget, limit):
                     self.undecided += 1
                     self.empty_undecided += 1
         self.merged = total - len(np.unique(self.roots)) if total else 0
         self.lower, self.upper = self._bounds()
+
+    def strangers(self, k: int, o: int, held) -> set:
+        """Partner groups in outer component o of set k that hold no anchor there. Separating the
+        anchored groups says nothing about them (one may be the same aspect as an anchored group),
+        so such a component is never counted as separated."""
+        return self.partner_of.get((k, o), set()) - {int(g) for g in held}
 
     def _separate(self, s: ModeSet, o: int, anchors: np.ndarray, roots: np.ndarray, limit: int) -> bool:
         """Separate the groups of anchors sharing an outer component: each group but the biggest

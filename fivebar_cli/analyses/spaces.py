@@ -9,9 +9,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import paving_paths, sibling_paths
+from fivebar_cli.io.layout import band_path, paving_paths, sibling_paths
 from fivebar_cli.io.qtfile import QtFile, read_qt, write_qt
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import from_description
@@ -44,28 +46,40 @@ def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations
     return fields
 
 
+def has_band(m: Mechanism) -> bool:
+    """Whether the mechanism's pavings have an uncertain band (interval parameters)."""
+    return bool(getattr(m, "is_interval", False))
+
+
 def write_paving(folder: Path, m: Mechanism, space: str, paving: Paving, procedure: str,
                  evaluations: int) -> list[Path]:
-    """`<space>.qt`, `<space>.complement.qt` and `<space>.csv` (the summary row).
+    """`<space>.qt`, `<space>.complement.qt`, with interval lengths `<space>.band.qt`, and
+    `<space>.csv` (the summary row).
 
     `evaluations` counts every box tested to reach this paving (with those of a refined run).
     """
     inside_path, outside_path = paving_paths(folder, space)
-    return [
+    paths = [
         write_qt(inside_path, paving.inside, **qt_fields(m, space, "inside", procedure, evaluations)),
         write_qt(outside_path, paving.outside, **qt_fields(m, space, "outside", procedure, evaluations)),
-        write_csv(folder / f"{space}.csv", SUMMARY_HEADER, [summary_row(m, space, procedure, paving, evaluations)]),
     ]
+    if has_band(m):
+        paths.append(write_qt(band_path(folder, space), paving.band, **qt_fields(m, space, "band", procedure, evaluations)))
+    paths.append(write_csv(folder / f"{space}.csv", SUMMARY_HEADER, [summary_row(m, space, procedure, paving, evaluations)]))
+    return paths
 
 
 def summary_row(m: Mechanism, space: str, procedure: str, paving: Paving, evaluations: int) -> tuple:
-    """One CSV row; `exact_area` is the closed-form measure of the set, when one is known."""
+    """One CSV row; `exact_area` is the closed-form measure of the set, when one is known. The band
+    of an interval mechanism counts with the undetermined cells (at depth D), so that the three
+    areas still sum to the root's."""
     grid = paving.grid
     exact = m.exact_measure(space)
+    band_cells = int(np.sum(np.left_shift(1, grid.dim * (grid.depth - np.asarray(paving.band.level, np.int64)))))
     return (
         space, m.name, procedure, grid.depth, evaluations, k_ratio(evaluations, grid.dim, grid.depth),
-        paving.inside.area, paving.undetermined_area, paving.outside.area,
-        len(paving.inside), len(paving.outside), len(paving.undetermined),
+        paving.inside.area, paving.undetermined_area + paving.band.area, paving.outside.area,
+        len(paving.inside), len(paving.outside), len(paving.undetermined) + band_cells,
         "" if exact is None else exact,
     )
 
@@ -81,6 +95,7 @@ class SavedPaving:
     inside: QtFile
     outside: QtFile
     source: str = ""
+    band: QtFile | None = None
 
 
 def load_saved(path: str | Path) -> SavedPaving:
@@ -114,13 +129,20 @@ def load_saved(path: str | Path) -> SavedPaving:
     except ValueError:
         raise InputError(source, "evaluations", f"expected an integer, got {inside.get('evaluations')!r}") from None
     pair = f"{inside_path} + {outside_path.name}"
-    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair)
+    band = None
+    if has_band(mechanism):
+        path = band_path(inside_path.parent, inside_path.name[: -len(".qt")])
+        band = read_qt(path)
+        if band.get("mechanism") != inside.get("mechanism") or band.tree.grid != inside.tree.grid:
+            raise InputError(str(path), "mechanism", f"does not match {inside_path.name}")
+    return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair, band)
 
 
 def refine_saved(saved: SavedPaving, depth: int, on_level=None) -> Paving:
     """Deepen a saved paving, testing only its undetermined cells."""
     test = saved.mechanism.box_test(saved.space, saved.procedure)
+    band = saved.band.tree if saved.band is not None else None
     try:
-        return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level)
+        return refine(saved.inside.tree, saved.outside.tree, test, depth, on_level, band)
     except ValueError as exc:  # the two trees do not form a paving (overlap, gaps above the depth)
         raise InputError(saved.source, "", f"{exc}") from None

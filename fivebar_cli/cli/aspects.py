@@ -11,8 +11,10 @@ from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
 from fivebar_cli.analyses.crossings import paper_claim_verdict
 from fivebar_cli.analyses.locate import locate_configurations, motions
+from fivebar_cli.analyses.tolerance import aspect_fates, fate_text
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, prepare_out, progress, report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, prepare_out, progress, report, tolerance_option,
+    with_tolerance, wrote,
 )
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
@@ -21,8 +23,8 @@ from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import load_config
 
 
-def _load_with_aspects(config_path) -> Mechanism:
-    m = load_config(config_path)
+def _load_with_aspects(config_path, tolerance: float = 0.0) -> Mechanism:
+    m = with_tolerance(load_config(config_path), tolerance, config_path)
     if m.aspect_model() is None:
         raise ConfigError(str(config_path), "type", f"a {m.kind} has no working and assembly modes (no aspects)")
     return m
@@ -40,8 +42,9 @@ def _budget_option(func):
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @depth_option(limit=MAX_ASPECT_DEPTH)
 @_budget_option
+@tolerance_option
 @common_options
-def aspects(config_path, depth, budget, out, no_plot, quiet):
+def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     """Generalized aspects: the singularity-free regions of each working and assembly mode.
 
     Paves the workspace once per working mode and the joint space once per assembly mode,
@@ -55,14 +58,22 @@ def aspects(config_path, depth, budget, out, no_plot, quiet):
     aspects-workspace.png (paper figs. 7, 8) and aspects-jointspace-assembly+.png / -.png
     (figs. 9, 10).
 
+    With interval lengths (in the config, or --tolerance T) the aspects are robust: a
+    configuration belongs to one when, for every length vector in the box, it is reachable,
+    non-singular and in the aspect's modes. The nominal aspects are then computed too and the
+    report says which of them shrink, split or vanish.
+
     \b
-    Example:
+    Examples:
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
+      fivebar aspects configs/m1.yaml --depth 10 --tolerance 0.05 -o out/m1-tol
     """
-    m = _load_with_aspects(config_path)
+    m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
-    with progress(quiet, region_count(m) + 1, f"aspects depth {depth}") as advance:
+    robust = getattr(m, "is_interval", False)
+    with progress(quiet, region_count(m) * (2 if robust else 1) + 1, f"aspects depth {depth}") as advance:
         analysis = analyse_aspects(m, depth, advance, budget)
+        fates = aspect_fates(analyse_aspects(m.nominal(), depth, advance, budget), analysis) if robust else []
     paths = write_aspects(folder, analysis)
     if not no_plot:
         from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
@@ -80,6 +91,8 @@ def aspects(config_path, depth, budget, out, no_plot, quiet):
         report(quiet, f"  aspects {c.a} and {c.b} (det A {signs_text(c.assembly)}) touch across {c.singularity} = 0")
     if not analysis.aspects:
         report(quiet, "  no aspect can be certified at this depth: try --depth 8 or more")
+    for f in fates:
+        report(quiet, f"  nominal aspect {f.number:2d}: {fate_text(f)}")
     if m.kind == "fivebar":
         for am in analysis.model.assembly_modes:
             verdict = paper_claim_verdict(analysis.aspects, analysis.crossings, am)
@@ -99,28 +112,32 @@ def aspects(config_path, depth, budget, out, no_plot, quiet):
               help="Keep only configurations of this assembly mode.")
 @depth_option(limit=MAX_ASPECT_DEPTH)
 @_budget_option
+@tolerance_option
 @click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
               help="Folder of an earlier `aspects` run to reuse when it holds this mechanism at this depth "
                    "[default: outputs/<config name>/]; otherwise the aspects are computed (nothing is written).")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the configurations as CSV.")
-def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budget, out, as_csv):
+def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budget, tolerance, out, as_csv):
     """Which aspect a configuration lies in, and whether two can be joined without singularity.
 
     For each --pose (x, y), every configuration reaching it (up to four working modes); for
     each --joints, every assembly (up to two). Each is reported with its modes and its aspect,
     or as on/near a singularity. With two or more locations, configurations that share an aspect
     can be joined by a singularity-free motion; others cannot. The aspect trees that `aspects`
-    wrote for the same mechanism and depth are reused.
+    wrote for the same mechanism and depth are reused. With interval lengths (or --tolerance T)
+    the configurations are the nominal robot's and the aspects are robust: a motion listed as
+    singularity-free is so for every robot built within the tolerance.
 
     \b
     Examples:
       fivebar locate configs/m1.yaml --pose 4 5
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --working-mode ++
       fivebar locate configs/m2.yaml --joints 0.1 1.4 --joints 1.5 1.2 --assembly-mode +
+      fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --tolerance 0.05
     """
     if not poses and not joints:
         raise click.UsageError("give at least one --pose X Y or --joints TH1 TH2")
-    m = _load_with_aspects(config_path)
+    m = _load_with_aspects(config_path, tolerance)
     folder = output_dir(out, m.name)
     saved = load_aspects(folder, m, depth)
     found = saved if saved is not None else analyse_aspects(m, depth, budget=budget).aspects
@@ -146,7 +163,8 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
                                     for k in keys] for r in rows]), nl=False)
         return
     source = f"read from {folder}" if saved is not None else "computed"
-    click.echo(f"{m.name}: aspects at depth {depth} {source}")
+    kind = "robust aspects" if getattr(m, "is_interval", False) else "aspects"
+    click.echo(f"{m.name}: {kind} at depth {depth} {source}")
     for k, (kind, value) in enumerate(locations, start=1):
         mine = [r for r in rows if r["input"] == k]
         click.echo(f"location {k}: {kind} ({value[0]:g}, {value[1]:g}): "

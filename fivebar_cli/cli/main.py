@@ -20,6 +20,8 @@ from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
+from fivebar_cli.cli.tolerance import tolerance
+from fivebar_cli.cli.view import view
 from fivebar_cli.errors import FivebarError, Interrupted
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
@@ -39,11 +41,12 @@ def cli() -> None:
       fivebar atlas configs/atlas-l1-l3.yaml --workers 2
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
+      fivebar view outputs/M1
       fivebar reproduce
     """
 
 
-for command in (jointspace, workspace, aspects, locate, atlas, kratio, refine, diff, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, atlas, kratio, refine, diff, tolerance, view, rpr3, reproduce):
     cli.add_command(command)
 
 

@@ -35,6 +35,26 @@ def depth_option(default: int = 10, limit: int = MAX_DEPTH):
                         help=f"Maximum depth d of the tree (cells are root/2^d wide; 0..{limit}).")
 
 
+def tolerance_option(func):
+    """`--tolerance T`: every link length widened to [L - T, L + T] (manufacturing tolerances)."""
+    return click.option(
+        "--tolerance", type=click.FloatRange(0, None), default=0.0, show_default=True,
+        help="Widen every link length to [L - T, L + T]: black then means valid for every length in "
+             "the box (robust), the complement valid for none (impossible).",
+    )(func)
+
+
+def with_tolerance(m, tolerance: float, source):
+    """The mechanism with its lengths widened by `tolerance` (0: unchanged)."""
+    if tolerance == 0:
+        return m
+    if not hasattr(m, "widened"):
+        from fivebar_cli.io.schema import ConfigError
+
+        raise ConfigError(str(source), "--tolerance", f"a {m.kind} has no interval lengths")
+    return m.widened(tolerance, str(source))
+
+
 def prepare_out(out: Path | None, name: str) -> Path:
     """Resolve and create the output folder (outputs/<name>/ unless --out is given)."""
     return ensure_dir(output_dir(out, name))

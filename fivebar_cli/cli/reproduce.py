@@ -14,16 +14,25 @@ REPRODUCTION = (  # (what, arguments); {configs} and {out} are filled in
     ("M1 joint space (figs. 3, 4)", ["jointspace", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
     ("M1 workspace (fig. 6)", ["workspace", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
     ("M1 aspects (figs. 7, 9)", ["aspects", "{configs}/m1.yaml", "--depth", "10", "-o", "{out}/M1"]),
+    ("M1 in a browser (view.html)", ["view", "{out}/M1", "-o", "{out}/M1/view.html"]),
     ("M2 joint space (figs. 3, 4)", ["jointspace", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 workspace (fig. 6)", ["workspace", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 aspects (figs. 8, 10)", ["aspects", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
+    ("M2 in a browser (view.html)", ["view", "{out}/M2", "-o", "{out}/M2/view.html"]),
+    ("M1 tolerances (the paper's future work)",
+     ["tolerance", "{configs}/m1.yaml", "--tolerances", "0,0.01,0.02,0.05,0.1", "--depth", "9", "-o", "{out}/M1"]),
+    ("M2 tolerances (the paper's future work)",
+     ["tolerance", "{configs}/m2.yaml", "--tolerances", "0,0.005,0.01,0.02", "--depth", "9", "-o", "{out}/M2"]),
     ("3-RPR construction (fig. 2)", ["rpr3", "area", "{configs}/rpr3-equilateral.yaml", "-o", "{out}/rpr3-equilateral"]),
     ("3-RPR area vs phi (figs. 3, 4, 6, 7)", ["rpr3", "sweep", *BASES, "--over", "phi", "-o", "{out}/rpr3-bases"]),
     ("3-RPR area vs rho_min (fig. 5)", ["rpr3", "sweep", *BASES, "--over", "rho_min", "-o", "{out}/rpr3-bases"]),
     ("3-RPR area vs t2, t1 of the equilateral base (fig. 8)",
      ["rpr3", "sweep", "{configs}/rpr3-equilateral.yaml", "--over", "t2", "-o", "{out}/rpr3-equilateral"]),
     ("3-RPR synthesis (Table 1, figs. 9, 10)", ["rpr3", "synthesize", "{configs}/rpr3-table1.yaml", "-o", "{out}/rpr3-table1"]),
+    # MERGE WITH ISSUE 9 (`rpr3 pave`): after its step, add the octree page, e.g.
+    # ("3-RPR octree in a browser (view.html)", ["view", "{out}/<rpr3 pave folder>", "-o", "{out}/<rpr3 pave folder>/view.html"]),
 )
+FIGURE_STEPS = ("view",)  # commands that only draw: skipped with --no-plot (tables and trees only)
 
 
 @click.command(short_help="Regenerate every table and figure of both papers.")
@@ -31,14 +40,16 @@ REPRODUCTION = (  # (what, arguments); {configs} and {out} are filled in
               show_default=True, help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml cases.")
 @click.option("--out", "-o", type=click.Path(file_okay=False, path_type=Path), default=Path("outputs"),
               show_default=True, help="Output folder.")
-@click.option("--no-plot", is_flag=True, help="Skip the PNG figures (the tables and trees only).")
+@click.option("--no-plot", is_flag=True, help="Skip the PNG figures and HTML pages (the tables and trees only).")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
 def reproduce(configs, out, no_plot, quiet):
     """Regenerate every table and figure of both papers (what `make reproduce` runs).
 
     Runs, in order: the five-bar Table 1 (kratio), the joint space, workspace and aspects of
-    M1 and M2 at depth 10, and the 3-RPR construction, sweeps and synthesis. The .qt and CSV
-    files are deterministic: the tests diff them against tests/golden/ (make golden).
+    M1 and M2 at depth 10 with a view.html page of each (fivebar view), their sensitivity to
+    manufacturing tolerances (depth 9), and the 3-RPR construction, sweeps and synthesis. The
+    .qt and CSV files are deterministic: the tests diff them against tests/golden/ (make
+    golden). --no-plot skips the figures and the pages.
 
     \b
     Example:
@@ -48,6 +59,8 @@ def reproduce(configs, out, no_plot, quiet):
     root = click.get_current_context().find_root().command
     flags = (["--no-plot"] if no_plot else []) + (["--quiet"] if quiet else [])
     for number, (what, args) in enumerate(REPRODUCTION, start=1):
+        if no_plot and args[0] in FIGURE_STEPS:
+            continue
         argv = [a.format(configs=configs.as_posix(), out=out.as_posix()) for a in args] + flags
         report(quiet, f"[{number}/{len(REPRODUCTION)}] {what}: fivebar {' '.join(argv)}")
         root.main(args=argv, prog_name="fivebar", standalone_mode=False)

@@ -8,7 +8,9 @@ import click
 
 from fivebar_cli.analyses import spaces
 from fivebar_cli.analyses.compare import compare
-from fivebar_cli.cli.options import CONFIG, common_options, depth_option, figure, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import (
+    CONFIG, common_options, depth_option, figure, prepare_out, progress, report, tolerance_option, with_tolerance, wrote,
+)
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import ensure_dir
 from fivebar_cli.io.layout import sibling_paths
@@ -25,8 +27,9 @@ def _procedure_option(func):
     )(func)
 
 
-def _space_command(space: str, config_path: Path, depth: int, procedure: str, out, no_plot: bool, quiet: bool) -> None:
-    m = load_config(config_path, space=space)
+def _space_command(space: str, config_path: Path, depth: int, procedure: str, tolerance: float, out, no_plot: bool,
+                   quiet: bool) -> None:
+    m = with_tolerance(load_config(config_path, space=space), tolerance, config_path)
     if procedure not in m.procedures:
         raise InputError(str(config_path), "--procedure", f"a {m.kind} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
@@ -34,11 +37,22 @@ def _space_command(space: str, config_path: Path, depth: int, procedure: str, ou
     with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
         paving = spaces.pave_space(m, space, depth, procedure, on_level=lambda level, n: advance(1))
     paths = _write(folder, m, space, paving, procedure, paving.evaluations, no_plot)
-    dim = paving.grid.dim
-    report(quiet, f"{m.name} {space}, depth {depth} ({procedure} tests): {paving.evaluations} evaluations "
-           f"(K = {spaces.k_ratio(paving.evaluations, dim, depth):.4%}), certified inside "
-           f"{'area' if dim == 2 else 'volume'} {paving.inside.area:.10g}, undetermined {paving.undetermined_area:.4g}")
+    report(quiet, _summary(m, space, paving, procedure))
     wrote(quiet, paths)
+
+
+def _summary(m, space: str, paving, procedure: str) -> str:
+    dim, depth = paving.grid.dim, paving.grid.depth
+    head = (f"{m.name} {space}, depth {depth} ({procedure} tests): {paving.evaluations} evaluations "
+            f"(K = {spaces.k_ratio(paving.evaluations, dim, depth):.4%}), ")
+    if spaces.has_band(m):
+        possible = float(paving.grid.size.prod()) - paving.outside.area
+        exact = m.exact_measure(space)
+        return head + (f"robust area {paving.inside.area:.10g}, possible area {possible:.10g} "
+                       f"(uncertain band {paving.band.area:.4g}, undetermined {paving.undetermined_area:.4g})"
+                       + (f", nominal exact area {exact:.10g}" if exact is not None else ""))
+    return head + (f"certified inside {'area' if dim == 2 else 'volume'} {paving.inside.area:.10g}, "
+                   f"undetermined {paving.undetermined_area:.4g}")
 
 
 def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int, no_plot: bool) -> list[Path]:
@@ -50,8 +64,8 @@ def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int
         und = paving.undetermined_tree()
         s = m.spaces()[space]
         for complement, suffix in ((False, ""), (True, ".complement")):
-            paths.append(figure(lambda: figure_paving(m.name, s, paving.inside, paving.outside, und, complement),
-                                folder / f"{space}{suffix}.png"))
+            paths.append(figure(lambda: figure_paving(m.name, s, paving.inside, paving.outside, und, complement,
+                                                      paving.band), folder / f"{space}{suffix}.png"))
     return paths
 
 
@@ -59,8 +73,9 @@ def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @depth_option()
 @_procedure_option
+@tolerance_option
 @common_options
-def jointspace(config_path, depth, procedure, out, no_plot, quiet):
+def jointspace(config_path, depth, procedure, tolerance, out, no_plot, quiet):
     """Certified joint space of a mechanism: (th1, th2) on the torus [-pi, pi]^2 for a five-bar,
     the leg lengths (rho1, rho2) for a 2-RPR.
 
@@ -73,15 +88,16 @@ def jointspace(config_path, depth, procedure, out, no_plot, quiet):
     Example:
       fivebar jointspace configs/m1.yaml --depth 10 -o out/m1
     """
-    _space_command("jointspace", config_path, depth, procedure, out, no_plot, quiet)
+    _space_command("jointspace", config_path, depth, procedure, tolerance, out, no_plot, quiet)
 
 
 @click.command(short_help="Certified workspace (x, y) of a mechanism (fig. 6).")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @depth_option()
 @_procedure_option
+@tolerance_option
 @common_options
-def workspace(config_path, depth, procedure, out, no_plot, quiet):
+def workspace(config_path, depth, procedure, tolerance, out, no_plot, quiet):
     """Certified workspace (x, y) of a mechanism, on the root box [-(L1+L3), L1+L3]^2 for a five-bar.
 
     Black cells are reachable at every point; complement cells at no point. Writes workspace.qt,
@@ -92,7 +108,7 @@ def workspace(config_path, depth, procedure, out, no_plot, quiet):
     Example:
       fivebar workspace configs/m2.yaml --depth 12 -o out/m2
     """
-    _space_command("workspace", config_path, depth, procedure, out, no_plot, quiet)
+    _space_command("workspace", config_path, depth, procedure, tolerance, out, no_plot, quiet)
 
 
 @click.command(short_help="Deepen a saved paving, testing only undetermined cells.")
@@ -123,8 +139,8 @@ def refine(tree_path, depth, out, no_plot, quiet):
     m, space = saved.mechanism, saved.space
     paths = _write(folder, m, space, paving, saved.procedure, total, no_plot)
     report(quiet, f"{m.name} {space}: refined depth {old_depth} -> {depth} with {paving.evaluations} evaluations "
-           f"({saved.evaluations} saved by not retesting; a fresh run needs {total}), "
-           f"certified inside area {paving.inside.area:.10g}, undetermined {paving.undetermined_area:.4g}")
+           f"({saved.evaluations} saved by not retesting; a fresh run needs {total})")
+    report(quiet, "  " + _summary(m, space, paving, saved.procedure))
     wrote(quiet, paths)
 
 

@@ -13,6 +13,7 @@ from fivebar_cli.errors import InputError
 
 DEFAULT_ROOT = Path("outputs")
 COMPLEMENT = ".complement.qt"
+BAND = ".band.qt"
 
 
 def output_dir(out: str | Path | None, name: str) -> Path:
@@ -25,11 +26,19 @@ def paving_paths(folder: Path, space: str) -> tuple[Path, Path]:
     return folder / f"{space}.qt", folder / f"{space}{COMPLEMENT}"
 
 
+def band_path(folder: Path, space: str) -> Path:
+    """`<space>.band.qt`: the uncertain band of a paving with interval lengths (valid for some
+    length vectors, invalid for others)."""
+    return folder / f"{space}{BAND}"
+
+
 def sibling_paths(path: Path) -> tuple[Path, Path]:
-    """(inside, complement) paths of the pair a `.qt` or `.complement.qt` file belongs to."""
+    """(inside, complement) paths of the pair a `.qt`, `.complement.qt` or `.band.qt` file belongs to."""
     name = path.name
-    if name.endswith(COMPLEMENT):
-        return path.with_name(name[: -len(COMPLEMENT)] + ".qt"), path
+    for suffix in (COMPLEMENT, BAND):
+        if name.endswith(suffix):
+            inside = path.with_name(name[: -len(suffix)] + ".qt")
+            return inside, inside.with_name(name[: -len(suffix)] + COMPLEMENT)
     if name.endswith(".qt"):
         return path, path.with_name(name[: -len(".qt")] + COMPLEMENT)
     raise InputError(str(path), "", "expected a .qt file")

@@ -3,7 +3,10 @@
 Breadth-first: all boxes of a level go to the box test in one vectorised call (in chunks, to bound
 memory). A box test takes arrays lo, hi of shape (m, dim) and returns int8: 1 if every point of
 the box has the property, -1 if no point has it, 0 if it cannot tell. Boxes answering 0 are split
-into their 2^dim children until the maximum depth. The number of evaluations is the number of
+into their 2^dim children until the maximum depth. A test may also answer 2 (BAND): the box is
+certified to lie in a region that is neither inside nor outside, such as the uncertain band of a
+mechanism whose lengths are intervals (every point valid for some lengths, invalid for others);
+such boxes are decided and kept in the `band` tree, not split. The number of evaluations is the number of
 boxes tested: the root plus 2^dim per undetermined box above the maximum depth (the paper's
 n_quadtree).
 
@@ -24,7 +27,7 @@ from fivebar_cli.paving.morton import interleave
 from fivebar_cli.paving.tree import Tree
 
 BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
-INSIDE, OUTSIDE, UNDETERMINED = 1, -1, 0
+INSIDE, OUTSIDE, UNDETERMINED, BAND = 1, -1, 0, 2
 CHUNK = 1 << 16
 MAX_REFINE_CELLS = 1 << 26
 
@@ -38,6 +41,11 @@ class Paving:
     outside: Tree
     undetermined: np.ndarray  # integer coordinates of the undetermined cells at the maximum depth
     per_level: tuple[int, ...]  # boxes tested at each level 0..D
+    band: Tree | None = None  # cells certified neither inside nor outside (tests answering BAND)
+
+    def __post_init__(self) -> None:
+        if self.band is None:
+            object.__setattr__(self, "band", Tree.empty(self.grid))
 
     @property
     def evaluations(self) -> int:
@@ -81,25 +89,27 @@ def pave(grid: Grid, test: BoxTest, on_level: Callable[[int, int], None] | None 
 
 
 def refine(inside: Tree, outside: Tree, test: BoxTest, depth: int,
-           on_level: Callable[[int, int], None] | None = None) -> Paving:
+           on_level: Callable[[int, int], None] | None = None, band: Tree | None = None) -> Paving:
     """Deepen a saved paving to `depth`, testing only the children of its undetermined cells.
 
     The result equals a fresh `pave` at `depth`; its evaluation count is the fresh count minus the
-    evaluations of the original paving.
+    evaluations of the original paving. `band` holds the saved band cells, if the test has any.
     """
     grid = inside.grid
-    if outside.grid != grid:
-        raise ValueError("the inside and outside trees have different grids")
+    band = Tree.empty(grid) if band is None else band
+    if outside.grid != grid or band.grid != grid:
+        raise ValueError("the trees of the paving have different grids")
     if depth < grid.depth:
         raise ValueError(f"cannot refine a depth-{grid.depth} paving to the smaller depth {depth}")
-    open_cells = undetermined_cells(inside, outside)
+    open_cells = undetermined_cells(inside, outside, band)
     deeper = grid.with_depth(depth)
     per_level = [0] * (grid.depth + 1)
     if depth == grid.depth:
-        return Paving(deeper, inside, outside, open_cells, tuple(per_level))
+        return Paving(deeper, inside, outside, open_cells, tuple(per_level), band)
     return _descend(
         deeper, test, grid.depth + 1, children(open_cells),
         [(inside.level, inside.code)], [(outside.level, outside.code)], per_level, on_level,
+        [(band.level, band.code)] if len(band) else [],
     )
 
 
@@ -116,12 +126,13 @@ def deepen(grid: Grid, test: BoxTest, cells: np.ndarray, extra: int) -> Paving:
     return _descend(deeper, test, grid.depth + 1, children(cells), [], [], [0] * (grid.depth + 1), None)
 
 
-def undetermined_cells(inside: Tree, outside: Tree) -> np.ndarray:
-    """Depth-D coordinates of the cells certified neither inside nor outside."""
+def undetermined_cells(inside: Tree, outside: Tree, band: Tree | None = None) -> np.ndarray:
+    """Depth-D coordinates of the cells certified neither inside nor outside (nor in the band)."""
     grid = inside.grid
-    if len(inside.intersection(outside)):
+    decided = inside.union(outside)
+    if len(inside.intersection(outside)) or (band is not None and len(band.intersection(decided))):
         raise ValueError("the inside and outside trees overlap: not a paving pair")
-    gaps = inside.union(outside).complement()
+    gaps = (decided if band is None else decided.union(band)).complement()
     span = grid.depth - gaps.level
     total = int(np.sum(np.int64(1) << (grid.dim * span))) if len(gaps) else 0
     if total > MAX_REFINE_CELLS:
@@ -137,16 +148,16 @@ def undetermined_cells(inside: Tree, outside: Tree) -> np.ndarray:
     return coords.reshape(-1, grid.dim).astype(np.int64)
 
 
-def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, on_level) -> Paving:
+def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, on_level, band_parts=()) -> Paving:
     per_level = list(per_level)
-    inside_parts, outside_parts = list(inside_parts), list(outside_parts)
+    inside_parts, outside_parts, band_parts = list(inside_parts), list(outside_parts), list(band_parts)
     undetermined = np.zeros((0, grid.dim), dtype=np.int64)
     while True:
         if on_level is not None:
             on_level(level, len(coords))
         status = classify(grid, level, coords, test)
         per_level.append(len(coords))
-        for parts, value in ((inside_parts, INSIDE), (outside_parts, OUTSIDE)):
+        for parts, value in ((inside_parts, INSIDE), (outside_parts, OUTSIDE), (band_parts, BAND)):
             sel = coords[status == value]
             if len(sel):
                 parts.append((np.full(len(sel), level), interleave(sel, level)))
@@ -159,7 +170,8 @@ def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, 
         level += 1
     per_level += [0] * (grid.depth + 1 - len(per_level))
     return Paving(
-        grid, _tree(grid, inside_parts), _tree(grid, outside_parts), undetermined, tuple(per_level)
+        grid, _tree(grid, inside_parts), _tree(grid, outside_parts), undetermined, tuple(per_level),
+        _tree(grid, band_parts),
     )
 
 

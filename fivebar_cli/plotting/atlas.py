@@ -1,6 +1,7 @@
 """The atlas figure: heat maps of the metrics over the two fastest swept lengths, one row of panels
 per value of the other swept lengths (facets, at most MAX_FACETS evenly chosen); line plots when
-one length is swept. Grey: cannot be assembled; x: aspect count not certified."""
+one length is swept; robust panels too when the atlas has a tolerance. Grey: cannot be assembled;
+x: aspect count (robust count, for the robust panels) not certified."""
 
 from __future__ import annotations
 
@@ -11,8 +12,11 @@ import numpy as np
 from fivebar_cli.mechanisms.fivebar.model import LENGTHS
 from fivebar_cli.plotting import pyplot
 
-PANELS = (("aspects", "generalized aspects"), ("workspace_area", "workspace area"),
-          ("largest_aspect_area", "largest aspect: workspace area"))
+# (column, title, the column certifying it); the robust ones are drawn when atlas.csv has them
+PANELS = (("aspects", "generalized aspects", "certified"), ("workspace_area", "workspace area", "certified"),
+          ("largest_aspect_area", "largest aspect: workspace area", "certified"),
+          ("robust_aspects", "robust aspects", "robust_certified"),
+          ("robust_workspace_area", "robust workspace area", "robust_certified"))
 MAX_FACETS = 6
 
 
@@ -21,22 +25,27 @@ def _edges(values: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * values[0] - mid[0]], mid, [2 * values[-1] - mid[-1]]])
 
 
+def _panels(table: dict) -> tuple:
+    return tuple(p for p in PANELS if p[0] in table)
+
+
 def _grids(spec, table: dict) -> dict:
     """Each column of the table as an array over the swept lengths only (fixed axes dropped)."""
     keep = tuple(len(v) for v in spec.grid if len(v) > 1)
     out = {}
-    for name, _ in PANELS:
+    for name in ("assemblable", "certified", "robust_certified"):
+        if name in table:
+            out[name] = (np.array(table[name]) == "true").reshape(keep)
+    for name, _, _ in _panels(table):
         out[name] = np.array([float(v) for v in table[name]]).reshape(keep)
-    out["assemblable"] = (np.array(table["assemblable"]) == "true").reshape(keep)
-    out["certified"] = (np.array(table["certified"]) == "true").reshape(keep)
-    for name, _ in PANELS:
         out[name][~out["assemblable"]] = np.nan
     return out
 
 
 def _title(spec) -> str:
     fixed = ", ".join(f"{k} = {v[0]:g}" for k, v in zip(LENGTHS, spec.grid) if len(v) == 1)
-    return f"{spec.name}: depth {spec.depth}" + (f"; {fixed}" if fixed else "")
+    robust = f", tolerance {spec.tolerance:g}" if spec.tolerance > 0 else ""
+    return f"{spec.name}: depth {spec.depth}{robust}" + (f"; {fixed}" if fixed else "")
 
 
 def figure_atlas(spec, table: dict):
@@ -44,19 +53,19 @@ def figure_atlas(spec, table: dict):
     swept = [k for k, v in enumerate(spec.grid) if len(v) > 1]
     if not swept:
         return None
-    data = _grids(spec, table)
+    data, panels = _grids(spec, table), _panels(table)
     if len(swept) == 1:
-        return _lines(spec, swept[0], data)
-    return _heat_maps(spec, swept, data)
+        return _lines(spec, swept[0], data, panels)
+    return _heat_maps(spec, swept, data, panels)
 
 
-def _lines(spec, axis: int, data: dict):
+def _lines(spec, axis: int, data: dict, panels: tuple):
     plt = pyplot()
     x = np.array(spec.grid[axis])
-    fig, axes = plt.subplots(1, len(PANELS), figsize=(4.2 * len(PANELS), 3.6), dpi=120, squeeze=False)
-    for ax, (name, label) in zip(axes[0], PANELS):
+    fig, axes = plt.subplots(1, len(panels), figsize=(4.2 * len(panels), 3.6), dpi=120, squeeze=False)
+    for ax, (name, label, certificate) in zip(axes[0], panels):
         ax.plot(x, data[name], ".-", color="C0", lw=1)
-        bad = ~data["certified"] & data["assemblable"]
+        bad = ~data[certificate] & data["assemblable"]
         if bad.any():
             ax.plot(x[bad], data[name][bad], "x", color="C3", label="count not certified")
             ax.legend(fontsize=7)
@@ -77,7 +86,7 @@ def _facets(spec, outer: list[int]) -> list[tuple[int, ...]]:
     return [combos[i] for i in np.unique(np.linspace(0, len(combos) - 1, MAX_FACETS).round().astype(int))]
 
 
-def _heat_maps(spec, swept: list[int], data: dict):
+def _heat_maps(spec, swept: list[int], data: dict, panels: tuple):
     plt = pyplot()
     from matplotlib.colors import BoundaryNorm
 
@@ -85,18 +94,18 @@ def _heat_maps(spec, swept: list[int], data: dict):
     facets = _facets(spec, outer)
     x, y = np.array(spec.grid[kx]), np.array(spec.grid[ky])
     ex, ey = _edges(x), _edges(y)
-    counts = data["aspects"][np.isfinite(data["aspects"])]
+    counts = np.concatenate([data[n][np.isfinite(data[n])] for n, _, _ in panels if n.endswith("aspects")])
     levels = np.arange(counts.min() if counts.size else 0, (counts.max() if counts.size else 0) + 2) - 0.5
     cmap_counts = plt.get_cmap("viridis", max(1, len(levels) - 1))
-    fig, axes = plt.subplots(len(facets), len(PANELS), figsize=(4.4 * len(PANELS), 3.6 * len(facets) + 0.4),
+    fig, axes = plt.subplots(len(facets), len(panels), figsize=(4.4 * len(panels), 3.6 * len(facets) + 0.4),
                              dpi=120, squeeze=False)
     marker = max(4.0, 400.0 / max(len(x), len(y)))
     for row, facet in zip(axes, facets):
         where = f"{', '.join(f'{LENGTHS[k]} = {spec.grid[k][i]:g}' for k, i in zip(outer, facet))}: " if outer else ""
-        for ax, (name, label) in zip(row, PANELS):
+        for ax, (name, label, certificate) in zip(row, panels):
             values = data[name][facet]  # (len(x), len(y))
             ax.set_facecolor("0.8")
-            if name == "aspects":
+            if name.endswith("aspects"):
                 mesh = ax.pcolormesh(ex, ey, values.T, cmap=cmap_counts, norm=BoundaryNorm(levels, cmap_counts.N))
                 bar = fig.colorbar(mesh, ax=ax)
                 bar.set_ticks(levels[:-1] + 0.5)
@@ -104,7 +113,7 @@ def _heat_maps(spec, swept: list[int], data: dict):
             else:
                 mesh = ax.pcolormesh(ex, ey, values.T, cmap="magma")
                 fig.colorbar(mesh, ax=ax)
-            bad = ~data["certified"][facet] & data["assemblable"][facet]
+            bad = ~data[certificate][facet] & data["assemblable"][facet]
             if bad.any():
                 gx, gy = np.meshgrid(x, y, indexing="ij")
                 ax.scatter(gx[bad], gy[bad], marker="x", s=marker, color="red", linewidths=0.8)

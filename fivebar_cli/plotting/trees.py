@@ -15,7 +15,7 @@ from fivebar_cli.plotting import pyplot
 MAX_RASTER_LEVEL = 10
 MAX_OUTLINES = 12000
 WHITE = np.array([1.0, 1.0, 1.0])
-BLACK, RED, PALE = (0.0, 0.0, 0.0), (0.85, 0.15, 0.1), (0.88, 0.88, 0.88)
+BLACK, RED, PALE, AMBER = (0.0, 0.0, 0.0), (0.85, 0.15, 0.1), (0.88, 0.88, 0.88), (0.98, 0.7, 0.2)
 SPACE_TITLES = {"jointspace": "joint space", "workspace": "workspace"}
 SLICES = 4  # panels of a 3-D paving: slices at the centres of this many equal parts of the last axis
 
@@ -69,9 +69,11 @@ def _legend(ax, legend) -> None:
               loc="upper right", fontsize=7, framealpha=0.9)
 
 
-def figure_paving(name: str, space: Space, inside: Tree, outside: Tree, undetermined: Tree, complement: bool):
+def figure_paving(name: str, space: Space, inside: Tree, outside: Tree, undetermined: Tree, complement: bool,
+                  band: Tree | None = None):
     """Paper figures 3 and 6 (certified inside in black) or 4 (complementary space in black); a
-    3-D paving as slices at a few values of its last axis."""
+    3-D paving as slices at a few values of its last axis. With interval lengths the uncertain band
+    (valid for some lengths only) is drawn in amber."""
     shown, other = (outside, inside) if complement else (inside, outside)
     what = "complementary " if complement else ""
     title = (f"{name}: {what}{SPACE_TITLES.get(space.name, space.name)}, depth {inside.grid.depth} "
@@ -84,6 +86,9 @@ def figure_paving(name: str, space: Space, inside: Tree, outside: Tree, undeterm
     if not complement:
         legend.append(("certified outside", PALE))
         layers.insert(0, (other, PALE))
+    if band is not None and len(band):
+        legend.append(("uncertain band (valid for some lengths)", AMBER))
+        layers.insert(0, (band, AMBER))
     plt = pyplot()
     if space.dim == 2:
         fig, ax = plt.subplots(figsize=(6.4, 6.0), dpi=150)

@@ -3,7 +3,7 @@
 Every metric is one `Metric` in `METRICS`: a column name, a function of the `Design` (which
 computes the aspect analysis once, on first use, and shares it), and the value written for a
 design that cannot be assembled (whose analysis is skipped). Adding a metric is one line there;
-`robust=True` marks one that needs interval lengths (computed only when the tolerance is > 0).
+`robust=True` marks one of every length widened by the tolerance (a column only when it is > 0).
 """
 
 from __future__ import annotations
@@ -14,6 +14,7 @@ from functools import cached_property
 from typing import Callable
 
 from fivebar_cli.analyses.aspects import AspectAnalysis, analyse_aspects
+from fivebar_cli.analyses.spaces import pave_space
 from fivebar_cli.mechanisms.fivebar.model import LENGTHS, FiveBar
 
 TRUE, FALSE = "true", "false"
@@ -47,29 +48,50 @@ class Design:
         """The generalized aspects, as `fivebar aspects` computes them (default budget)."""
         return analyse_aspects(self.mechanism, self.depth)
 
+    @cached_property
+    def widened(self) -> FiveBar:
+        """Every length widened to [L - T, L + T] (as `--tolerance T`)."""
+        return self.mechanism.widened(self.tolerance)
+
+    @cached_property
+    def robust(self) -> AspectAnalysis:
+        """The robust aspects, as `fivebar aspects --tolerance T` computes them."""
+        return analyse_aspects(self.widened, self.depth)
+
 
 @dataclass(frozen=True)
 class Metric:
     name: str
     compute: Callable[[Design], object]  # a CSV cell: int, float or text
     unassemblable: object = ""  # the cell of a design that cannot be assembled
-    robust: bool = False  # needs interval lengths: a column only when the tolerance is > 0
+    robust: bool = False  # of the lengths widened by the tolerance: a column only when it is > 0
 
 
 def _flag(value: bool) -> str:
     return TRUE if value else FALSE
 
 
-def _largest_aspect_area(d: Design) -> float:
-    return max((a.workspace.area for a in d.analysis.aspects), default=0.0)
+def _largest(analysis: AspectAnalysis) -> float:
+    return max((a.workspace.area for a in analysis.aspects), default=0.0)
 
 
+def _robust_workspace_area(d: Design) -> float:
+    """The certified robust workspace area (`inside_area` of `fivebar workspace --tolerance T`)."""
+    return pave_space(d.widened, "workspace", d.depth).inside.area
+
+
+# A design that cannot be assembled has no robust configuration either (its nominal lengths lie in
+# the length box): 0 robust aspects, certified by the closed form, robust area 0.
 METRICS: tuple[Metric, ...] = (
     Metric("assemblable", lambda d: TRUE, FALSE),
     Metric("aspects", lambda d: len(d.analysis.aspects), 0),
     Metric("certified", lambda d: _flag(d.analysis.certified), TRUE),
     Metric("workspace_area", lambda d: d.mechanism.exact_measure("workspace"), 0.0),
-    Metric("largest_aspect_area", _largest_aspect_area, 0.0),
+    Metric("largest_aspect_area", lambda d: _largest(d.analysis), 0.0),
+    Metric("robust_aspects", lambda d: len(d.robust.aspects), 0, robust=True),
+    Metric("robust_certified", lambda d: _flag(d.robust.certified), TRUE, robust=True),
+    Metric("robust_workspace_area", _robust_workspace_area, 0.0, robust=True),
+    Metric("robust_largest_aspect_area", lambda d: _largest(d.robust), 0.0, robust=True),
 )
 
 

@@ -1,7 +1,8 @@
 """An atlas spec (`type: fivebar-atlas`): which five-bar designs to sweep, at which depth.
 
 A spec is not a mechanism kind: it names a grid of five-bars, each length fixed (a number) or
-swept (`[from, to, steps]`, evenly spaced, both ends included); every value is rounded to the 10
+swept (`[from, to, steps]`, evenly spaced, both ends included), and optionally a tolerance T
+(robust metrics of every length widened to [L - T, L + T]); every value is rounded to the 10
 significant digits of the CSV format, so `atlas.csv` names each design exactly. Designs are numbered in grid order,
 L0 slowest, L4 fastest. Read with the strict YAML and field checks of `io.schema`: every problem is
 one `file: field: message` line (exit status 2). Schema: docs/formats.md, "Atlas specs".
@@ -24,7 +25,6 @@ MAX_DEPTH = 16  # as `fivebar aspects` (cli.options.MAX_ASPECT_DEPTH)
 MAX_STEPS = 100_000
 MAX_DESIGNS = 10_000_000
 MAX_BATCH = 10_000
-TOLERANCE_LATER = "tolerance sweeps need interval lengths (not available yet)"
 
 
 @dataclass(frozen=True)
@@ -103,11 +103,19 @@ def parse_spec(data: dict, source: str) -> AtlasSpec:
     if size > MAX_DESIGNS:
         raise ConfigError(source, "lengths", f"{size} designs: at most {MAX_DESIGNS} in one atlas")
     depth = schema.integer(data.get("depth", DEFAULT_DEPTH), source, "depth", 0, MAX_DEPTH)
-    tolerance = schema.number(data.get("tolerance", 0.0), source, "tolerance", nonnegative=True)
-    if tolerance > 0:
-        raise ConfigError(source, "tolerance", TOLERANCE_LATER)
+    tolerance = check_tolerance(schema.number(data.get("tolerance", 0.0), source, "tolerance", nonnegative=True),
+                                grid, source, "tolerance")
     batch = schema.integer(data["batch"], source, "batch", 1, MAX_BATCH) if "batch" in data else None
     return AtlasSpec(name, grid, depth, tolerance, batch)
+
+
+def check_tolerance(tolerance: float, grid, source: str, field: str) -> float:
+    """The tolerance, when every length of the grid stays positive once widened by it."""
+    shortest = min(min(values) for values in grid)
+    if tolerance >= shortest:
+        raise ConfigError(source, field, f"{tolerance!r} would make the shortest length ({shortest!r}) reach "
+                                         f"{shortest - tolerance!r}: lengths must stay positive")
+    return tolerance
 
 
 def _length_values(value, source: str, field: str) -> tuple[float, ...]:
@@ -116,6 +124,9 @@ def _length_values(value, source: str, field: str) -> tuple[float, ...]:
         if isinstance(value, dict):
             raise ConfigError(source, field, "expected a number or [from, to, steps], got a mapping")
         return (exact_in_csv(schema.number(value, source, field, positive=True)),)
+    if len(value) == 2:
+        raise ConfigError(source, field, "expected a number or [from, to, steps], got [lo, hi]: an atlas sweeps "
+                                         "exact lengths; give 'tolerance: T' for robust metrics of [L - T, L + T]")
     if len(value) != 3:
         raise ConfigError(source, field, f"expected a number or [from, to, steps], got a list of {len(value)} items")
     lo = schema.number(value[0], source, f"{field}[0]", positive=True)

@@ -7,22 +7,29 @@ interval procedure), the exact workspace area and the aspect model.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 from typing import Mapping
 
 import numpy as np
 
 from fivebar_cli.io import schema
-from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields, description_numbers
-from fivebar_cli.mechanisms.fivebar import boxtests, paper
+from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields
+from fivebar_cli.mechanisms.fivebar import boxtests, paper, robust
 from fivebar_cli.mechanisms.fivebar.modes import FiveBarModes
+from fivebar_cli.mechanisms.fivebar.robust_modes import RobustFiveBarModes
 
 LENGTHS = ("L0", "L1", "L2", "L3", "L4")
 
 
 @dataclass(frozen=True)
 class FiveBar(Mechanism):
-    """Five-bar with A1 = (0, 0), A2 = (L0, 0), crank lengths L1, L2 and coupler lengths L3, L4."""
+    """Five-bar with A1 = (0, 0), A2 = (L0, 0), crank lengths L1, L2 and coupler lengths L3, L4.
+
+    Lengths may be intervals (manufacturing tolerances): `bounds` then holds (lo, hi) per length
+    and L0 .. L4 are the nominal lengths, the midpoints. Box tests are then robust (1: valid for
+    every length vector) or impossible (-1: for none); a zero-width interval is a plain length.
+    """
 
     name: str
     L0: float
@@ -30,35 +37,89 @@ class FiveBar(Mechanism):
     L2: float
     L3: float
     L4: float
+    bounds: tuple[tuple[float, float], ...] | None = None
 
     kind = "fivebar"
     procedures = ("exact", "paper")
+
+    def __post_init__(self) -> None:
+        if self.bounds is None:
+            object.__setattr__(self, "bounds", tuple((v, v) for v in self.lengths.values()))
 
     @property
     def lengths(self) -> dict[str, float]:
         return {k: getattr(self, k) for k in LENGTHS}
 
+    @property
+    def is_interval(self) -> bool:
+        """Whether some length is an interval of positive width."""
+        return any(lo < hi for lo, hi in self.bounds)
+
+    def nominal(self) -> "FiveBar":
+        """The same five-bar with its nominal lengths."""
+        return replace(self, bounds=None)
+
+    @classmethod
+    def with_bounds(cls, name: str, bounds) -> "FiveBar":
+        """A five-bar from (lo, hi) per length; nominal lengths are the midpoints."""
+        mids = [lo if lo == hi else 0.5 * (lo + hi) for lo, hi in bounds]
+        return cls(name, *mids, bounds=tuple((float(lo), float(hi)) for lo, hi in bounds))
+
+    def widened(self, tolerance: float, source: str = "--tolerance") -> "FiveBar":
+        """Every length widened by `tolerance` on both sides (ConfigError when a length would reach 0)."""
+        if not (math.isfinite(tolerance) and tolerance >= 0):
+            raise schema.ConfigError(source, "--tolerance", f"must be a finite number >= 0, got {tolerance!r}")
+        if tolerance == 0:
+            return self
+        for key, (lo, _) in zip(LENGTHS, self.bounds):
+            if lo - tolerance <= 0:
+                raise schema.ConfigError(source, "--tolerance", f"{tolerance!r} would make {key} reach "
+                                         f"{lo - tolerance!r}: lengths must stay positive")
+        return FiveBar.with_bounds(self.name, [(lo - tolerance, hi + tolerance) for lo, hi in self.bounds])
+
     @classmethod
     def parse(cls, data: Mapping, source: str = "<config>") -> "FiveBar":
+        """Lengths are positive numbers or intervals `[lo, hi]` with 0 < lo <= hi."""
         schema.check_keys(data, {"name", "type", "lengths"}, {"name", "type", "lengths"}, source)
         name = schema.name_field(data, source)
         lengths = schema.mapping(data, "lengths", source)
         schema.check_keys(lengths, set(LENGTHS), set(LENGTHS), source, "lengths.")
-        values = {k: schema.number(lengths[k], source, f"lengths.{k}", positive=True) for k in LENGTHS}
-        return cls(name=name, **values)
+        bounds = [_length(lengths[k], source, f"lengths.{k}") for k in LENGTHS]
+        if all(lo == hi for lo, hi in bounds):
+            return cls(name, *(lo for lo, _ in bounds))
+        return cls.with_bounds(name, bounds)
 
     @classmethod
     def from_description(cls, fields: Mapping[str, str], name: str, source: str) -> "FiveBar":
-        lengths = description_numbers(fields, LENGTHS, source)
+        extra = sorted(set(fields) - set(LENGTHS))
+        if extra:
+            raise schema.ConfigError(source, "mechanism", f"unknown parameter {extra[0]!r} in the mechanism description")
+        lengths = {}
+        for key in LENGTHS:
+            if key not in fields:
+                raise schema.ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
+            text = fields[key]
+            try:
+                if text.startswith("[") and text.endswith("]"):
+                    lengths[key] = [float(v) for v in text[1:-1].split(",")]
+                else:
+                    lengths[key] = float(text)
+            except ValueError:
+                raise schema.ConfigError(source, "mechanism", f"bad value {key}={text!r}") from None
         return cls.parse({"name": name, "type": cls.kind, "lengths": lengths}, source)
 
     def describe(self) -> str:
-        """One-line, round-trippable description (used in .qt headers)."""
-        return describe_fields(self.kind, self.lengths)
+        """One-line, round-trippable description (used in .qt headers): lengths as `L0=9.0`, or
+        `L0=[8.95,9.05]` for an interval."""
+        if not self.is_interval:
+            return describe_fields(self.kind, self.lengths)
+        return self.kind + "".join(f" {k}={lo!r}" if lo == hi else f" {k}=[{lo!r},{hi!r}]"
+                                   for k, (lo, hi) in zip(LENGTHS, self.bounds))
 
     def spaces(self) -> dict[str, Space]:
-        """Joint space: the torus [-pi, pi]^2; workspace: [-(L1+L3), L1+L3]^2, as in the paper."""
-        reach = self.L1 + self.L3
+        """Joint space: the torus [-pi, pi]^2; workspace: [-(L1+L3), L1+L3]^2, as in the paper (with
+        interval lengths the largest L1 + L3, so that the root holds every possible point)."""
+        reach = self.bounds[1][1] + self.bounds[3][1]
         return {
             "jointspace": Space("jointspace", "assemblable", (
                 Axis("theta1", -np.pi, np.pi, "rad", periodic=True, label=r"$\theta_1$"),
@@ -68,6 +129,10 @@ class FiveBar(Mechanism):
         }
 
     def box_test(self, space: str, procedure: str = "exact"):
+        if self.is_interval:
+            if procedure != "exact":
+                raise schema.ConfigError(self.name, "--procedure", "the paper's procedure has no interval version")
+            return {"jointspace": robust.joint_space_test, "workspace": robust.workspace_test}[space](self)
         tests = {
             ("jointspace", "exact"): boxtests.joint_space_test,
             ("workspace", "exact"): boxtests.workspace_test,
@@ -77,7 +142,9 @@ class FiveBar(Mechanism):
         return tests[space, procedure](self)
 
     def exact_measure(self, space: str) -> float | None:
-        """The workspace is the intersection of two annuli: its area is exact (arcs, Green)."""
+        """The workspace is the intersection of two annuli: its area is exact (arcs, Green); with
+        interval lengths, that of the nominal five-bar. No closed form is known for the joint space
+        (`jointspace_area` integrates one numerically)."""
         return boxtests.workspace_area(self) if space == "workspace" else None
 
     def printed_k_percent(self, space: str, depth: int) -> int | None:
@@ -85,4 +152,21 @@ class FiveBar(Mechanism):
         return paper.printed_percent(self, space, depth)
 
     def aspect_model(self) -> FiveBarModes:
-        return FiveBarModes(self)
+        """Working and assembly modes; with interval lengths the aspects are robust (their cells
+        are non-singular with their modes for every length vector), matched through the nominal
+        kinematics."""
+        return RobustFiveBarModes(self) if self.is_interval else FiveBarModes(self)
+
+
+def _length(value, source: str, field: str) -> tuple[float, float]:
+    """A length: a positive number, or `[lo, hi]` with 0 < lo <= hi."""
+    if isinstance(value, list):
+        if len(value) != 2:
+            raise schema.ConfigError(source, field, f"expected a number or an interval [lo, hi], got {schema.short(value)}")
+        lo = schema.number(value[0], source, f"{field}[0]", positive=True)
+        hi = schema.number(value[1], source, f"{field}[1]", positive=True)
+        if lo > hi:
+            raise schema.ConfigError(source, field, f"the interval [{lo!r}, {hi!r}] has lo > hi")
+        return lo, hi
+    v = schema.number(value, source, field, positive=True)
+    return v, v

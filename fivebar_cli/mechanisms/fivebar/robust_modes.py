@@ -1,0 +1,130 @@
+"""Mode-restricted box tests of a five-bar with interval lengths: the cells of robust aspects.
+
+A box is black for a working mode (workspace) or an assembly mode (joint space) when every point
+of it is reachable, non-singular and in that mode for every length vector of the length box; -1
+when no point is reachable for any; BAND when every point of it is out of reach for some length
+vector (so none is robust; `robust.py`'s band tests). Elsewhere 0: such boxes are split.
+
+The cells a singular curve sweeps as the lengths vary stay 0 at every depth: they bound the robust
+aspects from outside, as undetermined cells do in the nominal analysis.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from fivebar_cli.mechanisms.fivebar import modes, robust
+from fivebar_cli.mechanisms.fivebar.boxtests import box_trig
+from fivebar_cli.numerics.ranges import direction_range, sin_sign
+from fivebar_cli.paving.engine import BAND
+
+
+def _clip(d2range, r_in, r_out, delta):
+    lo = np.sqrt(np.maximum(d2range[0] - delta, 0.0))
+    hi = np.sqrt(np.maximum(d2range[1] + delta, 0.0))
+    return np.clip(lo, r_in, r_out), np.clip(hi, r_in, r_out)
+
+
+def workspace_mode_classifier(m, working: tuple[int, int]):
+    """Per box, for one working mode: (status 1/-1/0 of reach, strictly inside both annuli for every
+    L, sign of det A over the box and every L where the configuration exists, 0 if not constant)."""
+    su, sv = working
+    delta, _ = robust.margins(m)
+
+    def classify(lo, hi):
+        reach, impossible, strict = robust.workspace_classes(m, lo, hi)
+        d1, d2 = robust.leg_ranges(m, lo, hi)
+        _, _, p1_in, p1_out = robust.radii(m, 1, 3)
+        _, _, p2_in, p2_out = robust.radii(m, 2, 4)
+        a1 = direction_range(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1])
+        wlo, whi = robust.widened(m, lo, hi)
+        a2 = direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1])
+        g1 = robust.triangle_angle_range3(*_clip(d1, p1_in, p1_out, delta), m.bounds[3], m.bounds[1])
+        g2 = robust.triangle_angle_range3(*_clip(d2, p2_in, p2_out, delta), m.bounds[4], m.bounds[2])
+        t3 = (a1[0] + g1[0], a1[1] + g1[1]) if su > 0 else (a1[0] - g1[1], a1[1] - g1[0])
+        t4 = (a2[0] + g2[0], a2[1] + g2[1]) if sv > 0 else (a2[0] - g2[1], a2[1] - g2[0])
+        status = np.where(reach, 1, np.where(impossible, -1, 0)).astype(np.int8)
+        return status, strict, sin_sign(t4[0] - t3[1], t4[1] - t3[0])
+
+    return classify
+
+
+def working_mode_workspace_test(m, working):
+    """Black when every P of the box is reachable, non-singular and in this working mode for every L."""
+    classify = workspace_mode_classifier(m, working)
+
+    def test(lo, hi):
+        status, strict, sign = classify(lo, hi)
+        out = robust.workspace_band(m, lo, hi, possible_too=False)  # no point robust: none in a robust aspect
+        return np.where(status == -1, -1, np.where(strict & (sign != 0), 1, np.where(out, BAND, 0))).astype(np.int8)
+
+    return test
+
+
+def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
+    """Per box: (status 1/-1/0, free of parallel singularity for every L, sign B11, sign B22 over
+    the box and every L where it assembles, 0 where not constant); with `with_band` also whether
+    no point assembles robustly."""
+    trig = box_trig(lo, hi)
+    bounds = robust.crank_distance_bounds(m, lo, hi, trig)
+    d_lo, d_hi = bounds["low"], bounds["high"]
+    reach, impossible = robust.joint_status(m, d_lo, d_hi)
+    strict, _ = robust.joint_status(m, d_lo, d_hi, strict=True)
+    (l3, u3), (l4, u4) = m.bounds[3], m.bounds[4]
+    p_in = 0.0 if max(l3, l4) <= min(u3, u4) else min(abs(l3 - u4), abs(l4 - u3))
+    _, eta = robust.margins(m)
+    d_lo = np.maximum(np.clip(d_lo - eta, p_in, u3 + u4), eta)  # beta is undefined at d = 0
+    d_hi = np.clip(d_hi + eta, p_in, u3 + u4)
+    a_lo, a_hi = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[3], m.bounds[4])
+    e_lo, e_hi = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[4], m.bounds[3])
+    b_lo, b_hi = robust.crank_direction_range(m, lo, hi, trig)
+    if assembly > 0:
+        t3 = (b_lo + a_lo, b_hi + a_hi)
+        t4 = (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
+    else:
+        t3 = (b_lo - a_hi, b_hi - a_lo)
+        t4 = (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
+    u = sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0])
+    v = sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
+    status = np.where(reach, 1, np.where(impossible, -1, 0)).astype(np.int8)
+    if with_band:
+        return status, strict, u, v, robust.joint_band(m, bounds, possible_too=False)
+    return status, strict, u, v
+
+
+def assembly_mode_joint_test(m, assembly: int):
+    """Black when every (th1, th2) of the box assembles in this mode, non-singular, for every L."""
+
+    def test(lo, hi):
+        status, strict, u, v, out = joint_mode_classes(m, assembly, lo, hi, with_band=True)
+        black = strict & (u != 0) & (v != 0)
+        return np.where(status == -1, -1, np.where(black, 1, np.where(out, BAND, 0))).astype(np.int8)
+
+    return test
+
+
+@dataclass(frozen=True)
+class RobustFiveBarModes(modes.FiveBarModes):
+    """The `AspectModel` of a five-bar with interval lengths: black cells are non-singular with their
+    modes for every length vector (this module); samples are mapped between the spaces with the
+    nominal kinematics (the nominal lengths are in the length box)."""
+
+    def workspace_test(self, working):
+        return working_mode_workspace_test(self.m, working)
+
+    def jointspace_test(self, assembly):
+        return assembly_mode_joint_test(self.m, assembly)
+
+    def serial_band_signs(self, assembly, lo, hi):
+        _, strict, u, v = joint_mode_classes(self.m, assembly, lo, hi)
+        return strict, np.column_stack([u, v])
+
+    def workspace_signs(self, working, lo, hi):
+        status, _, sign = workspace_mode_classifier(self.m, working)(lo, hi)
+        return status != -1, sign[:, None]
+
+    def jointspace_signs(self, assembly, lo, hi):
+        status, _, u, v = joint_mode_classes(self.m, assembly, lo, hi)
+        return status != -1, np.column_stack([u, v])
