@@ -12,12 +12,12 @@ import sys
 
 import numpy as np
 import pytest
-from cli_helpers import ENV, PNG_MAGIC, ok, one_line, run_cli
+from cli_helpers import ENV, PNG_MAGIC, REPO, ok, one_line, run_cli
 
 from fivebar_cli.analyses.atlas.engine import batch_text, plan_atlas, run_plan
 from fivebar_cli.analyses.atlas.metrics import METRICS, assemblable, columns
 from fivebar_cli.analyses.atlas.parts import batch_span
-from fivebar_cli.analyses.atlas.spec import AtlasSpec, default_batch, parse_spec
+from fivebar_cli.analyses.atlas.spec import AtlasSpec, default_batch, parse_spec, read_spec
 from fivebar_cli.analyses.spaces import pave_space
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
@@ -315,6 +315,14 @@ def test_tolerance_in_the_spec_and_too_large_on_the_command_line(spec_file, tmp_
     r = run_cli("atlas", spec_file, "--workers", "0", "--tolerance", "0.3", "-o", "o", cwd=tmp_path)
     one_line(r, 2, "t.yaml: --tolerance: ", "would make the shortest length (0.3) reach 0.0")
     assert not (tmp_path / "o").exists()
+
+
+def test_the_readme_spec_reads_and_other_commands_refuse_it(tmp_path):
+    spec = read_spec(REPO / "configs" / "atlas-l1-l3.yaml")
+    assert (spec.size, spec.shape, spec.depth, spec.swept) == (625, (1, 25, 1, 25, 1), 9, ("L1", "L3"))
+    assert spec.grid[1][:3] == (0.4, 0.45, 0.5) and spec.grid[1][-1] == 1.6
+    r = run_cli("aspects", REPO / "configs" / "atlas-l1-l3.yaml", "-o", "o", cwd=tmp_path)
+    one_line(r, 2, "atlas-l1-l3.yaml: type: ", "fivebar-atlas")
 
 
 def test_workers_and_scheduler_together_is_a_usage_error(spec_file, tmp_path):
