@@ -32,7 +32,7 @@ def default_workers() -> int:
               help="Use the existing Dask cluster whose scheduler is at ADDRESS (tcp://HOST:PORT).")
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_ASPECT_DEPTH), default=None,
               help=f"Depth of every design's analyses (0..{MAX_ASPECT_DEPTH}) [default: the spec's depth].")
-@click.option("--tolerance", type=click.FloatRange(0, None), default=None,
+@click.option("--tolerance", metavar="T", type=click.FloatRange(0, None), default=None,
               help="Add robust metrics of every length widened to [L - T, L + T] (as `fivebar aspects "
                    "--tolerance T`); 0: none [default: the spec's tolerance].")
 @click.option("--restart", is_flag=True, help="Discard the parts of an earlier run in OUT/atlas.parts/ and start afresh.")
