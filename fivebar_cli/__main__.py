@@ -1,5 +1,10 @@
-"""`python -m fivebar_cli` runs the command-line tool."""
+"""`python -m fivebar_cli` runs the command-line tool.
 
-from fivebar_cli.cli import main
+Guarded: worker processes started with the `spawn` method (Dask's LocalCluster) import the main
+module again under another name, and must not run the command a second time.
+"""
 
-main()
+if __name__ == "__main__":
+    from fivebar_cli.cli import main
+
+    main()

@@ -22,3 +22,9 @@ class InputError(FivebarError, ValueError):
 
 class OutputError(FivebarError, OSError):
     """An output could not be written, exit status 1."""
+
+
+class Interrupted(FivebarError):
+    """Ctrl-C or SIGTERM, raised by the CLI's signal handlers (cli/main.py) so that click does not turn
+    it into its own Abort, and so that the atomic writer removes its temporary file on the way out.
+    Code that wraps errors lets it through unchanged."""

@@ -300,3 +300,21 @@ def leaf_bounds(tree) -> tuple[np.ndarray, np.ndarray]:
     width = (root[:, 1] - root[:, 0])[None, :] / (2.0 ** level)[:, None]
     lo = root[:, 0] + coords * width
     return lo, lo + width
+
+
+# 12 five-bars of `fivebar atlas` tests (test_atlas.py, test_atlas_dask.py): L0 in {0.5, 1.75, 3},
+# L3 in {0.3, 0.6, 0.9, 1.2}; six cannot be assembled
+ATLAS_SPEC = """name: t
+type: fivebar-atlas
+lengths: {L0: [0.5, 3.0, 3], L1: 0.4, L2: 0.4, L3: [0.3, 1.2, 4], L4: 0.3}
+depth: 6
+batch: 1
+"""
+
+
+@pytest.fixture(scope="module")
+def spec_file(tmp_path_factory):
+    """ATLAS_SPEC written to t.yaml."""
+    path = tmp_path_factory.mktemp("spec") / "t.yaml"
+    path.write_text(ATLAS_SPEC)
+    return path

@@ -711,7 +711,8 @@ def test_read_only_output_folder_exits_1(seeds, tmp_path, name):
 # ---------------------------------------------------------------- help, version, unknown commands
 
 
-HELP = [[], ["rpr3"], ["jointspace"], ["workspace"], ["aspects"], ["locate"], ["kratio"], ["refine"], ["diff"], ["view"],
+HELP = [[], ["rpr3"], ["jointspace"], ["workspace"], ["aspects"], ["locate"], ["atlas"], ["kratio"], ["refine"], ["diff"],
+        ["tolerance"], ["view"],
         ["reproduce"], ["rpr3", "area"], ["rpr3", "sweep"], ["rpr3", "synthesize"]]
 
 

@@ -15,6 +15,7 @@ import click
 
 from fivebar_cli import __version__
 from fivebar_cli.cli.aspects import aspects, locate
+from fivebar_cli.cli.atlas import atlas
 from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.path import path
 from fivebar_cli.cli.reproduce import reproduce
@@ -22,7 +23,7 @@ from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
 from fivebar_cli.cli.tolerance import tolerance
 from fivebar_cli.cli.view import view
-from fivebar_cli.errors import FivebarError
+from fivebar_cli.errors import FivebarError, Interrupted
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -39,6 +40,7 @@ def cli() -> None:
       fivebar aspects configs/m1.yaml --depth 10
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
       fivebar path configs/m1.yaml --pose 4 5 --pose 6 8 --working-mode ++
+      fivebar atlas configs/atlas-l1-l3.yaml --workers 2
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
       fivebar view outputs/M1
@@ -46,13 +48,9 @@ def cli() -> None:
     """
 
 
-for command in (jointspace, workspace, aspects, locate, path, kratio, refine, diff, tolerance, view, rpr3, reproduce):
+for command in (jointspace, workspace, aspects, locate, path, atlas, kratio, refine, diff, tolerance, view, rpr3,
+                reproduce):
     cli.add_command(command)
-
-
-class Interrupted(FivebarError):
-    """Ctrl-C or SIGTERM. Raised from the signal handler so that click does not turn it into its own
-    Abort, and so that the atomic writer removes its temporary file on the way out."""
 
 
 def _on_sigint(signum, frame):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import time
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Iterator
@@ -83,13 +84,25 @@ def figure(make, path: Path) -> Path:
 
 
 @contextmanager
-def progress(quiet: bool, length: int, label: str) -> Iterator:
-    """A progress bar on stderr, silent with --quiet or when stderr is not a terminal.
+def progress(quiet: bool, length: int, label: str, unit: str | None = None) -> Iterator:
+    """A progress bar on stderr, silent with --quiet or when stderr is not a terminal; with `unit`,
+    it also shows the count done and the rate (`12.5 designs/s`).
 
     Yields a callable `advance(n=1)`.
     """
     if quiet or not sys.stderr.isatty():
         yield lambda n=1: None
         return
-    with click.progressbar(length=length, label=label, file=sys.stderr, show_eta=True) as bar:
-        yield bar.update
+    start, done = time.monotonic(), [0]
+
+    def rate(_item) -> str | None:
+        elapsed = time.monotonic() - start
+        return f"{done[0] / elapsed:.3g} {unit}/s" if unit and done[0] and elapsed > 0 else None
+
+    with click.progressbar(length=length, label=label, file=sys.stderr, show_eta=True, show_pos=unit is not None,
+                           item_show_func=rate) as bar:
+        def advance(n: int = 1) -> None:
+            done[0] += n
+            bar.update(n, n)
+
+        yield advance

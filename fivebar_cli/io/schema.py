@@ -127,6 +127,15 @@ def number(value: Any, source: str, field: str, *, positive: bool = False, nonne
     return x
 
 
+def integer(value: Any, source: str, field: str, lo: int, hi: int) -> int:
+    """A YAML integer (not a boolean, not a float) in [lo, hi]."""
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ConfigError(source, field, f"expected an integer, got {kind_of(value)} {short(value)}")
+    if not lo <= value <= hi:
+        raise ConfigError(source, field, f"must be between {lo} and {hi}, got {short(value)}")
+    return value
+
+
 def short(value: Any) -> str:
     text = repr(value)
     return text if len(text) <= 40 else text[:37] + "..."

@@ -1,0 +1,121 @@
+"""`fivebar atlas SPEC`: sweep a grid of five-bar designs (in-process or on Dask), resumably."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import time
+from contextlib import nullcontext
+
+import click
+
+from fivebar_cli.analyses.atlas.engine import in_process, plan_atlas, run_plan
+from fivebar_cli.analyses.atlas.parts import read_table
+from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
+from fivebar_cli.cli.options import CONFIG, MAX_ASPECT_DEPTH, common_options, figure, prepare_out, progress, report, wrote
+
+
+def default_workers() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+@click.command(short_help="Sweep five-bar designs into an atlas of metrics (Dask, resumable).")
+@click.argument("spec_path", metavar="SPEC", type=CONFIG)
+@click.option("--workers", "-w", type=click.IntRange(0, 1024), default=None,
+              help="Worker processes of a local Dask cluster, one thread each [default: the number of cores]; "
+                   "0: run in this process, without Dask.")
+@click.option("--scheduler", metavar="ADDRESS", default=None,
+              help="Use the existing Dask cluster whose scheduler is at ADDRESS (tcp://HOST:PORT).")
+@click.option("--depth", "-d", type=click.IntRange(0, MAX_ASPECT_DEPTH), default=None,
+              help=f"Depth of every design's analyses (0..{MAX_ASPECT_DEPTH}) [default: the spec's depth].")
+@click.option("--tolerance", metavar="T", type=click.FloatRange(0, None), default=None,
+              help="Add robust metrics of every length widened to [L - T, L + T] (as `fivebar aspects "
+                   "--tolerance T`); 0: none [default: the spec's tolerance].")
+@click.option("--restart", is_flag=True, help="Discard the parts of an earlier run in OUT/atlas.parts/ and start afresh.")
+@common_options
+def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot, quiet):
+    """Sweep a grid of five-bar designs and tabulate, per design: whether it can be assembled,
+    its number of generalized aspects and whether that count is certified (as `fivebar aspects`
+    at the same depth), its workspace area (exact) and the workspace area of its largest aspect.
+    With a tolerance T > 0 (the spec's `tolerance:` or --tolerance), the same for the robust
+    aspects and workspace of every length widened to [L - T, L + T] (as `fivebar aspects
+    --tolerance T` and `fivebar workspace --tolerance T`).
+
+    The spec (`type: fivebar-atlas`) gives each length a number (fixed) or [from, to, steps]
+    (swept); designs are in grid order, L0 slowest, L4 fastest. Batches of designs run on a
+    local Dask cluster (--workers N), an existing one (--scheduler), or in this process
+    (--workers 0). Each finished batch is kept in OUT/atlas.parts/: a rerun after Ctrl-C, a kill
+    or a lost worker computes only the missing batches. Writes OUT/atlas.csv (the same bytes
+    whatever the workers or scheduler) and atlas.png (heat maps over the swept lengths).
+
+    \b
+    Examples:
+      fivebar atlas atlas.yaml --workers 2 -o out/atlas
+      fivebar atlas atlas.yaml --scheduler tcp://10.0.0.5:8786 --depth 10
+      fivebar atlas atlas.yaml --workers 0 --no-plot
+      fivebar atlas atlas.yaml --tolerance 0.01 -o out/atlas-robust
+    """
+    if workers is not None and scheduler is not None:
+        raise click.UsageError("give --workers or --scheduler, not both")
+    spec = read_spec(spec_path)
+    if depth is not None:
+        spec = dataclasses.replace(spec, depth=depth)
+    if tolerance is not None:
+        spec = dataclasses.replace(spec, tolerance=check_tolerance(tolerance, spec.grid, str(spec_path), "--tolerance"))
+    folder = prepare_out(out, spec.name)
+    plan = plan_atlas(spec, folder, restart)
+    workers = default_workers() if workers is None and scheduler is None else workers
+    robust = f", tolerance {spec.tolerance:g}" if spec.tolerance > 0 else ""
+    report(quiet, f"{spec.name}: {spec.size} designs at depth {spec.depth}{robust}, {plan.batches} batches of "
+           f"{spec.batch_size}: {plan.batches - len(plan.todo)} done before, {len(plan.todo)} to compute")
+    start = time.monotonic()
+    with _runner(workers, scheduler, len(plan.todo)) as runner:
+        if plan.todo and runner is not in_process:
+            connected = runner.workers
+            report(quiet, f"  on {runner.where} ({connected} workers connected"
+                   + (": the batches wait for workers)" if connected == 0 else ")"))
+        with progress(quiet, plan.designs_todo, "designs", unit="designs") as advance:
+            path = run_plan(plan, runner, advance)
+    seconds = time.monotonic() - start
+    table = read_table(path)
+    if plan.todo:
+        report(quiet, f"  computed {plan.designs_todo} designs in {seconds:.1f} s ({plan.designs_todo / seconds:.3g} designs/s)")
+    assemblable = table["assemblable"].count("true")
+    certified = _certified(table, "certified")
+    report(quiet, f"  {assemblable} can be assembled; the aspect count is certified for {certified} of them"
+           + (f" (not for {assemblable - certified}: raise --depth)" if certified < assemblable else ""))
+    if spec.tolerance > 0:
+        report(quiet, f"  the robust aspect count (tolerance {spec.tolerance:g}) is certified for "
+               f"{_certified(table, 'robust_certified')} of them")
+    paths = [path]
+    if not no_plot:
+        from fivebar_cli.plotting.atlas import figure_atlas
+
+        if spec.swept:
+            paths.append(figure(lambda: figure_atlas(spec, table), folder / "atlas.png"))
+        else:
+            report(quiet, "  no figure: no length is swept")
+    wrote(quiet, paths)
+
+
+def _certified(table: dict, column: str) -> int:
+    """Designs that can be assembled and whose count in `column` is certified."""
+    return sum(a == "true" and c == "true" for a, c in zip(table["assemblable"], table[column]))
+
+
+def _runner(workers: int | None, scheduler: str | None, needed: int):
+    """The context of a runner: in this process, a local Dask cluster (no more workers than the
+    `needed` batches), or an existing one."""
+    if scheduler is not None and needed:
+        from fivebar_cli.analyses.atlas.cluster import existing_cluster
+
+        return existing_cluster(scheduler)
+    if workers and needed:
+        from fivebar_cli.analyses.atlas.cluster import local_cluster
+
+        return local_cluster(min(workers, needed))
+    return nullcontext(in_process)
