@@ -21,8 +21,8 @@ from fivebar_cli.analyses.atlas.spec import AtlasSpec, default_batch, parse_spec
 from fivebar_cli.analyses.spaces import pave_space
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
-HEADER = "L0,L1,L2,L3,L4,assemblable,aspects,certified,workspace_area,largest_aspect_area"
-ROBUST = ",robust_aspects,robust_certified,robust_workspace_area,robust_largest_aspect_area"  # with a tolerance
+HEADER = "L0,L1,L2,L3,L4,assemblable,aspects,certified,workspace_area,largest_aspect_area,circle_r"
+ROBUST = ",robust_aspects,robust_certified,robust_workspace_area,robust_largest_aspect_area,robust_circle_r"  # with a tolerance
 # the designs of ATLAS_SPEC (conftest.py, fixture spec_file) that cannot be assembled
 UNASSEMBLABLE = {(1.75, 0.3), (1.75, 0.6), (3.0, 0.3), (3.0, 0.6), (3.0, 0.9), (3.0, 1.2)}
 
@@ -119,10 +119,13 @@ def test_atlas_csv_rows_in_grid_order(atlas_run):
         dead = (float(r["L0"]), float(r["L3"])) in UNASSEMBLABLE
         assert r["assemblable"] == ("false" if dead else "true")
         if dead:  # documented values: no aspect, a certified (closed-form) zero, empty workspace
-            assert (r["aspects"], r["certified"], r["workspace_area"], r["largest_aspect_area"]) == ("0", "true", "0", "0")
+            assert (r["aspects"], r["certified"], r["workspace_area"], r["largest_aspect_area"], r["circle_r"]) == (
+                "0", "true", "0", "0", "0")
         else:
             assert int(r["aspects"]) > 0 and float(r["largest_aspect_area"]) > 0
             assert float(r["workspace_area"]) > float(r["largest_aspect_area"])
+            # the disc lies in one aspect: its area is at most the largest aspect's
+            assert 0 < np.pi * float(r["circle_r"]) ** 2 <= float(r["largest_aspect_area"])
     assert "12 designs at depth 6, 12 batches of 1: 0 done before, 12 to compute" in result.stdout
     assert "6 can be assembled" in result.stdout
 
@@ -146,6 +149,7 @@ def test_rows_agree_with_fivebar_aspects_and_workspace(atlas_run, tmp_path):
         assert not certified or all(a["certified"] == "true" for a in aspects)
         largest = max(aspects, key=lambda a: float(a["workspace_area"]))["workspace_area"]
         assert r["largest_aspect_area"] == largest
+        assert float(r["circle_r"]) == max(float(a["circle_r"] or 0) for a in aspects)
         ok(run_cli("workspace", config, "--depth", "2", "-o", tmp_path / f"w{k}", "--no-plot", "-q", cwd=tmp_path))
         assert r["workspace_area"] == table((tmp_path / f"w{k}" / "workspace.csv").read_text())[0]["exact_area"]
         uncertified += r["certified"] == "false"
@@ -301,6 +305,8 @@ def test_tolerance_rows_agree_with_fivebar_aspects_and_workspace_with_tolerance(
         assert r["robust_certified"] == ("true" if "(certified;" in a.stdout.splitlines()[0] else "false")
         largest = max((float(x["workspace_area"]) for x in aspects), default=0.0)
         assert float(r["robust_largest_aspect_area"]) == largest
+        assert float(r["robust_circle_r"]) == max((float(x["circle_r"] or 0) for x in aspects), default=0.0)
+        assert float(r["robust_circle_r"]) <= float(r["circle_r"])  # within tolerance: never a larger disc
         ok(run_cli("workspace", config, "--depth", "5", "--tolerance", "0.01", "-o", f"w{k}", "--no-plot", "-q", cwd=tmp_path))
         inside = table((tmp_path / f"w{k}" / "workspace.csv").read_text())[0]["inside_area"]
         assert r["robust_workspace_area"] == inside

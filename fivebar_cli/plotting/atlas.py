@@ -15,6 +15,7 @@ from fivebar_cli.plotting import pyplot
 # (column, title, the column certifying it); the robust ones are drawn when atlas.csv has them
 PANELS = (("aspects", "generalized aspects", "certified"), ("workspace_area", "workspace area", "certified"),
           ("largest_aspect_area", "largest aspect: workspace area", "certified"),
+          ("circle_r", "largest singularity-free circle: radius", "certified"),
           ("robust_aspects", "robust aspects", "robust_certified"),
           ("robust_workspace_area", "robust workspace area", "robust_certified"))
 MAX_FACETS = 6

@@ -75,6 +75,12 @@ def _largest(analysis: AspectAnalysis) -> float:
     return max((a.workspace.area for a in analysis.aspects), default=0.0)
 
 
+def _circle_r(analysis: AspectAnalysis) -> float:
+    """The radius of the largest certified disc inside one aspect's workspace (`circle_r` of
+    `aspects.csv`, largest over the aspects); 0 when no aspect has workspace cells."""
+    return max((a.circle.r for a in analysis.aspects if a.circle is not None), default=0.0)
+
+
 def _robust_workspace_area(d: Design) -> float:
     """The certified robust workspace area (`inside_area` of `fivebar workspace --tolerance T`)."""
     return pave_space(d.widened, "workspace", d.depth).inside.area
@@ -88,10 +94,12 @@ METRICS: tuple[Metric, ...] = (
     Metric("certified", lambda d: _flag(d.analysis.certified), TRUE),
     Metric("workspace_area", lambda d: d.mechanism.exact_measure("workspace"), 0.0),
     Metric("largest_aspect_area", lambda d: _largest(d.analysis), 0.0),
+    Metric("circle_r", lambda d: _circle_r(d.analysis), 0.0),
     Metric("robust_aspects", lambda d: len(d.robust.aspects), 0, robust=True),
     Metric("robust_certified", lambda d: _flag(d.robust.certified), TRUE, robust=True),
     Metric("robust_workspace_area", _robust_workspace_area, 0.0, robust=True),
     Metric("robust_largest_aspect_area", lambda d: _largest(d.robust), 0.0, robust=True),
+    Metric("robust_circle_r", lambda d: _circle_r(d.robust), 0.0, robust=True),
 )
 
 

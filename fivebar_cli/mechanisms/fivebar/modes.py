@@ -192,20 +192,26 @@ class FiveBarModes:
     working_modes = WORKING_MODES
     assembly_modes = ASSEMBLY_MODES
     serial_names = ("B11", "B22")
+    # the box tests and classifiers of exact lengths; RobustFiveBarModes swaps in those of interval lengths
+    _workspace_test = staticmethod(working_mode_workspace_test)
+    _jointspace_test = staticmethod(assembly_mode_joint_test)
+    _parallel_free_test = staticmethod(parallel_free_joint_test)
+    _joint_classes = staticmethod(joint_mode_classes)
+    _workspace_classifier = staticmethod(workspace_mode_classifier)
 
     @property
     def length_scale(self) -> float:
         return scale(self.m)
 
     def workspace_test(self, working):
-        return working_mode_workspace_test(self.m, working)
+        return self._workspace_test(self.m, working)
 
     def jointspace_test(self, assembly):
-        return assembly_mode_joint_test(self.m, assembly)
+        return self._jointspace_test(self.m, assembly)
 
     def parallel_free_test(self, assembly):
         """Joint-space boxes assemblable in `assembly` with det A != 0 (serial singularities allowed)."""
-        return parallel_free_joint_test(self.m)
+        return self._parallel_free_test(self.m)
 
     def assembly_signs(self, working, points):
         return workspace_assembly_sign(self.m, working, points)
@@ -224,13 +230,13 @@ class FiveBarModes:
         return np.column_stack(mode_values(self.m, joints[:, 0], joints[:, 1], poses))
 
     def serial_band_signs(self, assembly, lo, hi):
-        _, strict, u, v = joint_mode_classes(self.m, assembly, lo, hi)
+        _, strict, u, v = self._joint_classes(self.m, assembly, lo, hi)
         return strict, np.column_stack([u, v])
 
     def workspace_signs(self, working, lo, hi):
-        status, _, sign = workspace_mode_classifier(self.m, working)(lo, hi)
+        status, _, sign = self._workspace_classifier(self.m, working)(lo, hi)
         return status != -1, sign[:, None]
 
     def jointspace_signs(self, assembly, lo, hi):
-        status, _, u, v = joint_mode_classes(self.m, assembly, lo, hi)
+        status, _, u, v = self._joint_classes(self.m, assembly, lo, hi)
         return status != -1, np.column_stack([u, v])

@@ -124,23 +124,8 @@ class RobustFiveBarModes(modes.FiveBarModes):
     modes for every length vector (this module); samples are mapped between the spaces with the
     nominal kinematics (the nominal lengths are in the length box)."""
 
-    def workspace_test(self, working):
-        return working_mode_workspace_test(self.m, working)
-
-    def jointspace_test(self, assembly):
-        return assembly_mode_joint_test(self.m, assembly)
-
-    def parallel_free_test(self, assembly):
-        return parallel_free_joint_test(self.m)
-
-    def serial_band_signs(self, assembly, lo, hi):
-        _, strict, u, v = joint_mode_classes(self.m, assembly, lo, hi)
-        return strict, np.column_stack([u, v])
-
-    def workspace_signs(self, working, lo, hi):
-        status, _, sign = workspace_mode_classifier(self.m, working)(lo, hi)
-        return status != -1, sign[:, None]
-
-    def jointspace_signs(self, assembly, lo, hi):
-        status, _, u, v = joint_mode_classes(self.m, assembly, lo, hi)
-        return status != -1, np.column_stack([u, v])
+    _workspace_test = staticmethod(working_mode_workspace_test)
+    _jointspace_test = staticmethod(assembly_mode_joint_test)
+    _parallel_free_test = staticmethod(parallel_free_joint_test)
+    _joint_classes = staticmethod(joint_mode_classes)
+    _workspace_classifier = staticmethod(workspace_mode_classifier)

@@ -32,6 +32,10 @@ from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.ranges import angle_inside
 
+REACHABLE = "reachable"  # the regions a box test decides (the `region:` of the .qt files)
+PLUS = "singularity-free det J > 0"
+MINUS = "singularity-free det J < 0"
+
 ETA_REL = 1e-9  # distances: margin relative to the scale of the mechanism
 ANGLE_TOL = 1e-9  # radians added to each end of an arc (covers the rounding of degrees -> radians)
 D2R = math.pi / 180.0
@@ -232,8 +236,6 @@ def leg_lengths(m, poses: np.ndarray) -> np.ndarray:
 
 def region_test(m, region: str):
     """The box test of one region of the workspace (see the module docstring)."""
-    from fivebar_cli.mechanisms.rpr3.model import MINUS, PLUS, REACHABLE
-
     g = Geometry.of(m)
     if region == REACHABLE:
         return lambda lo, hi: reach_status(g, lo, hi)

@@ -27,13 +27,11 @@ import numpy as np
 
 from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields, description_numbers
-from fivebar_cli.mechanisms.rpr3 import closed_form
+from fivebar_cli.mechanisms.rpr3 import boxtests, closed_form
+from fivebar_cli.mechanisms.rpr3.boxtests import MINUS, PLUS, REACHABLE
 
 SIMILAR_KEYS = ("t1", "t2", "t3", "k", "rho_min", "rho_max", "phi1", "phi2")
 GENERAL_KEYS = ("B1", "B2", "B3", "P1", "P2", "P3", "rho_min", "rho_max", "phi1", "phi2")
-REACHABLE = "reachable"
-PLUS = "singularity-free det J > 0"
-MINUS = "singularity-free det J < 0"
 REGION_FILES = {REACHABLE: "workspace", PLUS: "singularity-free.plus", MINUS: "singularity-free.minus"}
 PHI_LIMIT = 1e6  # degrees: beyond, a float angle has no resolution left for the box tests
 FLAT_BASE = 1e7  # circumradius / longest side above which the closed forms refuse the base
@@ -157,8 +155,6 @@ class Rpr3(Mechanism):
         return (REACHABLE, PLUS, MINUS)
 
     def box_test(self, space: str, procedure: str = "exact", region: str | None = None):
-        from fivebar_cli.mechanisms.rpr3 import boxtests
-
         if space not in self.spaces() or procedure != "exact":
             raise KeyError((space, procedure))
         return boxtests.region_test(self, region or REACHABLE)
@@ -313,8 +309,6 @@ def _exact_volumes(m: Rpr3) -> tuple[float, float, int]:
 def _inside_sign(m: Rpr3, phi: float) -> int:
     """Sign of det J inside the singularity circle at orientation phi (radians): det J is a
     non-zero multiple of |X - o|^2 - R^2 there, so its centre o decides."""
-    from fivebar_cli.mechanisms.rpr3 import boxtests
-
     d = m._design()
     (ox, oy), _ = closed_form.singularity_circle(*d.design, phi)
     phi_deg = math.degrees(phi) + 360.0 * math.floor(m.phi_range[0] / 360.0)
