@@ -152,16 +152,23 @@ def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray):
     d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
     a_lo, a_hi = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
     e_lo, e_hi = triangle_angle_range(d_lo, d_hi, m.L4, m.L3)
-    b_lo, b_hi = _crank_direction_range(m, lo, hi, trig)
-    if sa > 0:
+    u, v = serial_signs(sa, lo, hi, _crank_direction_range(m, lo, hi, trig), (a_lo, a_hi), (e_lo, e_hi))
+    return status, strict, u, v
+
+
+def serial_signs(assembly: int, lo, hi, b, a, e):
+    """Signs of B11 and B22 over boxes of (th1, th2) (0 where not constant), from the ranges of the
+    direction b of B2 - B1 and of the coupler triangle's angles a (at B1) and e (at B2): in this
+    assembly mode th3 = b + a, th4 = b + pi - e (b - a, b + pi + e in the other), and the signs
+    are those of sin(th3 - th1) and sin(th4 - th2)."""
+    (b_lo, b_hi), (a_lo, a_hi), (e_lo, e_hi) = b, a, e
+    if assembly > 0:
         t3 = (b_lo + a_lo, b_hi + a_hi)
         t4 = (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
     else:
         t3 = (b_lo - a_hi, b_hi - a_lo)
         t4 = (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
-    u = sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0])
-    v = sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
-    return status, strict, u, v
+    return sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0]), sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
 
 
 def _crank_direction_range(m, lo, hi, trig):

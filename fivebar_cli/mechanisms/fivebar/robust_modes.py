@@ -79,15 +79,8 @@ def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
     d_hi = np.clip(d_hi + eta, p_in, u3 + u4)
     a_lo, a_hi = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[3], m.bounds[4])
     e_lo, e_hi = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[4], m.bounds[3])
-    b_lo, b_hi = robust.crank_direction_range(m, lo, hi, trig)
-    if assembly > 0:
-        t3 = (b_lo + a_lo, b_hi + a_hi)
-        t4 = (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
-    else:
-        t3 = (b_lo - a_hi, b_hi - a_lo)
-        t4 = (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
-    u = sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0])
-    v = sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
+    b = robust.crank_direction_range(m, lo, hi, trig)
+    u, v = modes.serial_signs(assembly, lo, hi, b, (a_lo, a_hi), (e_lo, e_hi))
     status = np.where(reach, 1, np.where(impossible, -1, 0)).astype(np.int8)
     if with_band:
         return status, strict, u, v, robust.joint_band(m, bounds, possible_too=False)
