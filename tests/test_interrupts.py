@@ -94,18 +94,22 @@ def old_aspects(tmp_path_factory) -> Path:
 def killed_aspects(tmp_path_factory, old_aspects):
     """`aspects --depth 10` (with figures) SIGKILLed while it replaces the outputs of a depth-6 run."""
     root = tmp_path_factory.mktemp("killed-aspects")
-    before = snapshot(old_aspects)
+    return snapshot(old_aspects), kill_copies(root, old_aspects, ASPECT_TRIGGERS,
+                                              lambda folder: ["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"])
+
+
+def kill_copies(root, old, triggers, command):
+    """For each trigger, a copy of `old` under `root` and the result of `command(copy)` SIGKILLed at
+    that trigger: [(trigger, folder, result)], two runs at a time."""
 
     def one(i_trigger):
         i, trigger = i_trigger
         folder = root / f"run{i}"
-        shutil.copytree(old_aspects, folder)
-        result = interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], root, folder, trigger,
-                           signal.SIGKILL)
-        return trigger, folder, result
+        shutil.copytree(old, folder)
+        return trigger, folder, interrupt(command(folder), root, folder, trigger, signal.SIGKILL)
 
     with ThreadPoolExecutor(2) as pool:
-        return before, list(pool.map(one, enumerate(ASPECT_TRIGGERS)))
+        return list(pool.map(one, enumerate(triggers)))
 
 
 @pytest.mark.parametrize("index", range(len(ASPECT_TRIGGERS)), ids=[f"{k}-{v}" for k, v in ASPECT_TRIGGERS])
@@ -144,18 +148,8 @@ def killed_reproduce(tmp_path_factory):
     root = tmp_path_factory.mktemp("killed-reproduce")
     old = root / "old"
     shutil.copytree(REPO / "tests" / "golden", old, ignore=shutil.ignore_patterns(".*"))
-    before = snapshot(old)
-
-    def one(i_trigger):
-        i, trigger = i_trigger
-        folder = root / f"run{i}"
-        shutil.copytree(old, folder)
-        result = interrupt(["reproduce", "--configs", CONFIGS, "-o", folder, "-q"], root, folder, trigger,
-                           signal.SIGKILL)
-        return trigger, folder, result
-
-    with ThreadPoolExecutor(2) as pool:
-        return before, list(pool.map(one, enumerate(REPRODUCE_TRIGGERS)))
+    return snapshot(old), kill_copies(root, old, REPRODUCE_TRIGGERS,
+                                      lambda folder: ["reproduce", "--configs", CONFIGS, "-o", folder, "-q"])
 
 
 @pytest.mark.parametrize("index", range(len(REPRODUCE_TRIGGERS)), ids=[f"{k}-{v}" for k, v in REPRODUCE_TRIGGERS])
