@@ -1,5 +1,6 @@
-"""Interrupted runs (issue 5, item 3): SIGKILL and Ctrl-C leave every output either in its old
-version or complete, and Ctrl-C ends with status 1 and one line on stderr, never a traceback.
+"""Interrupted runs (issue 5, item 3; issue 20): SIGKILL and Ctrl-C leave every output either in its
+old version or complete, and Ctrl-C ends with status 130 (SIGTERM 143) and one line on stderr, never
+a traceback.
 
 A signal needs a process: these runs are `python -m fivebar_cli` subprocesses (cli_helpers.command),
 killed while they replace the outputs of an earlier run, at fixed moments or as soon as they have
@@ -193,11 +194,11 @@ def interrupted_by_ctrl_c(tmp_path_factory, old_aspects):
         signal.signal(signal.SIGINT, previous)
 
 
-def test_ctrl_c_exits_1_without_traceback_or_temporary_file(interrupted_by_ctrl_c):
+def test_ctrl_c_exits_130_without_traceback_or_temporary_file(interrupted_by_ctrl_c):
     before, results = interrupted_by_ctrl_c
     for folder, r in results:
         assert r.fired
-        assert r.status == 1, (r.status, r.stderr)
+        assert r.status == 130, (r.status, r.stderr)
         assert "Traceback" not in r.stderr and "Traceback" not in r.stdout
         last = r.stderr.strip().splitlines()[-1]
         assert last.startswith("fivebar: ") and ("interrupt" in last or "abort" in last), r.stderr
@@ -206,7 +207,7 @@ def test_ctrl_c_exits_1_without_traceback_or_temporary_file(interrupted_by_ctrl_
 
 def test_ctrl_c_prints_exactly_one_line(interrupted_by_ctrl_c):
     for _, r in interrupted_by_ctrl_c[1]:
-        one_line(r, 1)
+        one_line(r, 130)
 
 
 def test_ctrl_c_while_writing_removes_the_temporary_file(tmp_path, monkeypatch):
@@ -246,7 +247,7 @@ def test_ctrl_c_right_after_the_temporary_file_is_created(tmp_path, monkeypatch)
 
 
 def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
-    """SIGTERM (a scheduler, `kill`) while `aspects` writes: status 1, one line, no temporary file,
+    """SIGTERM (a scheduler, `kill`) while `aspects` writes: status 143, one line, no temporary file,
     every output old or complete."""
     folder = tmp_path / "run"
     shutil.copytree(old_aspects, folder)
@@ -254,6 +255,6 @@ def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
     r = interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], tmp_path, folder, ("tmp", 1),
                   signal.SIGTERM)
     assert r.fired
-    line = one_line(r, 1, "terminated")
+    line = one_line(r, 143, "terminated")
     assert line.startswith("fivebar: ")
     check_whole(folder, before, allow_tmp=False)

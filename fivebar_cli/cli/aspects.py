@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
+from fivebar_cli.analyses.aspect_files import aspect_set, load_aspects, write_aspects
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
 from fivebar_cli.analyses.crossings import crossing_pattern, paper_claim_verdict
 from fivebar_cli.analyses.locate import locate_configurations, motions
@@ -19,14 +19,14 @@ from fivebar_cli.cli.options import (
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.io.schema import ConfigError
-from fivebar_cli.mechanisms.base import Mechanism
+from fivebar_cli.mechanisms.base import Mechanism, article
 from fivebar_cli.mechanisms.registry import load_config
 
 
 def _load_with_aspects(config_path, tolerance: float = 0.0) -> Mechanism:
     m = with_tolerance(load_config(config_path), tolerance, config_path)
     if m.aspect_model() is None:
-        raise ConfigError(str(config_path), "type", f"a {m.kind} has no working and assembly modes (no aspects)")
+        raise ConfigError(str(config_path), "type", f"{article(m.kind)} has no working and assembly modes (no aspects)")
     return m
 
 
@@ -77,14 +77,15 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
         analysis = analyse_aspects(m, depth, advance, budget)
         nominal = analyse_aspects(m.nominal(), depth, advance, budget, shapes=False) if robust else None
         fates = aspect_fates(nominal, analysis) if robust else []
-    paths = write_aspects(folder, analysis)
-    if not no_plot:
-        from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
+    with aspect_set(folder):
+        paths = write_aspects(folder, analysis)
+        if not no_plot:
+            from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
 
-        paths.append(figure(lambda: figure_aspects_workspace(analysis), folder / "aspects-workspace.png"))
-        for am in analysis.model.assembly_modes:
-            paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
-                                folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
+            paths.append(figure(lambda: figure_aspects_workspace(analysis), folder / "aspects-workspace.png"))
+            for am in analysis.model.assembly_modes:
+                paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
+                                    folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
     report(quiet, analysis.headline())
     for a in analysis.aspects:
         shapes = (f", largest circle r {a.circle.r:.6g}, square side {a.square.side:.6g}"

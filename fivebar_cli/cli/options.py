@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sys
 import time
 from contextlib import contextmanager
@@ -10,24 +11,75 @@ from typing import Iterator
 
 import click
 
-from fivebar_cli.io.files import ensure_dir, save_figure
+from fivebar_cli.io.files import check_writable_dir, save_figure
 from fivebar_cli.io.layout import output_dir
 
 MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need several GiB
 MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
 
 CONFIG = click.Path(path_type=Path, dir_okay=False)
+STDOUT = "-"  # `-o -`: a single-file output written to standard output
+STDOUT_META = "fivebar.data_on_stdout"  # click context meta: the report then goes to standard error
 
 
-def common_options(func):
-    """`-o/--out DIR`, `--no-plot`, `--quiet`: the options every analysis command takes."""
+class FiniteFloat(click.ParamType):
+    """A finite float (no nan, no inf), optionally within [lo, hi]: every number of the command line."""
+
+    name = "number"
+
+    def __init__(self, lo: float | None = None, hi: float | None = None):
+        self.lo, self.hi = lo, hi
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, float) and math.isfinite(value):
+            x = value
+        else:
+            try:
+                x = float(value)
+            except (TypeError, ValueError):
+                self.fail(f"{value!r} is not a number", param, ctx)
+            if not math.isfinite(x):
+                self.fail(f"{value!r} is not a finite number", param, ctx)
+        if (self.lo is not None and x < self.lo) or (self.hi is not None and x > self.hi):
+            bounds = (f">= {self.lo:g}" if self.hi is None else f"<= {self.hi:g}" if self.lo is None
+                      else f"in [{self.lo:g}, {self.hi:g}]")
+            self.fail(f"{value!r} is not {bounds}", param, ctx)
+        return x
+
+
+FINITE = FiniteFloat()
+
+
+def common_options(func=None, *, single: str | None = None):
+    """`-o/--out DIR`, `--no-plot`, `--quiet`: the options every analysis command takes. `single`
+    names the one file a command writes without figures; `-o -` then writes it to standard output
+    (`data_on_stdout`)."""
+    if func is None:
+        return lambda f: common_options(f, single=single)
+    dash = (f" `-o -` writes {single} to standard output (no figure)." if single else "")
     func = click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors; no progress bar.")(func)
     func = click.option("--no-plot", is_flag=True, help="Skip the PNG figures (faster).")(func)
     func = click.option(
         "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-        help="Output folder [default: outputs/<config name>/].",
+        help="Output folder [default: outputs/<config name>/]." + dash,
     )(func)
     return func
+
+
+def data_on_stdout(out: Path | None) -> bool:
+    """Whether `-o -` asks for the single-file output on standard output; the report lines then go
+    to standard error, so that standard output holds the data only."""
+    if out is None or str(out) != STDOUT:
+        return False
+    click.get_current_context().find_root().meta[STDOUT_META] = True
+    return True
+
+
+def refuse_stdout(out: Path | None, what: str) -> None:
+    """UsageError for `-o -` on a command whose output is several files."""
+    if out is not None and str(out) == STDOUT:
+        raise click.UsageError(f"-o -: this command writes {what}, not one file: give a folder "
+                               "(./- for a folder named '-')")
 
 
 def depth_option(default: int = 10, limit: int = MAX_DEPTH):
@@ -50,20 +102,30 @@ def with_tolerance(m, tolerance: float, source):
         return m
     if not hasattr(m, "widened"):
         from fivebar_cli.io.schema import ConfigError
+        from fivebar_cli.mechanisms.base import article
 
-        raise ConfigError(str(source), "--tolerance", f"a {m.kind} has no interval lengths")
+        raise ConfigError(str(source), "--tolerance", f"{article(m.kind)} has no interval lengths")
     return m.widened(tolerance, str(source))
 
 
-def prepare_out(out: Path | None, name: str) -> Path:
-    """Resolve and create the output folder (outputs/<name>/ unless --out is given)."""
-    return ensure_dir(output_dir(out, name))
+def prepare_out(out: Path | None, name: str, what: str = "several files") -> Path:
+    """The output folder (outputs/<name>/ unless --out is given), checked before any computation:
+    it is created only when the command writes its first file, so a failed run leaves no folder.
+    `-o -` is refused (`what` the command writes instead)."""
+    refuse_stdout(out, what)
+    return check_writable_dir(output_dir(out, name))
 
 
 def report(quiet: bool, message: str) -> None:
-    """A line of the run summary on stdout (silent with --quiet)."""
+    """A line of the run summary on stdout (silent with --quiet; on stderr when stdout holds data)."""
     if not quiet:
-        click.echo(message)
+        ctx = click.get_current_context(silent=True)
+        click.echo(message, err=bool(ctx and ctx.find_root().meta.get(STDOUT_META)))
+
+
+def plural(n: int, word: str, words: str | None = None) -> str:
+    """'1 aspect', '2 aspects' (`words`: an irregular plural)."""
+    return f"{n} {word if n == 1 else (words or word + 's')}"
 
 
 def wrote(quiet: bool, paths) -> None:
@@ -78,9 +140,25 @@ def figure(make, path: Path) -> Path:
 
     fig = make()
     try:
+        literal_texts(fig)
         return save_figure(fig, path)
     finally:
         pyplot().close(fig)
+
+
+def literal_texts(fig) -> None:
+    """Titles, legends and notes are drawn as written, not as mathtext: they hold names from the
+    user's files, where `$` is a character (`$\\foo$` would otherwise fail to draw). Axis labels
+    and tick labels keep their mathtext (theta_1, 10^2)."""
+    texts = [fig._suptitle, *fig.texts]
+    for legend in [*fig.legends, *(ax.get_legend() for ax in fig.axes)]:
+        if legend is not None:
+            texts += [*legend.get_texts(), legend.get_title()]
+    for ax in fig.axes:
+        texts += [ax.title, ax._left_title, ax._right_title, *ax.texts]
+    for text in texts:
+        if text is not None:
+            text.set_parse_math(False)
 
 
 @contextmanager
