@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import shutil
 import subprocess
 import sys
@@ -191,6 +192,27 @@ def test_rerun_computes_only_missing_or_damaged_parts(atlas_run, spec_file, tmp_
     res = ok(run_cli("atlas", spec_file, "--workers", "0", "-o", folder, "--no-plot", cwd=tmp_path))
     assert "12 done before, 0 to compute" in res.stdout and "computed" not in res.stdout
     assert (folder / "atlas.csv").read_bytes() == (out / "atlas.csv").read_bytes()
+
+
+def test_parts_edited_by_hand_fail_their_checksum_and_are_computed_again(atlas_run, spec_file, tmp_path):
+    """A part edited into another whole-looking part (a count 'banana', an area 'NaN', the row of
+    the right design) is never taken into atlas.csv: its checksum in the manifest fails, a warning
+    names it, and it is computed again."""
+    out, _ = atlas_run
+    folder = tmp_path / "o"
+    shutil.copytree(out / "atlas.parts", folder / "atlas.parts")
+    manifest = json.loads((folder / "atlas.parts" / "manifest.json").read_text())
+    assert sorted(manifest["parts"]) == [f"part-{i:08d}.csv" for i in range(12)]
+    for index, bad in ((0, lambda row: row[:6] + ["banana"] + row[7:]), (4, lambda row: row[:8] + ["NaN"] + row[9:])):
+        path = folder / "atlas.parts" / f"part-{index:08d}.csv"
+        header, row = path.read_text().splitlines()
+        path.write_text(header + "\n" + ",".join(bad(row.split(","))) + "\n")
+    res = ok(run_cli("atlas", spec_file, "--workers", "0", "-o", folder, "--no-plot", cwd=tmp_path))
+    assert "10 done before, 2 to compute" in res.stdout
+    warning = [line for line in res.stderr.splitlines() if line.startswith("fivebar: warning:")]
+    assert len(warning) == 1 and "part-00000000.csv, part-00000004.csv are not whole" in warning[0], res.stderr
+    assert (folder / "atlas.csv").read_bytes() == (out / "atlas.csv").read_bytes()
+    assert "banana" not in (folder / "atlas.csv").read_text() and "NaN" not in (folder / "atlas.csv").read_text()
 
 
 def test_parts_of_another_atlas_are_refused_then_discarded_with_restart(atlas_run, spec_file, tmp_path):

@@ -90,7 +90,7 @@ def depth_option(default: int = 10, limit: int = MAX_DEPTH):
 def tolerance_option(func):
     """`--tolerance T`: every link length widened to [L - T, L + T] (manufacturing tolerances)."""
     return click.option(
-        "--tolerance", type=click.FloatRange(0, None), default=0.0, show_default=True,
+        "--tolerance", type=FiniteFloat(0), default=0.0, show_default=True,
         help="Widen every link length to [L - T, L + T]: black then means valid for every length in "
              "the box (robust), the complement valid for none (impossible).",
     )(func)
@@ -135,10 +135,32 @@ def wrote(quiet: bool, paths) -> None:
 
 
 def figure(make, path: Path) -> Path:
-    """Draw a figure with `make()`, save it atomically as PNG, free it."""
+    """Draw a figure with `make()`, save it atomically as PNG, free it. Names from the user's files
+    (in titles and legends) are drawn as written (`literal_texts`); a name whose `$...$` is not even
+    valid mathtext makes the figure be drawn again with every text literal but the axis labels."""
     from fivebar_cli.plotting import pyplot
 
-    fig = make()
+    before = set(pyplot().get_fignums())
+    try:
+        return _save(make(), path)
+    except ValueError as exc:  # matplotlib's mathtext parser, on a `$` of a name
+        if "Parse" not in type(exc).__name__ + str(exc):
+            raise
+        for number in set(pyplot().get_fignums()) - before:
+            pyplot().close(number)  # the figure that failed to draw
+    import matplotlib
+
+    with matplotlib.rc_context({"text.parse_math": False}):
+        fig = make()
+    for ax in fig.axes:
+        for label in (ax.xaxis.label, ax.yaxis.label):
+            label.set_parse_math(True)  # the axis labels are ours (theta_1, rho_1, ...)
+    return _save(fig, path)
+
+
+def _save(fig, path: Path) -> Path:
+    from fivebar_cli.plotting import pyplot
+
     try:
         literal_texts(fig)
         return save_figure(fig, path)
