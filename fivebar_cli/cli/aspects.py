@@ -68,7 +68,7 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     \b
     Examples:
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
-      fivebar aspects configs/m1.yaml --depth 10 --tolerance 0.05 -o out/m1-tol
+      fivebar aspects configs/m1.yaml --depth 8 --tolerance 0.05 -o out/m1-tol --no-plot
     """
     m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)

@@ -63,7 +63,8 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
       fivebar atlas configs/atlas-small.yaml --workers 2 -o out/atlas
       fivebar atlas configs/atlas-small.yaml --workers 0 --no-plot
       fivebar atlas configs/atlas-small.yaml --workers 0 --depth 5 --tolerance 0.01 -o out/atlas-robust
-      fivebar atlas configs/atlas-l1-l3.yaml --scheduler tcp://10.0.0.5:8786 --depth 10   # your cluster
+
+    On a cluster: --scheduler tcp://HOST:8786 (README, "Sweeping designs").
     """
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both")

@@ -37,17 +37,17 @@ def cli() -> None:
     """Certified joint space, workspace and aspects of planar parallel robots.
 
     \b
-    Examples:
-      fivebar jointspace configs/m1.yaml --depth 10
+    Examples (each also in its command's help; -o out/...: outputs/<name>/ without it):
+      fivebar jointspace configs/m1.yaml --depth 10 -o out/m1
       fivebar workspace configs/m2.yaml --depth 12 -o out/m2
-      fivebar aspects configs/m1.yaml --depth 10
-      fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
+      fivebar aspects configs/m1.yaml --depth 10 -o out/m1
+      fivebar locate configs/m1.yaml --pose 4 5
       fivebar path configs/m1.yaml --pose 4 5 --pose 6 8 --working-mode ++
-      fivebar atlas configs/atlas-l1-l3.yaml --workers 2
-      fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
+      fivebar atlas configs/atlas-small.yaml --workers 2 -o out/atlas
+      fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10 -o out
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
-      fivebar view outputs/M1
-      fivebar reproduce
+      fivebar view out/m1
+      fivebar reproduce -o out/check --no-plot
     """
 
 

@@ -46,11 +46,11 @@ def rpr3() -> None:
     certified octrees of any 3-RPR in (x, y, phi) (pave, verify).
 
     \b
-    Examples:
-      fivebar rpr3 area configs/rpr3-equilateral.yaml
+    Examples (each also in its command's help):
+      fivebar rpr3 area configs/rpr3-equilateral.yaml -o out/equilateral
       fivebar rpr3 sweep configs/rpr3-acute.yaml configs/rpr3-equilateral.yaml configs/rpr3-obtuse.yaml --over phi
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
-      fivebar rpr3 pave configs/rpr3-general.yaml --depth 7
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
     """
 
@@ -389,7 +389,7 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
 
     \b
     Example:
-      fivebar rpr3 pave configs/rpr3-general.yaml --depth 7 -o out/general
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
     """
     from fivebar_cli.analyses import spaces
 
@@ -478,7 +478,7 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     \b
     Examples:
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
-      fivebar rpr3 verify configs/rpr3-verify/obtuse-phi1-rule.yaml --depth 14
+      fivebar rpr3 verify configs/rpr3-verify/obtuse-phi1-rule.yaml     # exit 1: a singular pose is found
     """
     from fivebar_cli.mechanisms.rpr3.verify import SINGULAR, UNDECIDED, verify
 

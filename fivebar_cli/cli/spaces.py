@@ -155,7 +155,7 @@ def refine(tree_path, depth, out, no_plot, quiet):
     \b
     Example:
       fivebar workspace configs/m1.yaml --depth 10 -o out/m1
-      fivebar refine out/m1/workspace.qt --depth 14
+      fivebar refine out/m1/workspace.qt --depth 12
     """
     refuse_stdout(out, "a .qt pair, its summary and figures")
     saved = spaces.load_saved(tree_path)

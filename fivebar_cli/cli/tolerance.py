@@ -53,8 +53,8 @@ def tolerance(config_path, tolerances, depth, out, no_plot, quiet):
 
     \b
     Examples:
-      fivebar tolerance configs/m1.yaml --tolerances 0,0.01,0.05,0.1 --depth 8 -o out/m1
-      fivebar tolerance configs/m2.yaml --tolerances 0,0.01 --depth 7 -o - > m2-tolerance.csv
+      fivebar tolerance configs/m1.yaml --tolerances 0,0.02,0.05 --depth 7 -o out/m1
+      fivebar tolerance configs/m2.yaml --tolerances 0,0.01 --depth 6 -o - > m2-tolerance.csv
     """
     m = load_config(config_path, kind="fivebar")
     for t in tolerances:
