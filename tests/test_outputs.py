@@ -264,3 +264,21 @@ def test_figures_draw_names_as_written(tmp_path):
     (tmp_path / "m.yaml").write_text(M1_YAML.read_text().replace("name: M1", "name: 'cost $x^$, 50%'"))
     ok(run_cli("workspace", "m.yaml", "--depth", 3, "-o", "out", cwd=tmp_path))
     assert (tmp_path / "out" / "workspace.png").read_bytes().startswith(PNG_MAGIC)
+
+
+def test_the_out_default_each_help_shows_is_where_the_command_writes(tmp_path):
+    """refine in place, kratio in outputs/, atlas in outputs/<spec name>/, the others in
+    outputs/<config name>/: as each --help says."""
+    (tmp_path / "a.yaml").write_text("name: tiny\ntype: fivebar-atlas\nlengths: {L0: 1.0, L1: 0.4, L2: 0.4, "
+                                     "L3: 0.3, L4: 0.3}\ndepth: 3\n")
+    cases = [(["workspace", M1_YAML, "--depth", 3], "outputs/<config name>/", "outputs/M1/workspace.qt"),
+             (["refine", "outputs/M1/workspace.qt", "--depth", 4], "the folder of TREE.qt, in place",
+              "outputs/M1/workspace.qt"),
+             (["kratio", M1_YAML, "--depths", 2], "outputs/", "outputs/kratio.csv"),
+             (["atlas", "a.yaml", "--workers", 0], "outputs/<spec name>/", "outputs/tiny/atlas.csv")]
+    for args, shown, written in cases:
+        help_text = " ".join(run_cli(*args[:1], "--help").stdout.split())
+        assert f"Output folder [default: {shown}]" in help_text, (args[0], help_text)
+        ok(run_cli(*args, "--no-plot", "-q", cwd=tmp_path))
+        assert (tmp_path / written).is_file(), written
+    assert read_qt(tmp_path / "outputs" / "M1" / "workspace.qt").tree.grid.depth == 4

@@ -31,3 +31,24 @@ def test_readme_command_runs_as_pasted(ran, index):
     if ran[index] is None:
         pytest.skip(f"run as pasted by {ELSEWHERE[command.line]}")
     check_as_pasted(command, ran[index])
+
+
+def test_the_table_1_figures_are_the_tools():
+    """The README's depth-10 table (evaluations, K, the paper's procedure, printed K, saving) is the
+    golden kratio.csv, which `fivebar reproduce` writes (tests/test_golden.py)."""
+    import csv
+    import re
+
+    from examples import README
+
+    rows = {(r["space"], r["mechanism"]): r for r in csv.DictReader((README.parent / "tests" / "golden" / "kratio.csv")
+                                                                     .open()) if r["depth"] == "10"}
+    shown = re.findall(r"^\| (M[12]) (joint space|workspace) \| (.+) \|$", README.read_text(), re.M)
+    assert len(shown) == 4
+    for mechanism, space, cells in shown:
+        r = rows[("jointspace" if space == "joint space" else "workspace", mechanism)]
+        percent = lambda x, digits: f"{100 * float(x):.{digits}f} %"  # noqa: E731 - the README writes "1.71 %"
+        expected = (f"{int(r['evaluations']):,} ({percent(r['K'], 2)}) | "
+                    f"{int(r['paper_procedure_evaluations']):,} ({percent(r['paper_procedure_K'], 2)}) | "
+                    f"{r['paper_printed_percent']} % | {percent(r['saving_vs_paper'], 0)}")
+        assert cells == expected, (mechanism, space, cells, expected)

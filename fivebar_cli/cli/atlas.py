@@ -40,7 +40,7 @@ def default_workers() -> int:
               help="Add robust metrics of every length widened to [L - T, L + T] (as `fivebar aspects "
                    "--tolerance T`); 0: none [default: the spec's tolerance].")
 @click.option("--restart", is_flag=True, help="Discard the parts of an earlier run in OUT/atlas.parts/ and start afresh.")
-@common_options
+@common_options(default="outputs/<spec name>/")
 def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot, quiet):
     """Sweep a grid of five-bar designs and tabulate, per design: whether it can be assembled,
     its number of generalized aspects and whether that count is certified (as `fivebar aspects`

@@ -39,7 +39,7 @@ def _cell(value, fmt: str) -> str:
 @click.argument("config_paths", metavar="CONFIG...", type=CONFIG, nargs=-1, required=True)
 @click.option("--depths", default="5-10", show_default=True, callback=_parse_depths,
               help="Depths: a range 5-10 or a list 5,8,10.")
-@common_options(single="kratio.csv")
+@common_options(single="kratio.csv", default="outputs/")
 def kratio(config_paths, depths, out, no_plot, quiet):
     """The paper's Table 1: evaluations K = n / 4^d, ours against the paper's procedure.
 

@@ -50,18 +50,18 @@ class FiniteFloat(click.ParamType):
 FINITE = FiniteFloat()
 
 
-def common_options(func=None, *, single: str | None = None):
+def common_options(func=None, *, single: str | None = None, default: str = "outputs/<config name>/"):
     """`-o/--out DIR`, `--no-plot`, `--quiet`: the options every analysis command takes. `single`
     names the one file a command writes without figures; `-o -` then writes it to standard output
-    (`data_on_stdout`)."""
+    (`data_on_stdout`). `default` is the folder written without -o, as the help shows it."""
     if func is None:
-        return lambda f: common_options(f, single=single)
+        return lambda f: common_options(f, single=single, default=default)
     dash = (f" `-o -` writes {single} to standard output (no figure)." if single else "")
     func = click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors; no progress bar.")(func)
     func = click.option("--no-plot", is_flag=True, help="Skip the PNG figures (faster).")(func)
     func = click.option(
         "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-        help="Output folder [default: outputs/<config name>/]." + dash,
+        help=f"Output folder [default: {default}]." + dash,
     )(func)
     return func
 

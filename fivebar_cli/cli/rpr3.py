@@ -130,7 +130,8 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
               help="Number of samples [default: phi 359, rho_min 201, t2 233].")
 @click.option("--angles", default="30,60,90,120,150", show_default=True,
               help="Orientations (degrees) of the t2 sweep, comma separated.")
-@common_options(single="the table (area-vs-phi.csv, area-vs-rho-min.csv or area-vs-t2.csv)")
+@common_options(single="the table (area-vs-phi.csv, area-vs-rho-min.csv or area-vs-t2.csv)",
+                default="outputs/<config name>/, outputs/<name1>+<name2>+.../ for several")
 def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
     """Area of W swept over phi, rho_min or the base shape t2, for one or more bases on one figure.
 

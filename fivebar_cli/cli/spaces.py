@@ -141,7 +141,7 @@ def workspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, q
 @click.command(short_help="Deepen a saved paving, testing only undetermined cells.")
 @click.argument("tree_path", metavar="TREE.qt", type=QT_FILE)
 @depth_option(default=12)
-@common_options
+@common_options(default="the folder of TREE.qt, in place")
 def refine(tree_path, depth, out, no_plot, quiet):
     """Deepen a saved paving, testing only its undetermined cells.
 
