@@ -62,9 +62,9 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
     Examples:
       fivebar atlas configs/atlas-small.yaml --workers 2 -o out/atlas
       fivebar atlas configs/atlas-small.yaml --workers 0 --no-plot
-      fivebar atlas configs/atlas-small.yaml --workers 0 --depth 5 --tolerance 0.01 -o out/atlas-robust
 
-    On a cluster: --scheduler tcp://HOST:8786 (README, "Sweeping designs").
+    With --tolerance 0.01, the robust columns too (several times the cost). On a cluster:
+    --scheduler tcp://HOST:8786 (README, "Sweeping designs").
     """
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both")
