@@ -241,12 +241,12 @@ def test_ctrl_c_exits_130_without_traceback_or_temporary_file(interrupted_by_ctr
 
 @pytest.fixture(scope="module")
 def ctrl_c_at_random_times(tmp_path_factory, old_aspects):
-    """`aspects --depth 10` (with figures) over copies of the depth-6 outputs, Ctrl-C at 4 random
-    moments of its run: one uniform in each quarter of the first 6 s (a run takes 3 to 6 s here),
+    """`aspects --depth 10` (with figures) over copies of the depth-6 outputs, Ctrl-C at 3 random
+    moments of its run: one uniform in each third of the first 6 s (a run takes 3 to 6 s here),
     so that the computation, the writing and the end are all hit (fixed seed)."""
     root = tmp_path_factory.mktemp("ctrl-c-random")
     rng = random.Random(20)
-    moments = [round(rng.uniform(1.5 * k, 1.5 * (k + 1)), 3) for k in range(4)]
+    moments = [round(rng.uniform(2.0 * k, 2.0 * (k + 1)), 3) for k in range(3)]
 
     def one(i_moment):
         i, moment = i_moment
