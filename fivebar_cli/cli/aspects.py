@@ -8,6 +8,7 @@ import click
 import numpy as np
 
 from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
+from fivebar_cli.analyses.aspect_split import cost_text, split_rows, write_split
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
 from fivebar_cli.analyses.crossings import crossing_pattern, paper_claim_verdict
 from fivebar_cli.analyses.locate import locate_configurations, motions
@@ -73,11 +74,14 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
     robust = getattr(m, "is_interval", False)
-    with progress(quiet, region_count(m) * (2 if robust else 1) + 1, f"aspects depth {depth}") as advance:
+    limited = bool(getattr(m, "constraints", None))
+    with progress(quiet, region_count(m) * (1 + robust + limited) + 1, f"aspects depth {depth}") as advance:
         analysis = analyse_aspects(m, depth, advance, budget)
         nominal = analyse_aspects(m.nominal(), depth, advance, budget, shapes=False) if robust else None
         fates = aspect_fates(nominal, analysis) if robust else []
-    paths = write_aspects(folder, analysis)
+        free = analyse_aspects(m.unconstrained(), depth, advance, budget, shapes=False) if limited else None
+        split = split_rows(analysis, free) if limited else None
+    paths = write_aspects(folder, analysis) + write_split(folder, split)
     if not no_plot:
         from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
 
@@ -98,6 +102,8 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
         report(quiet, f"  {_no_aspect_hint(depth, robust)}")
     for f in fates:
         report(quiet, f"  nominal aspect {f.number:2d}: {fate_text(f)}")
+    if limited:
+        report(quiet, f"  {cost_text(split, free)}")
     if m.kind == "fivebar":
         from fivebar_cli.mechanisms.fivebar.paper import is_paper_mechanism
 
@@ -180,7 +186,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
             rows.append(cfg)
     names = [a.name for a in joint_space.axes]
     keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular",
-            "aspect_certified")
+            "aspect_certified", *(("violates",) if getattr(m, "constraints", None) else ()))
     if as_csv:
         cell = {None: "", True: "true", False: "false"}
         click.echo(csv_text(keys, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
@@ -195,6 +201,8 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
                    + (f"{len(mine)} configuration(s)" if mine else "no configuration (unreachable / cannot assemble)"))
         for r in mine:
             where = f"aspect {r['aspect']}" if r["aspect"] is not None else "on or near a singularity (no certified aspect)"
+            if r.get("violates"):
+                where = f"violates the {r['violates']} (in no aspect)"
             if r["aspect_certified"] is False:
                 where += " (not certified at this depth)"
             extra = f" [{r['singular']}]" if r["singular"] else ""

@@ -83,8 +83,9 @@ def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int
         und = paving.undetermined_tree()
         s = m.spaces()[space]
         for complement, suffix in ((False, ""), (True, ".complement")):
+            marks = getattr(m, "marks", lambda name: [])(space)
             paths.append(figure(lambda: figure_paving(m.name, s, paving.inside, paving.outside, und, complement,
-                                                      paving.band, region), folder / f"{stem}{suffix}.png"))
+                                                      paving.band, region, marks), folder / f"{stem}{suffix}.png"))
     return paths
 
 

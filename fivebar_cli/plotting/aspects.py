@@ -22,6 +22,8 @@ def _aspect_colour(number: int):
 def _label_aspects(ax, aspects, space: str) -> None:
     for a in aspects:
         tree = a.workspace if space == "workspace" else a.jointspace
+        if not len(tree):  # an aspect too thin for cells in this space at this depth
+            continue
         x, y = tree.centres()[int(np.argmin(tree.level))]
         ax.annotate(str(a.number), (x, y), ha="center", va="center", fontsize=9, fontweight="bold",
                     color="white", bbox={"boxstyle": "circle,pad=0.2", "fc": "0.15", "ec": "none", "alpha": 0.8})
@@ -43,7 +45,8 @@ def _draw_shapes(ax, aspects) -> None:
 def _aspect_panel(ax, analysis, region, aspects, space: str, title: str) -> None:
     layers = [(region.paving.outside, PALE), (region.paving.undetermined_tree(), BLACK)]
     layers += [(a.workspace if space == "workspace" else a.jointspace, _aspect_colour(a.number)) for a in aspects]
-    draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[])
+    marks = getattr(analysis.mechanism, "marks", lambda name: [])(space)
+    draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[], marks=marks)
     if space == "workspace":
         _draw_shapes(ax, aspects)
     _label_aspects(ax, aspects, space)
