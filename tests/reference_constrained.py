@@ -116,8 +116,13 @@ def _label(mask, periodic):
         if not wrap:
             continue
         first, last = (labels[0, :], labels[-1, :]) if axis == 0 else (labels[:, 0], labels[:, -1])
+        along = periodic[1 - axis]  # diagonal contacts across the seam wrap only along a periodic axis
         for shift in (-1, 0, 1):
-            pairs.append(np.stack([first, np.roll(last, shift)], 1))
+            moved = np.roll(last, shift)
+            if not along and shift:
+                moved = moved.copy()
+                moved[0 if shift > 0 else -1] = 0
+            pairs.append(np.stack([first, moved], 1))
     pairs = np.concatenate(pairs)
     pairs = pairs[(pairs[:, 0] > 0) & (pairs[:, 1] > 0)]
     return ref._merge(labels, n, pairs)

@@ -69,7 +69,11 @@ class FiveBar(Mechanism):
     constraints: Constraints = NO_CONSTRAINTS  # joint limits and obstacles (constraints.py)
 
     kind = "fivebar"
-    procedures = ("exact", "paper")
+
+    @property
+    def procedures(self) -> tuple[str, ...]:
+        """`exact`, and the paper's procedure, which knows no joint limits or obstacles."""
+        return ("exact",) if self.constraints else ("exact", "paper")
 
     def __post_init__(self) -> None:
         if self.bounds is None:
@@ -177,7 +181,7 @@ class FiveBar(Mechanism):
         if limit is None or limit.full_turn:
             return Axis(name, -np.pi, np.pi, "rad", periodic=True, label=label)
         lo, hi = limit.radians  # within 2 ulp of the true angles: 4 ulp inward holds only allowed angles
-        return Axis(name, lo + 4 * float(np.spacing(lo)), hi - 4 * float(np.spacing(hi)), "rad", label=label)
+        return Axis(name, lo + 4 * abs(float(np.spacing(lo))), hi - 4 * abs(float(np.spacing(hi))), "rad", label=label)
 
     def box_test(self, space: str, procedure: str = "exact", region: str | None = None):
         if region not in (None, self.spaces()[space].region):
