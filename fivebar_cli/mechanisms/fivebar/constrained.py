@@ -38,7 +38,7 @@ from fivebar_cli.mechanisms.fivebar import modes, robust, robust_modes
 from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, box_trig, joint_space_test
 from fivebar_cli.mechanisms.fivebar.constraints import LINKS
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
-from fivebar_cli.numerics.ranges import ANGLE_MARGIN, direction_range, sinusoid_range, triangle_angle_range
+from fivebar_cli.numerics.ranges import ANGLE_MARGIN, cos_sin_ranges, direction_range, triangle_angle_range
 from fivebar_cli.paving.engine import pave
 
 TWO_PI = 2.0 * np.pi
@@ -75,6 +75,11 @@ def included_angle_range(s, a, b):
     extremes over the (a, b) rectangle lie at corners or at a* = sqrt(b^2 - s^2), b* = sqrt(a^2 - s^2)
     on the edges (no interior critical point for s > 0). Cosines are clipped to [-1, 1] where the
     triangle cannot close."""
+    if a[0] == a[1] and b[0] == b[1]:  # exact lengths: monotone in s
+        x, y = a[0], b[0]
+        return (np.arccos(np.clip((x * x + y * y - s[0] * s[0]) / (2 * x * y), -1, 1)),
+                np.arccos(np.clip((x * x + y * y - s[1] * s[1]) / (2 * x * y), -1, 1)))
+
     def cosines(z):
         values = []
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -101,11 +106,10 @@ def _scaled(bounds, f):
     return np.minimum(lo * f[0], hi * f[0]), np.maximum(lo * f[1], hi * f[1])
 
 
-def _arc_box(lo, hi, length):
+def _arc_box(lo, hi, length, trig=None):
     """The box of the points `length` (bounds) along the directions [lo, hi]: (lo corner, hi corner)."""
-    ones, zeros = np.ones(np.shape(lo)), np.zeros(np.shape(lo))
-    cx = _scaled(length, sinusoid_range(ones, zeros, lo, hi))
-    cy = _scaled(length, sinusoid_range(zeros, ones, lo, hi))
+    c, s = cos_sin_ranges(lo, hi, trig)
+    cx, cy = _scaled(length, c), _scaled(length, s)
     return np.column_stack([cx[0], cy[0]]), np.column_stack([cx[1], cy[1]])
 
 
@@ -118,29 +122,34 @@ def _meet(a, b):
     return np.where(empty, mid, lo), np.where(empty, mid, hi)
 
 
+def _plus(a, s: int, g):
+    """The range of a + s g (s = +1 or -1) from the ranges of a and g."""
+    return (a[0] + g[0], a[1] + g[1]) if s > 0 else (a[0] - g[1], a[1] - g[0])
+
+
 @dataclass(frozen=True)
 class Ranges:
-    """Over boxes in one mode: `angles[name]` = (lo, hi) radians of each limited angle that the
-    space does not handle itself, `ends[name]` = (lo corner, hi corner) of A1, A2, B1, B2, P."""
+    """Over boxes in one mode: `angles[name]` = (lo, hi) radians of each limited angle the space
+    does not handle itself (only those the constraints limit), `ends[name]` = (lo corner, hi corner)
+    of A1, A2, B1, B2, P (None without obstacles)."""
 
     angles: dict
-    ends: dict
+    ends: dict | None
 
 
-def _ends(m, lo_corner, hi_corner, b1, b2):
+def _ends(m, p, b1, b2):
     """The link ends' boxes: A1, A2 (A2 on [l0, u0] x {0}), B1, B2, P."""
-    n = len(lo_corner)
+    n = len(p[0])
     l0, u0 = m.bounds[0]
     zeros = np.zeros((n, 2))
-    return {"A1": (zeros, zeros), "A2": (np.column_stack([np.full(n, l0), np.zeros(n)]),
-                                         np.column_stack([np.full(n, u0), np.zeros(n)])),
-            "B1": b1, "B2": b2, "P": (lo_corner, hi_corner)}
+    a2 = (np.column_stack([np.full(n, l0), np.zeros(n)]), np.column_stack([np.full(n, u0), np.zeros(n)]))
+    return {"A1": (zeros, zeros), "A2": a2, "B1": b1, "B2": b2, "P": p}
 
 
 def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray) -> Ranges:
     """The ranges over boxes of P in a working mode (module docstring)."""
     su, sv = working
-    bounds = m.bounds
+    bounds, limited = m.bounds, {lim.name for lim in m.constraints.limits}
     delta, _ = robust.margins(m)
     (d1, d2) = robust.leg_ranges(m, lo, hi)
     _, _, p1_in, p1_out = robust.radii(m, 1, 3)
@@ -150,26 +159,21 @@ def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray) -> Ranges:
     wlo, whi = robust.widened(m, lo, hi)
     a1 = direction_range(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1])
     a2 = direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1])
-    beta1, gamma1 = _triangle(s1, bounds[1], bounds[3]), _triangle(s1, bounds[3], bounds[1])
-    beta2, gamma2 = _triangle(s2, bounds[2], bounds[4]), _triangle(s2, bounds[4], bounds[2])
-
-    def plus(a, s, g):  # a + s g
-        return (a[0] + g[0], a[1] + g[1]) if s > 0 else (a[0] - g[1], a[1] - g[0])
-
-    th1, th3 = plus(a1, -su, beta1), plus(a1, su, gamma1)
-    th2, th4 = plus(a2, -sv, beta2), plus(a2, sv, gamma2)
-    k1, k2 = included_angle_range(s1, bounds[1], bounds[3]), included_angle_range(s2, bounds[2], bounds[4])
-    elbow1 = plus((np.full(len(lo), np.pi * su),) * 2, -su, k1)  # su (pi - angle at B1)
-    elbow2 = plus((np.full(len(lo), np.pi * sv),) * 2, -sv, k2)
-    angles = {"theta1": th1, "theta2": th2, "B1": elbow1, "B2": elbow2, "P": (th4[0] - th3[1], th4[1] - th3[0])}
-    crank1 = _arc_box(*th1, bounds[1])
-    coupler1 = _arc_box(*th3, bounds[3])
-    b1 = _meet(crank1, (lo - coupler1[1], hi - coupler1[0]))
+    th1 = _plus(a1, -su, _triangle(s1, bounds[1], bounds[3]))  # alpha1 - su beta1
+    th2 = _plus(a2, -sv, _triangle(s2, bounds[2], bounds[4]))
+    th3 = _plus(a1, su, _triangle(s1, bounds[3], bounds[1]))  # alpha1 + su gamma1
+    th4 = _plus(a2, sv, _triangle(s2, bounds[4], bounds[2]))
+    angles = {"theta1": th1, "theta2": th2, "P": (th4[0] - th3[1], th4[1] - th3[0])}
+    for name, sign, s, crank, coupler in (("B1", su, s1, bounds[1], bounds[3]), ("B2", sv, s2, bounds[2], bounds[4])):
+        if name in limited:  # sign (pi - the angle at B_i), an exact function of |P - A_i|
+            angles[name] = _plus((np.full(len(lo), np.pi * sign),) * 2, -sign, included_angle_range(s, crank, coupler))
+    if not m.constraints.obstacles:
+        return Ranges(angles, None)
+    coupler1, coupler2 = _arc_box(*th3, bounds[3]), _arc_box(*th4, bounds[4])
+    b1 = _meet(_arc_box(*th1, bounds[1]), (lo - coupler1[1], hi - coupler1[0]))
     crank2 = _arc_box(*th2, bounds[2])
-    coupler2 = _arc_box(*th4, bounds[4])
-    a2_lo, a2_hi = bounds[0]
-    b2 = _meet((crank2[0] + [a2_lo, 0.0], crank2[1] + [a2_hi, 0.0]), (lo - coupler2[1], hi - coupler2[0]))
-    return Ranges(angles, _ends(m, lo, hi, b1, b2))
+    b2 = _meet((crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0]), (lo - coupler2[1], hi - coupler2[0]))
+    return Ranges(angles, _ends(m, (lo, hi), b1, b2))
 
 
 def jointspace_ranges(m, assembly: int, lo: np.ndarray, hi: np.ndarray) -> Ranges:
@@ -180,16 +184,16 @@ def jointspace_ranges(m, assembly: int, lo: np.ndarray, hi: np.ndarray) -> Range
     tri = (robust_modes.coupler_triangle if m.is_interval else modes.coupler_triangle)(m, lo, hi, trig)
     th3, th4 = modes.coupler_directions(assembly, tri.b, tri.a, tri.e)
     at_p = included_angle_range(tri.d, bounds[3], bounds[4])
-    p = at_p if assembly > 0 else (-at_p[1], -at_p[0])
-    angles = {"B1": (th3[0] - hi[:, 0], th3[1] - lo[:, 0]), "B2": (th4[0] - hi[:, 1], th4[1] - lo[:, 1]), "P": p}
-    b1 = _arc_box(lo[:, 0], hi[:, 0], bounds[1])
-    crank2 = _arc_box(lo[:, 1], hi[:, 1], bounds[2])
+    angles = {"B1": (th3[0] - hi[:, 0], th3[1] - lo[:, 0]), "B2": (th4[0] - hi[:, 1], th4[1] - lo[:, 1]),
+              "P": at_p if assembly > 0 else (-at_p[1], -at_p[0])}
+    if not m.constraints.obstacles:
+        return Ranges(angles, None)
+    b1 = _arc_box(lo[:, 0], hi[:, 0], bounds[1], trig[0])
+    crank2 = _arc_box(lo[:, 1], hi[:, 1], bounds[2], trig[1])
     b2 = (crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0])
-    via1 = _arc_box(*th3, bounds[3])
-    via2 = _arc_box(*th4, bounds[4])
-    p_box = _meet((b1[0] + via1[0], b1[1] + via1[1]), (b2[0] + via2[0], b2[1] + via2[1]))
-    ends = _ends(m, *p_box, b1, b2)
-    return Ranges(angles, ends)
+    via1, via2 = _arc_box(*th3, bounds[3]), _arc_box(*th4, bounds[4])
+    p = _meet((b1[0] + via1[0], b1[1] + via1[1]), (b2[0] + via2[0], b2[1] + via2[1]))
+    return Ranges(angles, _ends(m, p, b1, b2))
 
 
 LINK_ENDS = {"A1B1": ("A1", "B1"), "B1P": ("B1", "P"), "A2B2": ("A2", "B2"), "B2P": ("B2", "P")}
@@ -205,7 +209,7 @@ def status(m, ranges: Ranges) -> np.ndarray:
     """1 / -1 / 0 per box: every constraint holds at every configuration / at each some constraint
     fails / cannot tell (module docstring)."""
     c = m.constraints
-    n = len(next(iter(ranges.ends.values()))[0])
+    n = len(next(iter(ranges.angles.values()))[0])
     all_hold = np.ones(n, bool)
     some_fails = np.zeros(n, bool)
     for lim in c.limits:
