@@ -66,10 +66,17 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     non-singular and in the aspect's modes. The nominal aspects are then computed too and the
     report says which of them shrink, split or vanish.
 
+    With joint limits or obstacles in the config (limits:, obstacles:, clearance:) an aspect's
+    configurations also respect every limit and keep every link clear of every obstacle; the
+    constraints' boundaries separate aspects like singularities. The five-bar without its
+    constraints is analysed too: aspects-split.csv says which unconstrained aspect each one comes
+    from, and the report what the constraints cost.
+
     \b
     Examples:
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
       fivebar aspects configs/m1.yaml --depth 10 --tolerance 0.05 -o out/m1-tol
+      fivebar aspects configs/m1-obstacle.yaml --depth 10 -o out/m1-obstacle
     """
     m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
@@ -156,7 +163,9 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
     can be joined by a singularity-free motion; others cannot. The aspect trees that `aspects`
     wrote for the same mechanism and depth are reused. With interval lengths (or --tolerance T)
     the configurations are the nominal robot's and the aspects are robust: a motion listed as
-    singularity-free is so for every robot built within the tolerance.
+    singularity-free is so for every robot built within the tolerance. With joint limits or
+    obstacles, a configuration that violates one is in no aspect and the report names the
+    constraint (the `violates` column with --csv).
 
     \b
     Examples:
@@ -164,6 +173,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --working-mode ++
       fivebar locate configs/m2.yaml --joints 0.1 1.4 --joints 1.5 1.2 --assembly-mode +
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --tolerance 0.05
+      fivebar locate configs/m1-obstacle.yaml --pose 4.5 1.5 --depth 8
     """
     if not poses and not joints:
         raise click.UsageError("give at least one --pose X Y or --joints TH1 TH2")

@@ -167,7 +167,20 @@ class Polygon:
     def bounds(self, c1, h1, c2, h2, enough: float = np.inf):
         """(lower, upper) bounds on the signed distance of every segment of the families, see the
         module docstring (lower is -inf where the hull may meet the polygon, or lies inside it).
-        The upper bound is only worked out where lower <= `enough` (elsewhere +inf)."""
+        Families whose bounding box lies farther than `enough` from the polygon's get that
+        distance (a lower bound: they are outside) and no more; the upper bound is only worked out
+        where lower <= `enough` (elsewhere +inf)."""
+        v = np.asarray(self.vertices, float)
+        box_lo, box_hi = np.minimum(c1 - h1, c2 - h2), np.maximum(c1 + h1, c2 + h2)
+        gap = np.maximum(np.maximum(v.min(axis=0) - box_hi, box_lo - v.max(axis=0)), 0.0)
+        lower, upper = np.hypot(gap[:, 0], gap[:, 1]), np.full(len(c1), np.inf)
+        near = lower <= enough
+        if near.any():
+            lower[near], upper[near] = self._near_bounds(c1[near], h1[near], c2[near], h2[near], enough)
+        return lower, upper
+
+    def _near_bounds(self, c1, h1, c2, h2, enough: float):
+        """`bounds` for families near the polygon: separation along the best directions, witnesses."""
         ax, ay, bx, by = self._edges  # (n,)
         sx, sy, tx, ty = c1[:, 0:1], c1[:, 1:2], c2[:, 0:1], c2[:, 1:2]  # (m, 1)
         # nearest points between the centres' segment and each edge: the best of four projections,
