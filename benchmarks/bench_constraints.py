@@ -18,7 +18,6 @@ against a naive interval-arithmetic version of the same tests.
 from __future__ import annotations
 
 import argparse
-import time
 import tracemalloc
 from dataclasses import replace
 from pathlib import Path
@@ -32,18 +31,10 @@ from fivebar_cli.mechanisms.registry import load_config
 from fivebar_cli.numerics.interval import Interval, cos, sin, sqr, sqrt
 from fivebar_cli.numerics.obstacles import Disc
 from fivebar_cli.paving.engine import pave
+from bench_tolerance import best_of  # noqa: E402 (benchmarks/ is on the path when run as a script)
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIGS = ("m1", "m1-passive-limit", "m1-obstacle", "m1-limited")
-
-
-def best_of(n: int, run):
-    times, result = [], None
-    for _ in range(n):
-        t0 = time.perf_counter()
-        result = run()
-        times.append(time.perf_counter() - t0)
-    return min(times), result
 
 
 def aspects(depth: int, repeat: int) -> None:

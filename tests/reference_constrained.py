@@ -156,28 +156,12 @@ def counts(L, limits=None, obstacles=(), clearance=0.0, n: int = 1024) -> dict:
     for key in joint:
         jl, p = joint[key]
         wl, a1, a2 = work[key]
-        nj = int(jl.max())
-        pairs = []
-        kept = jl > 0  # joint -> workspace
-        ix = np.floor((p[kept][:, 0] + reach) / (2 * reach) * n).astype(np.int64)
-        iy = np.floor((p[kept][:, 1] + reach) / (2 * reach) * n).astype(np.int64)
-        inside = (ix >= 0) & (ix < n) & (iy >= 0) & (iy < n)
-        target = np.zeros(len(ix), np.int64)
-        target[inside] = wl[ix[inside], iy[inside]]
-        hit = target > 0
-        pairs.append(np.stack([jl[kept][hit], nj + target[hit]], 1))
-        kept = wl > 0  # workspace -> joint
+        kept = wl > 0  # workspace -> joint, within the root box
         i1, i2 = (_index(a[kept], r, wrap, n) for a, r, wrap in ((a1, r1, p1), (a2, r2, p2)))
         inside = (i1 >= 0) & (i1 < n) & (i2 >= 0) & (i2 < n)
-        target = np.zeros(len(i1), np.int64)
-        target[inside] = jl[i1[inside] % n, i2[inside] % n]
-        hit = target > 0
-        pairs.append(np.stack([target[hit], nj + wl[kept][hit]], 1))
-        groups = ref._merge(np.arange(nj + int(wl.max()) + 1), nj + int(wl.max()), np.concatenate(pairs))
-        size_j = np.bincount(groups[jl[jl > 0]], minlength=len(groups))
-        size_w = np.bincount(groups[nj + wl[wl > 0]], minlength=len(groups))
-        big = (size_j > 0) & (size_w > 0) & (size_j + size_w >= ref.MIN_PIXELS * (n / 512) ** 2)
-        out[key] = int(np.count_nonzero(big))
+        back = np.zeros(len(i1), np.int64)
+        back[inside] = jl[i1[inside], i2[inside]]
+        out[key] = ref.linked_groups(jl, p, wl, back, reach, n)
     return out
 
 
