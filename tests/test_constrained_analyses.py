@@ -272,6 +272,26 @@ def test_atlas_designs_carry_the_specs_constraints(tmp_path):
     assert manifest["constraints"] == " P=[-90.0,90.0]"
 
 
+def test_tolerance_and_kratio_under_constraints(tmp_path):
+    """The tolerance study's nominal areas are the certified constrained ones (no closed form), the
+    robust ones smaller; kratio counts the constrained pavings' evaluations, with no paper columns."""
+    ok(run_cli("tolerance", PASSIVE, "--tolerances", "0,0.05", "--depth", "7", "-o", tmp_path / "t", "--no-plot",
+               "--quiet"))
+    rows = {(r["tolerance"], r["region"]): r for r in read_rows(tmp_path / "t" / "tolerance.csv")}
+    ok(run_cli("workspace", PASSIVE, "--depth", "7", "-o", tmp_path / "w", "--no-plot", "--quiet"))
+    inside = float(read_rows(tmp_path / "w" / "workspace.csv")[0]["inside_area"])
+    nominal = float(rows["0", "workspace"]["nominal_area"])
+    assert nominal == pytest.approx(float(rows["0", "workspace"]["robust_area"]), rel=1e-9)
+    assert nominal == pytest.approx(inside, rel=0.02)  # the study paves on the widest root box
+    assert float(rows["0.05", "workspace"]["robust_area"]) < nominal
+    assert sum(1 for key in rows if key[0] == "0" and key[1].startswith("aspect-")) == 12
+    ok(run_cli("kratio", OBSTACLE, "--depths", "6", "-o", tmp_path / "k", "--no-plot", "--quiet"))
+    k = {r["space"]: r for r in read_rows(tmp_path / "k" / "kratio.csv")}
+    ok(run_cli("jointspace", OBSTACLE, "--depth", "6", "-o", tmp_path / "j", "--no-plot", "--quiet"))
+    assert k["jointspace"]["evaluations"] == read_rows(tmp_path / "j" / "jointspace.csv")[0]["evaluations"]
+    assert k["jointspace"]["paper_procedure_evaluations"] == "" and k["workspace"]["saving_vs_paper"] == ""
+
+
 def test_the_certified_workspace_geojson_keeps_clear_of_the_disc(tmp_path):
     from shapely.geometry import Point, shape
 

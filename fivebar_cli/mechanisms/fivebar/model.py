@@ -116,10 +116,12 @@ class FiveBar(Mechanism):
                                    self.constraints)
 
     @classmethod
-    def parse(cls, data: Mapping, source: str = "<config>") -> "FiveBar":
+    def parse(cls, data: Mapping, source: str = "<config>", check_empty: bool = True) -> "FiveBar":
         """Lengths are positive numbers or intervals `[lo, hi]` with 0 < lo <= hi; the (nominal)
         five-bar must close on a set of positive area (`assembles`), else a ConfigError. Optional
-        `limits`, `obstacles`, `clearance` (constraints.py) must leave some configuration."""
+        `limits`, `obstacles`, `clearance` (constraints.py) must keep clear of A1 and A2 and, with
+        `check_empty`, not be certified to leave nothing (a small paving: `.qt` headers, which
+        describe a mechanism a run already took, skip it)."""
         schema.check_keys(data, {"name", "type", "lengths", *constraints.KEYS}, {"name", "type", "lengths"}, source)
         name = schema.name_field(data, source)
         lengths = schema.mapping(data, "lengths", source)
@@ -133,7 +135,9 @@ class FiveBar(Mechanism):
         limits = constraints.parse(data, source)
         if limits:
             m = replace(m, constraints=limits)
-            problem = constraints.base_problem(limits, (m.L0, 0.0)) or constrained.empty_problem(m)
+            problem = constraints.base_problem(limits, (m.L0, 0.0))
+            if problem is None and check_empty:
+                problem = constrained.empty_problem(m)
             if problem is not None:
                 raise schema.ConfigError(source, *problem)
         elif "clearance" in data:
@@ -155,7 +159,7 @@ class FiveBar(Mechanism):
                     lengths[key] = float(text)
             except ValueError:
                 raise schema.ConfigError(source, "mechanism", f"bad value {key}={text!r}") from None
-        return cls.parse({"name": name, "type": cls.kind, "lengths": lengths, **data}, source)
+        return cls.parse({"name": name, "type": cls.kind, "lengths": lengths, **data}, source, check_empty=False)
 
     def describe(self) -> str:
         """One-line, round-trippable description (used in .qt headers): lengths as `L0=9.0`, or
