@@ -39,7 +39,8 @@ CONFIGS = ("m1", "m1-passive-limit", "m1-obstacle", "m1-limited")
 
 def aspects(depth: int, repeat: int) -> None:
     print(f"aspects at depth {depth} (best of {repeat})")
-    print(f"{'config':18s} {'seconds':>8s} {'ratio':>5s} {'evaluations':>11s} {'peak MiB':>8s} {'aspects':>7s} {'certified':>9s}")
+    print(f"{'config':18s} {'seconds':>8s} {'ratio':>5s} {'evaluations':>11s} {'peak MiB':>8s} {'aspects':>7s} "
+          f"{'certified':>9s}")
     base = None
     for name in CONFIGS:
         m = load_config(ROOT / "configs" / f"{name}.yaml")

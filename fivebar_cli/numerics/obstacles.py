@@ -55,8 +55,9 @@ def segments_cross(ax, ay, bx, by, cx, cy, dx, dy):
     o4 = _cross(dx - cx, dy - cy, bx - cx, by - cy)
     proper = (o1 * o2 <= 0) & (o3 * o4 <= 0)
     collinear = (o1 == 0) & (o2 == 0)
-    overlap = (np.maximum(np.minimum(ax, bx), np.minimum(cx, dx)) <= np.minimum(np.maximum(ax, bx), np.maximum(cx, dx))) \
-        & (np.maximum(np.minimum(ay, by), np.minimum(cy, dy)) <= np.minimum(np.maximum(ay, by), np.maximum(cy, dy)))
+    overlap_x = np.maximum(np.minimum(ax, bx), np.minimum(cx, dx)) <= np.minimum(np.maximum(ax, bx), np.maximum(cx, dx))
+    overlap_y = np.maximum(np.minimum(ay, by), np.minimum(cy, dy)) <= np.minimum(np.maximum(ay, by), np.maximum(cy, dy))
+    overlap = overlap_x & overlap_y
     return np.where(collinear, overlap, proper)
 
 

@@ -254,10 +254,6 @@ def restricted(base: np.ndarray, constraint) -> np.ndarray:
     return out.astype(np.int8)
 
 
-def _select(lo, hi, mask):
-    return lo[mask], hi[mask]
-
-
 def space_test(m, space: str, base):
     """The `workspace` / `jointspace` test with the constraints: a point is valid when some mode
     (a working mode in the workspace, an assembly mode in the joint space) reaches or assembles
@@ -267,7 +263,7 @@ def space_test(m, space: str, base):
 
     def test(lo, hi):
         def combined(mask):
-            s = np.stack([of(m, key, *_select(lo, hi, mask)) for key in keys])
+            s = np.stack([of(m, key, lo[mask], hi[mask]) for key in keys])
             return np.where(np.any(s == 1, axis=0), 1, np.where(np.all(s == -1, axis=0), -1, 0))
 
         return restricted(base(lo, hi), combined)
@@ -320,10 +316,6 @@ def _possible(possible: np.ndarray, constraint) -> np.ndarray:
     if out.any():
         out[out] = constraint(out) != -1
     return out
-
-
-def aspect_model(m, base: modes.FiveBarModes) -> ConstrainedModes:
-    return ConstrainedModes(m, base)
 
 
 # ---------------------------------------------------------------- constraints that leave nothing

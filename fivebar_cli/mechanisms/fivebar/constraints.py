@@ -74,7 +74,8 @@ class Constraints:
 
     def labels(self) -> list[str]:
         """One label per constraint, as messages and `locate` name them: 'B1 limit', 'obstacle 2'."""
-        return [f"{lim.name} limit" for lim in self.limits] + [f"obstacle {k}" for k in range(1, len(self.obstacles) + 1)]
+        obstacles = [f"obstacle {k}" for k in range(1, len(self.obstacles) + 1)]
+        return [f"{lim.name} limit" for lim in self.limits] + obstacles
 
     def fields(self) -> list[str]:
         """The YAML field of each constraint (for error messages), in `labels()` order."""

@@ -175,8 +175,8 @@ class FiveBar(Mechanism):
         actuated limit of less than a turn makes its axis that interval (rounded inward), not periodic."""
         reach = self.bounds[1][1] + self.bounds[3][1]
         return {
-            "jointspace": Space("jointspace", "assemblable", tuple(
-                self._joint_axis(name, label) for name, label in (("theta1", r"$\theta_1$"), ("theta2", r"$\theta_2$")))),
+            "jointspace": Space("jointspace", "assemblable", (
+                self._joint_axis("theta1", r"$\theta_1$"), self._joint_axis("theta2", r"$\theta_2$"))),
             "workspace": Space("workspace", "reachable", (Axis("x", -reach, reach), Axis("y", -reach, reach))),
         }
 
