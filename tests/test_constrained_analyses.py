@@ -110,6 +110,12 @@ def test_aspects_split_names_what_each_constrained_aspect_comes_from(peer):
     assert all(areas[int(r["constrained_aspect"])] == r["workspace_area"] for r in rows)
 
 
+def test_a_run_without_constraints_removes_an_earlier_split_table(tmp_path):
+    (tmp_path / "aspects-split.csv").write_text("stale\n")
+    ok(run_cli("aspects", REPO / "configs" / "m1.yaml", "--depth", "6", "-o", tmp_path, "--no-plot", "--quiet"))
+    assert not (tmp_path / "aspects-split.csv").exists()
+
+
 def test_an_actuated_limit_cuts_the_torus_open():
     """theta2 limited to [-170, 170]: the joint space is a plain rectangle in theta2; aspects of M1
     that crossed theta2 = 180 are cut there. Certified counts per mode equal the reference's."""
@@ -331,6 +337,8 @@ def test_view_and_figures_mark_obstacles_and_limits(tmp_path):
                                    "label": "obstacle 1"}]
     assert [(k["axis"], round(k["value"], 12)) for k in marks["jointspace"]] == [
         (0, round(math.radians(-120), 12)), (0, round(math.radians(150), 12))]
+    joint = next(t for t in data["trees"] if t["space"] == "jointspace")
+    assert joint["periodic"] == [False, True] and joint["root"][0] == list(load_config(config).spaces()["jointspace"].root[0])
     # the workspace figure shows the disc in the marks' blue at its centre
     import matplotlib.image as mpimg
 
