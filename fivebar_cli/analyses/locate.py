@@ -39,7 +39,19 @@ def locate_configurations(m: Mechanism, aspects: list[Aspect], points: np.ndarra
                 continue
             seen.append(key)
             out.append(_configuration(model, joint_space, aspects, k, pose, joints))
-    return out
+    return with_violations(m, out)
+
+
+def with_violations(m: Mechanism, rows: list[dict]) -> list[dict]:
+    """Rows of a mechanism with limits or obstacles get `violates`: the constraints each
+    configuration violates ('' when none), e.g. 'P limit; obstacle 1'."""
+    if not rows or not getattr(m, "constraints", None):
+        return rows
+    names = [a.name for a in m.spaces()["jointspace"].axes]
+    joints = np.array([[r[names[0]], r[names[1]]] for r in rows])
+    for row, labels in zip(rows, m.violated_constraints(joints, np.array([[r["x"], r["y"]] for r in rows]))):
+        row["violates"] = "; ".join(labels)
+    return rows
 
 
 def _joint_key(space: Space, joints: np.ndarray) -> np.ndarray:

@@ -145,6 +145,9 @@ def resolve(m: Mechanism, endpoints: list[Endpoint], assembly: str | None, sourc
                              f"{r['assembly_mode']}, not {assembly}: every motion between them crosses a "
                              "parallel singularity (det A = 0)")
             joints, pose = np.array([r[names[0]], r[names[1]]]), np.array(e.value, float)
+        if r.get("violates"):  # limits and obstacles (`locate.with_violations`)
+            raise NoPath(f"{e.label} violates the {r['violates']}: no motion within the constraints starts or "
+                         "ends there")
         out.append(Configuration(e, joints, pose, r["working_mode"], r["assembly_mode"]))
     return out
 

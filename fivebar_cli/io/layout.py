@@ -63,6 +63,7 @@ def geojson_path(folder: Path, space: str) -> Path:
 
 ASPECTS_CSV = "aspects.csv"
 CROSSINGS_CSV = "aspects-adjacency.csv"
+SPLIT_CSV = "aspects-split.csv"  # with limits or obstacles: what each constrained aspect comes from
 PATH_CSV = "path.csv"
 PATH_PNG = "path.png"
 
@@ -74,6 +75,7 @@ def paving_files(stem: str) -> tuple[str, ...]:
 
 
 # The output sets of the commands writing into a mechanism's folder (io.outputs): name -> owned files.
-ASPECT_FILES = (ASPECTS_CSV, CROSSINGS_CSV, "aspects/aspect-*.qt", "aspects/aspect-*.geojson", "aspects-*.png")
+ASPECT_FILES = (ASPECTS_CSV, CROSSINGS_CSV, SPLIT_CSV, "aspects/aspect-*.qt", "aspects/aspect-*.geojson",
+                "aspects-*.png")
 PATH_FILES = (PATH_CSV, PATH_PNG)
 TOLERANCE_FILES = ("tolerance.csv", "tolerance-*.png")
