@@ -147,10 +147,10 @@ class Mechanism:
 
 
 def _while_parsing(parse):
-    def parse_checked(cls, data, source="<config>"):
+    def parse_checked(cls, data, source="<config>", *args, **kwargs):
         token = _PARSING.set(True)
         try:
-            return parse(cls, data, source)
+            return parse(cls, data, source, *args, **kwargs)
         finally:
             _PARSING.reset(token)
 
