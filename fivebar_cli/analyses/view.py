@@ -67,6 +67,15 @@ class View:
     paths: list[dict]
     ignored: list[str] = field(default_factory=list)  # one line per file left out, with the reason
 
+    def ignored_summary(self) -> list[str]:
+        """The files left out, one line per reason: the first two named, then how many more."""
+        by_reason: dict[str, list[str]] = {}
+        for line in self.ignored:
+            name, _, reason = line.partition(": ")
+            by_reason.setdefault(reason, []).append(name)
+        return [f"{', '.join(names[:2])}{f' and {len(names) - 2} more files' if len(names) > 2 else ''}: {reason}"
+                for reason, names in by_reason.items()]
+
     @property
     def leaves(self) -> int:
         return sum(len(t.qt.tree) for t in self.trees)

@@ -53,7 +53,7 @@ def view(paths, out, quiet):
     stdout = out is not None and str(out) == STDOUT and data_on_stdout(out)
     page = out if out is not None else default_page(paths[0])
     data = gather(paths)
-    for line in data.ignored:
+    for line in data.ignored_summary():
         warnings.warn(FivebarWarning(line))
     if stdout:
         click.echo(render_page(data), nl=False)
