@@ -385,7 +385,10 @@ def test_random_cell_sets(seed, periodic):
     path = np.array([p.unwrapped(grid) for p in points])
     t = np.linspace(0, 1, 300)[None, :, None]
     pts = (path[:-1, None] + t * (path[1:, None] - path[:-1, None])).reshape(-1, 2)
-    if periodic:
+    if periodic:  # wrapped, and on the seam theta = -pi also as theta = pi
         pts = (pts + np.pi) % (2 * np.pi) - np.pi
-    assert inside_closed(tree, pts, tol=1e-9).all()
+        copies = [pts + 2 * np.pi * np.array(s) for s in ((0, 0), (1, 0), (0, 1), (1, 1))]
+        assert np.any([inside_closed(tree, c, tol=1e-9) for c in copies], axis=0).all()
+    else:
+        assert inside_closed(tree, pts, tol=1e-9).all()
     assert np.allclose(points[0].at, start) and np.allclose(points[-1].at, end)
