@@ -3,13 +3,16 @@
 shapely builds the union of the boxes (a polygon, maybe with holes) and tells which straight
 segments it covers; the shortest polyline from one point to another in a polygon bends only at
 its reflex vertices, so Dijkstra (scipy) on the visibility graph of the two points and those
-vertices gives its length. Quadratic in the vertices: for tests and benchmarks. Nothing here is
+vertices gives its length. Cells that touch only at a corner are not joined there (the union is
+shrunk by a hair), as in fivebar's chains of cells sharing edges. Quadratic in the vertices: for tests and benchmarks. Nothing here is
 shared with `fivebar_cli/analyses/channel.py`.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+PINCH = 1e-7  # the union is shrunk by this many lattice steps, which parts cells touching at a corner
 
 
 def _reflex_vertices(union) -> np.ndarray:
@@ -57,6 +60,8 @@ def shortest_through_boxes(lo: np.ndarray, hi: np.ndarray, start, ends, bound: f
         return float("inf")
     union = shapely.union_all(shapely.box(union_lo[:, 0], union_lo[:, 1], union_hi[:, 0], union_hi[:, 1]))
     union = shapely.affinity.scale(union, scale[0], scale[1], origin=(0, 0))
+    # cells touching only at a corner do not join: no float path passes through one exact point
+    union = union.buffer(-PINCH * float(scale.min()), join_style="mitre")
     shapely.prepare(union)
     corners = _reflex_vertices(union)
     if bound is not None and len(corners):

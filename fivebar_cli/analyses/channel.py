@@ -318,11 +318,10 @@ def string_length(pulled: list[tuple[np.ndarray, int]]) -> float:
 # ---------------------------------------------------------------- 4. corridor
 
 
-def corridor(chain: Chain, start: np.ndarray, end: np.ndarray, bound: float) -> Chain:
-    """Every lifted copy of a cell of `chain.cells` that holds a point p with |p - start| +
-    |p - end| <= bound (points in the space's units from the root's low corner, unwrapped):
-    every polyline from start to end no longer than `bound` stays in them."""
-    cells = chain.cells
+def corridor(cells: Tree, start: np.ndarray, end: np.ndarray, bound: float) -> Chain:
+    """Every lifted copy of a cell that holds a point p with |p - start| + |p - end| <= bound
+    (points in the space's units from the root's low corner, unwrapped): every polyline from start
+    to end no longer than `bound` stays in them."""
     grid = cells.grid
     n = 1 << grid.depth
     scale = cell_size(cells)
@@ -355,67 +354,206 @@ def corridor(chain: Chain, start: np.ndarray, end: np.ndarray, bound: float) -> 
     return Chain(cells, leaf[keep], shifts[keep])
 
 
-def _rectangles(lo: np.ndarray, hi: np.ndarray):
-    """The union of integer boxes cut into vertical slabs at every box edge: per slab, the disjoint
-    intervals of the union (touching ones merged), i.e. rectangles (lo, hi), ordered by slab then
-    y, and the slab of each."""
-    xs = np.unique(np.concatenate([lo[:, 0], hi[:, 0]]))
-    first = np.searchsorted(xs, lo[:, 0])
-    span = np.searchsorted(xs, hi[:, 0]) - first
-    box = np.repeat(np.arange(len(lo)), span)
-    slab = first[box] + np.arange(int(span.sum())) - np.repeat(np.cumsum(span) - span, span)
-    y0, y1 = lo[box, 1], hi[box, 1]
-    base, width = int(y0.min()), int(y1.max() - y0.min()) + 1
-    order = np.lexsort((y0, slab))
-    slab, y0, y1 = slab[order], y0[order], y1[order]
-    top = np.maximum.accumulate(slab * width + (y1 - base)) - slab * width + base  # running top per slab
-    new = np.ones(len(slab), bool)
-    new[1:] = (slab[1:] != slab[:-1]) | (y0[1:] > top[:-1])
-    starts = np.flatnonzero(new)
-    r_slab = slab[starts]
-    r_lo = np.column_stack([xs[r_slab], y0[starts]])
-    r_hi = np.column_stack([xs[r_slab + 1], np.maximum.reduceat(y1, starts)])
-    return r_slab, r_lo, r_hi
+class Slabs:
+    """The union of integer boxes (a corridor, in lattice units) cut into vertical slabs at every
+    box edge: in each slab it is a set of disjoint closed intervals (touching ones merged), i.e.
+    rectangles, ordered by slab then y. Rectangles of consecutive slabs whose intervals overlap
+    with positive length are neighbours (cells touching at a corner only are not joined)."""
 
+    EPS = 1e-9  # lattice units: slack of the float visibility test (only steers the search)
 
-def _rectangle_graph(r_slab: np.ndarray, r_lo: np.ndarray, r_hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Rectangles of consecutive slabs whose intervals overlap with positive length (CSR). Keys
-    slab * width + y are increasing in both ends (each slab's intervals are disjoint and sorted),
-    so the rectangles of the previous slab that overlap [a, b] are one range of indices."""
-    base = int(r_lo[:, 1].min())
-    width = int(r_hi[:, 1].max()) - base + 1
-    key_lo = r_slab * width + (r_lo[:, 1] - base)
-    key_hi = r_slab * width + (r_hi[:, 1] - base)
-    left = (r_slab - 1) * width
-    lo_index = np.searchsorted(key_hi, left + (r_lo[:, 1] - base), side="right")  # first with top > a
-    hi_index = np.searchsorted(key_lo, left + (r_hi[:, 1] - base), side="left")  # first with bottom >= b
-    count = np.maximum(hi_index - lo_index, 0)
-    i = np.repeat(np.arange(len(r_slab)), count)
-    j = np.repeat(lo_index, count) + np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
-    return _csr(len(r_slab), np.concatenate([i, j]), np.concatenate([j, i]))
+    def __init__(self, lo: np.ndarray, hi: np.ndarray):
+        xs = np.unique(np.concatenate([lo[:, 0], hi[:, 0]]))
+        first = np.searchsorted(xs, lo[:, 0])
+        span = np.searchsorted(xs, hi[:, 0]) - first
+        box = np.repeat(np.arange(len(lo)), span)
+        slab = first[box] + np.arange(int(span.sum())) - np.repeat(np.cumsum(span) - span, span)
+        y0, y1 = lo[box, 1], hi[box, 1]
+        self.base, self.width = int(y0.min()), int(y1.max() - y0.min()) + 1
+        order = np.lexsort((y0, slab))
+        slab, y0, y1 = slab[order], y0[order], y1[order]
+        top = np.maximum.accumulate(slab * self.width + (y1 - self.base)) - slab * self.width + self.base
+        new = np.ones(len(slab), bool)
+        new[1:] = (slab[1:] != slab[:-1]) | (y0[1:] > top[:-1])  # a gap: a new rectangle
+        starts = np.flatnonzero(new)
+        self.xs, self.slab = xs, slab[starts]
+        self.lo = np.column_stack([xs[self.slab], y0[starts]])
+        self.hi = np.column_stack([xs[self.slab + 1], np.maximum.reduceat(y1, starts)])
+        self.key_lo = self.slab * self.width + (self.lo[:, 1] - self.base)
+        self.first, self.targets = self._graph()
 
+    def _graph(self) -> tuple[np.ndarray, np.ndarray]:
+        """Neighbours in CSR form. Keys slab * width + y increase with both ends of the intervals,
+        so the rectangles of the previous slab overlapping [a, b] are one range of indices."""
+        key_hi = self.slab * self.width + (self.hi[:, 1] - self.base)
+        left = (self.slab - 1) * self.width - self.base
+        lo_index = np.searchsorted(key_hi, left + self.lo[:, 1], side="right")  # first with top > a
+        hi_index = np.searchsorted(self.key_lo, left + self.hi[:, 1], side="left")  # first with bottom >= b
+        count = np.maximum(hi_index - lo_index, 0)
+        i = np.repeat(np.arange(len(self.slab)), count)
+        j = np.repeat(lo_index, count) + np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+        return _csr(len(self.slab), np.concatenate([i, j]), np.concatenate([j, i]))
 
-def corridor_string(lifted: Chain, start: np.ndarray, end: np.ndarray):
-    """The string pulled through the sequence of the corridor's rectangles from the start's to the
-    end's (unique when the corridor has no hole), with its gates; None if they are not joined."""
-    scale = cell_size(lifted.cells)
-    lo, hi = shifted_boxes(lifted)
-    r_slab, r_lo, r_hi = _rectangles(lo, hi)
-    first, targets = _rectangle_graph(r_slab, r_lo, r_hi)
-    f_lo, f_hi = r_lo * scale, r_hi * scale
+    def rect_at(self, slab: np.ndarray, y0: np.ndarray, y1: np.ndarray) -> np.ndarray:
+        """Per query, the rectangle of that slab holding [y0, y1] (within EPS), or -1."""
+        slab = np.asarray(slab, np.int64)
+        key = slab * self.width + (np.asarray(y0, float) + self.EPS - self.base)
+        k = np.searchsorted(self.key_lo, key, side="right") - 1
+        safe = np.clip(k, 0, len(self.slab) - 1)
+        ok = (k >= 0) & (self.slab[safe] == slab) & (self.hi[safe, 1] >= np.asarray(y1, float) - self.EPS)
+        return np.where(ok, safe, -1)
 
-    def holder(p):
-        inside = np.flatnonzero(np.all((f_lo <= p + 1e-12) & (p - 1e-12 <= f_hi), axis=1))
-        return int(inside[0]) if len(inside) else None
-
-    a, b = holder(start), holder(end)
-    if a is None or b is None:
+    def holder(self, p: np.ndarray) -> int | None:
+        """A rectangle holding the point (lattice units)."""
+        for i in {int(np.searchsorted(self.xs, p[0], side="right")) - 1, int(np.searchsorted(self.xs, p[0])) - 1}:
+            if 0 <= i < len(self.xs) - 1:
+                k = int(self.rect_at(np.array([i]), np.array([p[1]]), np.array([p[1]]))[0])
+                if k >= 0:
+                    return k
         return None
-    path = _astar(first, targets, 0.5 * (f_lo + f_hi), a, b, lambda d: d)
+
+    def holes(self, rect: int) -> int:
+        """Holes of the connected set of rectangles holding `rect` (independent cycles of the
+        graph: two rectangles of one slab both joined to the next slab enclose a gap)."""
+        reached = np.zeros(len(self.slab), bool)
+        reached[rect] = True
+        frontier = np.array([rect])
+        while len(frontier):
+            count = self.first[frontier + 1] - self.first[frontier]
+            at = np.repeat(self.first[frontier] - np.cumsum(count) + count, count) + np.arange(int(count.sum()))
+            nxt = np.unique(self.targets[at])
+            frontier = nxt[~reached[nxt]]
+            reached[frontier] = True
+        edges = int(np.diff(self.first)[reached].sum()) // 2
+        return edges - int(reached.sum()) + 1
+
+    def sight(self, p: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Whether each segment p[k] -> q[k] (lattice units) lies in the rectangles, crossing slab
+        edges only where neighbours overlap with positive length; also, per (segment, slab) row,
+        the segment and the rectangle (in order of x; a vertical segment has one row)."""
+        x0, x1 = np.minimum(p[:, 0], q[:, 0]), np.maximum(p[:, 0], q[:, 0])
+        i0 = np.searchsorted(self.xs, x0, side="right") - 1
+        i1 = np.searchsorted(self.xs, x1, side="left") - 1
+        vertical = x0 == x1
+        i1 = np.where(vertical, i0, i1)
+        count = np.maximum(i1 - i0 + 1, 0)
+        inside = (x0 >= self.xs[0]) & (x1 <= self.xs[-1])
+        count[~inside] = 0
+        seg = np.repeat(np.arange(len(p)), count)
+        slab = i0[seg] + np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+        dx = (q - p)[seg]
+        safe_dx = np.where(dx[:, 0] == 0, 1.0, dx[:, 0])
+        slope = dx[:, 1] / safe_dx
+        xa, xb = np.maximum(self.xs[slab], x0[seg]), np.minimum(self.xs[np.minimum(slab + 1, len(self.xs) - 1)], x1[seg])
+        ya, yb = p[seg, 1] + (xa - p[seg, 0]) * slope, p[seg, 1] + (xb - p[seg, 0]) * slope
+        flat = vertical[seg]
+        ya, yb = np.where(flat, p[seg, 1], ya), np.where(flat, q[seg, 1], yb)
+        rect = self.rect_at(slab, np.minimum(ya, yb), np.maximum(ya, yb))
+        if flat.any():  # a vertical segment on a slab edge may lie in the slab on its left
+            left = flat & (rect < 0) & (slab > 0) & (self.xs[np.maximum(slab, 0)] == x0[seg])
+            rect[left] = self.rect_at(slab[left] - 1, np.minimum(ya, yb)[left], np.maximum(ya, yb)[left])
+        good = np.ones(len(p), bool) & (count > 0)
+        np.logical_and.at(good, seg, rect >= 0)
+        nxt = np.flatnonzero((seg[1:] == seg[:-1]) & (rect[1:] >= 0) & (rect[:-1] >= 0))
+        a, b = rect[nxt], rect[nxt + 1]
+        overlap = np.minimum(self.hi[a, 1], self.hi[b, 1]) - np.maximum(self.lo[a, 1], self.lo[b, 1])
+        np.logical_and.at(good, seg[nxt], overlap > 0)
+        return good, seg, rect
+
+    def route(self, start: np.ndarray, end: np.ndarray, scale: np.ndarray, bound: float,
+              corners_limit: int = 400) -> list[int] | None:
+        """The rectangles from the start's to the end's (lattice units) that the shortest polyline
+        crosses: the unique sequence when the connected set has no hole; with holes, the one of the
+        shortest polyline in the visibility graph of the start, the end and the reflex corners a
+        polyline no longer than `bound` (space units, `scale` per lattice step) can reach, when
+        there are at most `corners_limit` of them, else A* on the rectangles' centres."""
+        a, b = self.holder(start), self.holder(end)
+        if a is None or b is None:
+            return None
+        centre = 0.5 * (self.lo + self.hi) * scale
+        if self.holes(a):
+            corners = self._reflex_corners()
+            reach = (np.hypot(*((corners - start) * scale).T) + np.hypot(*((corners - end) * scale).T))
+            corners = corners[reach <= bound * (1 + 1e-9)]
+            if len(corners) <= corners_limit:
+                polyline = self._visible_path(np.vstack([start, end, corners]), scale)
+                if polyline is not None:
+                    rects = self._rects_along(polyline)
+                    if rects and self._is_chain(rects):
+                        return rects
+        return _astar(self.first, self.targets, centre, a, b, lambda d: d)
+
+    def _reflex_corners(self) -> np.ndarray:
+        """Rectangle corners with exactly three of their four quadrants in the union."""
+        corners = np.unique(np.vstack([self.lo, self.hi, np.column_stack([self.lo[:, 0], self.hi[:, 1]]),
+                                       np.column_stack([self.hi[:, 0], self.lo[:, 1]])]), axis=0).astype(float)
+        free = np.zeros(len(corners), np.int64)
+        for dx in (-0.5, 0.5):
+            for dy in (-0.5, 0.5):
+                x, y = corners[:, 0] + dx, corners[:, 1] + dy
+                slab = np.searchsorted(self.xs, x, side="right") - 1
+                ok = (slab >= 0) & (slab < len(self.xs) - 1)
+                hit = np.full(len(x), -1)
+                hit[ok] = self.rect_at(slab[ok], y[ok], y[ok])
+                free += hit >= 0
+        return corners[free == 3]
+
+    def _visible_path(self, nodes: np.ndarray, scale: np.ndarray) -> np.ndarray | None:
+        """Dijkstra from node 0 to node 1 on the visibility graph of the nodes (lattice units)."""
+        n = len(nodes)
+        i, j = np.triu_indices(n, 1)
+        weight = np.full((n, n), np.inf)
+        for chunk in range(0, len(i), 20000):
+            ii, jj = i[chunk:chunk + 20000], j[chunk:chunk + 20000]
+            good, _, _ = self.sight(nodes[ii], nodes[jj])
+            w = np.hypot(*((nodes[jj] - nodes[ii]) * scale).T)
+            weight[ii[good], jj[good]] = w[good]
+            weight[jj[good], ii[good]] = w[good]
+        dist, parent, done = np.full(n, np.inf), np.full(n, -1), np.zeros(n, bool)
+        dist[0] = 0.0
+        while True:
+            k = int(np.argmin(np.where(done, np.inf, dist)))
+            if done[k] or not np.isfinite(dist[k]):
+                return None
+            if k == 1:
+                break
+            done[k] = True
+            better = dist[k] + weight[k] < dist
+            dist[better], parent[better] = dist[k] + weight[k][better], k
+        path = [1]
+        while path[-1] != 0:
+            path.append(int(parent[path[-1]]))
+        return nodes[path[::-1]]
+
+    def _rects_along(self, polyline: np.ndarray) -> list[int] | None:
+        """The rectangles a polyline crosses, in order (None when a segment leaves them)."""
+        out: list[int] = []
+        for p, q in zip(polyline, polyline[1:]):
+            good, seg, rect = self.sight(p[None, :], q[None, :])
+            if not good[0]:
+                return None
+            rect = rect.tolist() if p[0] <= q[0] else rect[::-1].tolist()
+            out += [r for r in rect if not out or r != out[-1]]
+        return out
+
+    def _is_chain(self, rects: list[int]) -> bool:
+        for a, b in zip(rects, rects[1:]):
+            if b not in self.targets[self.first[a]:self.first[a + 1]]:
+                return False
+        return True
+
+
+def corridor_string(lifted: Chain, start: np.ndarray, end: np.ndarray, bound: float):
+    """The string pulled through the corridor's rectangles that the shortest polyline from start to
+    end crosses (`Slabs.route`), with its gates and the rectangles' bounds (space units); None if
+    they are not joined."""
+    scale = cell_size(lifted.cells)
+    slabs = Slabs(*shifted_boxes(lifted))
+    path = slabs.route(start / scale, end / scale, scale, bound)
     if path is None:
         return None
-    gates = box_portals(r_lo[path], r_hi[path], scale)
-    return pull_string(start, end, gates), gates
+    gates = box_portals(slabs.lo[path], slabs.hi[path], scale)
+    return pull_string(start, end, gates), gates, (slabs.lo[path] * scale, slabs.hi[path] * scale)
 
 
 # ---------------------------------------------------------------- 5. exact check
@@ -566,25 +704,41 @@ MAX_STEP = 3.0  # on a periodic axis, consecutive written waypoints differ by le
 
 def certified_polyline(chain: Chain, start: np.ndarray, end: Waypoint) -> tuple[list[Waypoint], ExactCells]:
     """Waypoints from `start` to `end` (both kept exactly as given), every segment proven to lie in
-    the cells: the straight segment when it does, else the shorter of the strings pulled through
-    the chain and through the corridor (module docstring); other waypoints are written wrapped
-    into the root box, and on a periodic axis consecutive ones differ by less than MAX_STEP in
-    the unwrapped chart, so each segment is the short way round. Raises ValueError if a segment
-    cannot be proven even through the middles of the portals it crosses (it has not been seen to)."""
+    the cells: the shortest of the string pulled through the chain and, for every place of the end
+    in the unwrapped chart (`end` lifted by whole periods) that a motion no longer can reach, the
+    straight segment when it lies in the cells, else the string pulled through the corridor
+    (module docstring). Other waypoints are written wrapped into the root box, and on a periodic
+    axis consecutive ones differ by less than MAX_STEP in the unwrapped chart, so each segment is
+    the short way round. Raises ValueError if a segment cannot be proven even through the centres
+    of the boxes it crosses (it has not been seen to)."""
     cells = chain.cells
     grid = cells.grid
     first = Waypoint(np.asarray(start, float).copy(), (0,) * grid.dim)
-    s, t = np.asarray(start, float) - grid.lo, end.unwrapped(grid) - grid.lo
+    s = np.asarray(start, float) - grid.lo
     gates = portals(chain)
-    pulled = pull_string(s, t, gates)
-    exact = ExactCells(corridor(chain, s, t, string_length(pulled)))
-    if exact.covers(first, end):
-        points = [first, end]
+    lo, hi = shifted_boxes(chain)
+    pulled = pull_string(s, end.unwrapped(grid) - grid.lo, gates)
+    bound = string_length(pulled)
+    best = None  # (length, end, exact cells, string or None for the straight segment)
+    for target in _lifts(grid, s, end, bound):
+        t = target.unwrapped(grid) - grid.lo
+        if best is not None and float(np.hypot(*(t - s))) >= best[0]:
+            break
+        exact = ExactCells(corridor(cells, s, t, bound))
+        if exact.covers(first, target):
+            best = (float(np.hypot(*(t - s))), target, exact, None)
+            continue
+        options = [corridor_string(exact.chain, s, t, bound)]
+        if target.turns == end.turns:
+            options.append((pulled, gates, (lo * cell_size(cells), hi * cell_size(cells))))
+        for string in options:
+            if string is not None and (best is None or string_length(string[0]) < best[0]):
+                best = (string_length(string[0]), target, exact, string)
+    _, target, exact, string = best
+    if string is None:
+        points = [first, target]
     else:
-        better = corridor_string(exact.chain, s, t)
-        if better is not None and string_length(better[0]) < string_length(pulled):
-            pulled, gates = better
-        points = _proven(exact, first, end, pulled, gates)
+        points = _proven(exact, first, target, *string)
         points = _tidy(points, exact, float(MARGIN * cell_size(cells).max()))
     points = _short_steps(points, exact)
     exact.used.clear()
@@ -593,27 +747,60 @@ def certified_polyline(chain: Chain, start: np.ndarray, end: Waypoint) -> tuple[
     return points, exact
 
 
-def _proven(exact: ExactCells, first: Waypoint, end: Waypoint, pulled, gates) -> list[Waypoint]:
-    """The pulled string as waypoints, each segment proven (or through the portal middles)."""
+def _lifts(grid, start: np.ndarray, end: Waypoint, bound: float) -> list[Waypoint]:
+    """The end shifted by whole periods to every place within `bound` of the start (always its own
+    place), nearest first."""
+    t = end.unwrapped(grid) - grid.lo
+    ranges = []
+    for axis, wrap in enumerate(grid.periodic):
+        if wrap:
+            period = float(grid.size[axis])
+            lo = int(np.ceil((start[axis] - bound - t[axis]) / period))
+            ranges.append(range(min(lo, 0), max(int(np.floor((start[axis] + bound - t[axis]) / period)), 0) + 1))
+        else:
+            ranges.append(range(0, 1))
+    out = []
+    for k in ((a, b) for a in ranges[0] for b in ranges[1]):
+        place = t + np.array(k) * grid.size
+        distance = float(np.hypot(*(place - start)))
+        if distance <= bound or k == (0, 0):
+            out.append((distance, k, Waypoint(end.at, tuple(int(a + b) for a, b in zip(end.turns, k)))))
+    return [w for _, _, w in sorted(out, key=lambda item: item[:2])]
+
+
+def _proven(exact: ExactCells, first: Waypoint, end: Waypoint, pulled, gates, boxes) -> list[Waypoint]:
+    """The pulled string as waypoints, each segment proven. A segment that is not (the string can
+    run along an edge of the cells, round an obstacle, where rounding may leave it a hair outside)
+    is replaced by the polyline through the points nearest its middle of the boxes it crosses,
+    each box shrunk by MARGIN steps, and of the portals between them: every piece then joins a
+    point inside a portal to a point inside a box it bounds."""
     grid = exact.grid
+    step = cell_size(exact.chain.cells)
+    box_lo, box_hi = boxes
 
     def at(v: np.ndarray) -> Waypoint:
         return waypoint(grid, grid.lo + v)
 
+    def near(v: np.ndarray, lo: np.ndarray, hi: np.ndarray, inset: np.ndarray) -> np.ndarray:
+        inset = np.minimum(inset, 0.25 * (hi - lo))
+        return np.clip(v, lo + inset, hi - inset)
+
     points = [first]
-    for (_, i), (v, j) in zip(pulled, pulled[1:]):
+    for (u, i), (v, j) in zip(pulled, pulled[1:]):
         target = end if j == len(gates) + 1 else at(v)
         if exact.covers(points[-1], target):
             points.append(target)
             continue
-        for g in range(i + 1, j):  # through the middles of the portals crossed
-            middle = at(0.5 * (gates[g - 1][0] + gates[g - 1][1]))
-            if not exact.covers(points[-1], middle):
+        middle, detour = 0.5 * (u + v), []
+        for k in range(i, j):  # box k lies between gate k (k >= 1) and gate k + 1 (gates[k - 1], gates[k])
+            if k > i:
+                a, b = gates[k - 1]
+                detour.append(at(near(middle, np.minimum(a, b), np.maximum(a, b), 0 * step)))
+            detour.append(at(near(middle, box_lo[k], box_hi[k], MARGIN * step)))
+        for point in detour + [target]:
+            if not exact.covers(points[-1], point):
                 raise ValueError("a segment of the path could not be proven to lie in certified cells")
-            points.append(middle)
-        if not exact.covers(points[-1], target):
-            raise ValueError("a segment of the path could not be proven to lie in certified cells")
-        points.append(target)
+            points.append(point)
     return points
 
 

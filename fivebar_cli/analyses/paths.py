@@ -160,28 +160,29 @@ def parallel_free_cells(m: Mechanism, depth: int, assembly: str) -> Tree:
 
 
 def find_path(m: Mechanism, depth: int, start: Configuration, end: Configuration, allow_serial: bool = False,
-              folder: Path | None = None, aspects: list[Aspect] | None = None,
-              max_depth: int | None = None) -> PathResult:
+              folder: Path | None = None, max_depth: int | None = None, cells: Tree | None = None,
+              aspects: list[Aspect] | None = None) -> PathResult:
     """A certified singularity-free motion from `start` to `end` at this depth, or NoPath with the
-    verdict of `locate.decide` (the same answer `locate` gives): a chain of certified cells is the
-    proof that the motion exists; without one, the aspects (`aspects`, else those an `aspects` run
-    saved in `folder` for this mechanism and depth, else computed) say why."""
+    verdict of `locate.decide` (the answer `locate` gives): a chain of certified joint-space cells
+    is the proof that the motion exists; without one, the aspects say why. The cells are `cells`
+    when given, else the joint-space cells of the saved aspect holding the start (an `aspects` run
+    in `folder` for this mechanism and depth; the motion then names it), else one paving of the
+    start's modes. The aspects are `aspects` when given, else the saved ones, else computed (only
+    when no motion is found)."""
     model = m.aspect_model()
     verdict = mode_verdict(model, start, end, depth, allow_serial, offer_serial=True)
     if verdict is not None:
         raise NoPath(verdict.text())
-    aspect, source = None, "computed"
+    saved = aspect_files.load_aspects(folder, m, depth) if folder is not None and not allow_serial else None
+    aspects = aspects if aspects is not None else saved
+    aspect = None
     if allow_serial:
         cells = parallel_free_cells(m, depth, start.assembly)
-    else:
-        if aspects is None and folder is not None:
-            aspects = aspect_files.load_aspects(folder, m, depth)
-            source = "saved" if aspects is not None else source
-        if aspects is not None:
-            aspect = next((a for a, space, _ in holders(aspects, start) if space == "jointspace"), None)
-            cells = aspect.jointspace if aspect is not None else None
-        else:
-            cells = mode_cells(m, depth, start.working, start.assembly)
+    elif cells is None and saved is not None:
+        aspect = next((a for a, space, _ in holders(saved, start) if space == "jointspace"), None)
+        cells = aspect.jointspace if aspect is not None else None
+    elif cells is None:
+        cells = mode_cells(m, depth, start.working, start.assembly)
     chain = None
     if cells is not None:
         first, last = containing_leaves(cells, start.joints), containing_leaves(cells, end.joints)
@@ -199,7 +200,7 @@ def find_path(m: Mechanism, depth: int, start: Configuration, end: Configuration
     poses = np.where(ok[:, None], poses, np.nan)
     poses[0], poses[-1] = start.pose, end.pose
     return PathResult(m, depth, allow_serial, start, end, joints, turns, poses, cells, chain, len(exact.used),
-                      aspect, source)
+                      aspect, "saved" if saved is not None else "computed")
 
 
 def _why_not(m: Mechanism, depth: int, start: Configuration, end: Configuration, allow_serial: bool,
