@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+from itertools import product
 from pathlib import Path
 
 import numpy as np
@@ -21,11 +22,13 @@ from cli_helpers import one_line, run_cli
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from reference_kinematics import ref_dkp, ref_ikp
+from reference_paths import shortest_through_boxes
 
 from fivebar_cli.analyses.aspects import analyse_aspects
 from fivebar_cli.analyses.channel import Waypoint, ExactCells, certified_polyline, find_chain, lift
-from fivebar_cli.analyses.paths import Endpoint, NoPath, find_path, resolve
+from fivebar_cli.analyses.paths import Endpoint, NoPath, find_path, mode_cells, resolve
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
+from fivebar_cli.mechanisms.registry import load_config
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree
 
@@ -392,3 +395,75 @@ def test_random_cell_sets(seed, periodic):
     else:
         assert inside_closed(tree, pts, tol=1e-9).all()
     assert np.allclose(points[0].at, start) and np.allclose(points[-1].at, end)
+
+
+# ---------------------------------------------------------------- short motions (issue 20)
+
+
+def lattice_boxes_of(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
+    """Integer bounds of the leaves in depth-D cells (computed here, for the reference)."""
+    span = (1 << (tree.grid.depth - tree.level))[:, None]
+    return tree.coords * span, tree.coords * span + span
+
+
+def reference_length(tree: Tree, start, end, bound: float) -> float:
+    """The shortest polyline from start to end in the tree's cells, by shapely's visibility graph
+    (tests/reference_paths.py), on a torus over the 3 x 3 copies of the cells and of the end;
+    `bound` (a length known to be reachable) only prunes what cannot matter."""
+    grid = tree.grid
+    n = 1 << grid.depth
+    lo, hi = lattice_boxes_of(tree)
+    copies = [np.array(s) for s in product(*[(-1, 0, 1) if p else (0,) for p in grid.periodic])]
+    scale = grid.size / n
+    to = lambda p: np.where(grid.periodic, (np.asarray(p) - grid.lo) % grid.size, np.asarray(p) - grid.lo) / scale  # noqa: E731
+    return shortest_through_boxes(np.concatenate([lo + c * n for c in copies]),
+                                  np.concatenate([hi + c * n for c in copies]),
+                                  to(start), [to(end) + c * n for c in copies], bound, scale)
+
+
+@pytest.mark.parametrize("config,m,start,end,assembly,straight", [
+    (REPO / "configs" / "rpr2.yaml", None, ("5", "6"), ("10", "12"), "+", math.sqrt(61)),
+    (M1_YAML, M1, ("0", "1"), ("0.6", "0.6"), "+", math.sqrt(0.52)),
+], ids=["2-RPR (5, 6) -> (10, 12)", "M1 (0, 1) -> (0.6, 0.6)"])
+def test_a_straight_segment_in_the_cells_comes_back_as_it_is(tmp_path, config, m, start, end, assembly, straight):
+    """The issue's two motions: the straight segment lies in the certified cells (shapely's
+    shortest polyline through the same cells is that long), so the motion is that segment."""
+    r = run_cli("path", config, "--joints", *start, "--joints", *end, "--assembly-mode", assembly, "--depth", "10",
+                "-o", tmp_path, "--no-plot", cwd=REPO)
+    assert r.status == 0, r.stderr
+    assert f"2 waypoints, joint-space length {straight:.6g}" in r.stdout
+    _, rows, text = read_path(tmp_path)
+    assert [t[:2] for t in text] == [[f"{float(v)!r}" if v != "0" else "0" for v in p] for p in (start, end)]
+    if m is not None:
+        check_motion(m, rows, 1, (1, 1))
+    mech = load_config(config)
+    ends = [Endpoint("joints", tuple(float(v) for v in p)) for p in (start, end)]
+    first, last = resolve(mech, ends, assembly, "test")
+    cells = mode_cells(mech, 10, first.working, first.assembly)
+    assert reference_length(cells, first.joints, last.joints, straight * 1.01) == pytest.approx(straight, rel=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), periodic=st.booleans(), density=st.floats(0.55, 0.8))
+def test_motions_are_as_short_as_the_cells_allow(seed, periodic, density):
+    """Random cells on a 16 x 16 grid, holes and corner contacts included: the certified motion is
+    at most 0.1 % longer than shapely's shortest polyline through the same cells (visibility graph,
+    corner contacts cut), and never shorter."""
+    rng = np.random.default_rng(seed)
+    root = ((-np.pi, np.pi), (-np.pi, np.pi)) if periodic else ((0.0, 16.0), (0.0, 16.0))
+    grid = Grid(root, 4, (periodic, periodic))
+    tree = cells(grid, np.argwhere(rng.random((16, 16)) < density))
+    if len(tree) < 2:
+        return
+    a, b = rng.choice(len(tree), 2, replace=False)
+    lo, hi = tree.bounds()
+    start = lo[a] + rng.uniform(0.1, 0.9, 2) * (hi[a] - lo[a])
+    end = lo[b] + rng.uniform(0.1, 0.9, 2) * (hi[b] - lo[b])
+    chain = find_chain(tree, int(a), int(b), start)
+    if chain is None:
+        return
+    points, _ = certified_polyline(chain, start, lift(chain, end))
+    path = np.array([p.unwrapped(grid) for p in points])
+    length = float(np.sum(np.hypot(*np.diff(path, axis=0).T)))
+    best = reference_length(tree, start, end, length)
+    assert best * (1 - 1e-9) <= length <= best * 1.001

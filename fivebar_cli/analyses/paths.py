@@ -7,12 +7,14 @@ chain of such cells from one endpoint to the other proves that both lie in one c
 non-singular configurations of these modes, i.e. in one aspect, whatever the aspect analysis
 says. With `allow_serial` the cells are those certified to assemble with det A != 0 (B11, B22
 may vanish): the motion may change working mode across serial singularities, never across a
-parallel one. The polyline is built and checked by `channel.py`.
+parallel one. The polyline is built and checked by `channel.py`: the straight segment when it
+lies in the cells, else the shortest polyline through them.
 
 The aspect trees an `aspects` run saved for the same mechanism and depth are reused (they name
 the aspect and say whether it is certified); otherwise only the one paving the motion needs is
-computed. Both give the same path: the chain only depends on the start's component of cells
-sharing edges, which is the same in the aspect's cells and in the paving's cells of those modes.
+computed. When no chain joins the two configurations, the reason is `locate.decide`'s verdict on
+the aspects (saved, else computed then): the very answer `locate` gives, "no" only when proven,
+else "not decided at depth D" with what to try.
 """
 
 from __future__ import annotations

@@ -75,7 +75,7 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     \b
     Examples:
       fivebar path configs/m1.yaml --joints -0.1 -2.06 --joints 0.88 1.47 --assembly-mode +
-      fivebar path configs/m1.yaml --joints 30deg 60deg --joints 40deg 10deg --assembly-mode +
+      fivebar path configs/m1.yaml --joints -5deg -120deg --joints 50deg 85deg --assembly-mode +
       fivebar path configs/m1.yaml --pose 4 5 --pose 6 8 --working-mode ++
       fivebar path configs/m1.yaml --joints 0.1 0.7 --joints -0.5 -3.1 --assembly-mode + --allow-serial
     """
