@@ -156,7 +156,8 @@ def reference(cells, start, end, bound: float) -> float:
         p = np.asarray(p, float) - grid.lo
         return np.where(grid.periodic, p % grid.size, p) / scale
 
-    return shortest_through_boxes(np.concatenate([lo + c * n for c in copies]), np.concatenate([hi + c * n for c in copies]),
+    return shortest_through_boxes(np.concatenate([lo + c * n for c in copies]),
+                                  np.concatenate([hi + c * n for c in copies]),
                                   to(start), [to(end) + c * n for c in copies], bound, scale)
 
 

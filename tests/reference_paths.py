@@ -4,8 +4,8 @@ shapely builds the union of the boxes (a polygon, maybe with holes) and tells wh
 segments it covers; the shortest polyline from one point to another in a polygon bends only at
 its reflex vertices, so Dijkstra (scipy) on the visibility graph of the two points and those
 vertices gives its length. Cells that touch only at a corner are not joined there (the union is
-shrunk by a hair), as in fivebar's chains of cells sharing edges. Quadratic in the vertices: for tests and benchmarks. Nothing here is
-shared with `fivebar_cli/analyses/channel.py`.
+shrunk by a hair), as in fivebar's chains of cells sharing edges. Quadratic in the vertices: for
+tests and benchmarks. Nothing here is shared with `fivebar_cli/analyses/channel.py`.
 """
 
 from __future__ import annotations

@@ -364,28 +364,37 @@ def test_exact_check_refuses_a_segment_leaving_the_cells_by_a_hair():
     assert exact.covers(w(0.5, 0.5), w(2.0 + 2.0 ** -52, 0.5))  # within the one-ulp widening (4 ulp tested)
 
 
-@settings(max_examples=40, deadline=None)
-@given(seed=st.integers(0, 10 ** 6), periodic=st.booleans())
-def test_random_cell_sets(seed, periodic):
-    """Random cells on an 8 x 8 grid: whenever a chain joins two cells, every sampled point of the
-    polyline lies in the union of the closed cells (wrapped on a torus)."""
+def random_motion(seed: int, periodic: bool, depth: int, density: float):
+    """Random cells of a 2^depth x 2^depth grid (a torus, or [0, 2^depth]^2), two random points of
+    two of them and the certified motion between them: (tree, start, end, waypoints), or None when
+    no chain of cells joins them."""
     rng = np.random.default_rng(seed)
-    root = ((-np.pi, np.pi), (-np.pi, np.pi)) if periodic else ((0.0, 8.0), (0.0, 8.0))
-    grid = Grid(root, 3, (periodic, periodic))
-    mask = rng.random((8, 8)) < 0.6
-    coords = np.argwhere(mask)
+    n = 1 << depth
+    root = ((-np.pi, np.pi), (-np.pi, np.pi)) if periodic else ((0.0, float(n)), (0.0, float(n)))
+    coords = np.argwhere(rng.random((n, n)) < density)
     if len(coords) < 2:
-        return
-    tree = cells(grid, coords)
+        return None
+    tree = cells(Grid(root, depth, (periodic, periodic)), coords)
     a, b = rng.choice(len(tree), 2, replace=False)
     lo, hi = tree.bounds()
     start = lo[a] + rng.uniform(0.1, 0.9, 2) * (hi[a] - lo[a])
     end = lo[b] + rng.uniform(0.1, 0.9, 2) * (hi[b] - lo[b])
     chain = find_chain(tree, int(a), int(b), start)
     if chain is None:
+        return None
+    return tree, start, end, certified_polyline(chain, start, lift(chain, end))[0]
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), periodic=st.booleans())
+def test_random_cell_sets(seed, periodic):
+    """Random cells on an 8 x 8 grid: whenever a chain joins two cells, every sampled point of the
+    polyline lies in the union of the closed cells (wrapped on a torus)."""
+    motion = random_motion(seed, periodic, 3, 0.6)
+    if motion is None:
         return
-    points, _ = certified_polyline(chain, start, lift(chain, end))
-    path = np.array([p.unwrapped(grid) for p in points])
+    tree, start, end, points = motion
+    path = np.array([p.unwrapped(tree.grid) for p in points])
     t = np.linspace(0, 1, 300)[None, :, None]
     pts = (path[:-1, None] + t * (path[1:, None] - path[:-1, None])).reshape(-1, 2)
     if periodic:  # wrapped, and on the seam theta = -pi also as theta = pi
@@ -415,7 +424,11 @@ def reference_length(tree: Tree, start, end, bound: float) -> float:
     lo, hi = lattice_boxes_of(tree)
     copies = [np.array(s) for s in product(*[(-1, 0, 1) if p else (0,) for p in grid.periodic])]
     scale = grid.size / n
-    to = lambda p: np.where(grid.periodic, (np.asarray(p) - grid.lo) % grid.size, np.asarray(p) - grid.lo) / scale  # noqa: E731
+
+    def to(p):
+        p = np.asarray(p, float) - grid.lo
+        return np.where(grid.periodic, p % grid.size, p) / scale
+
     return shortest_through_boxes(np.concatenate([lo + c * n for c in copies]),
                                   np.concatenate([hi + c * n for c in copies]),
                                   to(start), [to(end) + c * n for c in copies], bound, scale)
@@ -449,21 +462,11 @@ def test_motions_are_as_short_as_the_cells_allow(seed, periodic, density):
     """Random cells on a 16 x 16 grid, holes and corner contacts included: the certified motion is
     at most 0.1 % longer than shapely's shortest polyline through the same cells (visibility graph,
     corner contacts cut), and never shorter."""
-    rng = np.random.default_rng(seed)
-    root = ((-np.pi, np.pi), (-np.pi, np.pi)) if periodic else ((0.0, 16.0), (0.0, 16.0))
-    grid = Grid(root, 4, (periodic, periodic))
-    tree = cells(grid, np.argwhere(rng.random((16, 16)) < density))
-    if len(tree) < 2:
+    motion = random_motion(seed, periodic, 4, density)
+    if motion is None:
         return
-    a, b = rng.choice(len(tree), 2, replace=False)
-    lo, hi = tree.bounds()
-    start = lo[a] + rng.uniform(0.1, 0.9, 2) * (hi[a] - lo[a])
-    end = lo[b] + rng.uniform(0.1, 0.9, 2) * (hi[b] - lo[b])
-    chain = find_chain(tree, int(a), int(b), start)
-    if chain is None:
-        return
-    points, _ = certified_polyline(chain, start, lift(chain, end))
-    path = np.array([p.unwrapped(grid) for p in points])
+    tree, start, end, points = motion
+    path = np.array([p.unwrapped(tree.grid) for p in points])
     length = float(np.sum(np.hypot(*np.diff(path, axis=0).T)))
     best = reference_length(tree, start, end, length)
     assert best * (1 - 1e-9) <= length <= best * 1.001

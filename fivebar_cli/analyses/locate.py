@@ -119,8 +119,8 @@ def singularities(model: AspectModel, c: Configuration) -> list[str]:
 def locate_configurations(m: Mechanism, aspects: list[Aspect], points: np.ndarray, space: str) -> list[dict]:
     """Every configuration at the given poses (workspace) or joint values (joint space), as rows
     (`row`), numbered by the point's index."""
-    return [row(m, c, aspect_of(aspects, c), k)
-            for k, point in enumerate(np.atleast_2d(np.asarray(points, float))) for c in configurations(m, point, space)]
+    points = np.atleast_2d(np.asarray(points, float))
+    return [row(m, c, aspect_of(aspects, c), k) for k, point in enumerate(points) for c in configurations(m, point, space)]
 
 
 def row(m: Mechanism, c: Configuration, aspect: Aspect | None, index: int) -> dict:

@@ -228,7 +228,8 @@ def _pairs_report(i: int, j: int, pairs, model, depth: int) -> None:
     """Two locations with several configurations: the answer over every pair of them, then the
     verdict of each pair that the modes alone do not settle."""
     answer = overall([v for _, _, v in pairs])
-    head = f"  {i} -> {j}: {answer if answer != UNDECIDED else f'{answer} at depth {depth}'}, over the {len(pairs)} pairs"
+    said = answer if answer != UNDECIDED else f"{answer} at depth {depth}"
+    head = f"  {i} -> {j}: {said}, over the {len(pairs)} pairs"
     apart = [v.answer == NO and mode_verdict(model, a, b, depth) is not None for a, b, v in pairs]
     if all(apart):
         click.echo(f"{head}: every pair has different modes, so every motion between them crosses a singularity")
@@ -236,8 +237,9 @@ def _pairs_report(i: int, j: int, pairs, model, depth: int) -> None:
     click.echo(f"{head} of their configurations:")
     for (a, b, v), settled in zip(pairs, apart):
         if not settled:
-            modes = (f"working mode {a.working}, det A {a.assembly}" if (a.working, a.assembly) == (b.working, b.assembly)
-                     else f"working mode {a.working}, det A {a.assembly} -> working mode {b.working}, det A {b.assembly}")
+            modes = f"working mode {a.working}, det A {a.assembly}"
+            if (a.working, a.assembly) != (b.working, b.assembly):
+                modes += f" -> working mode {b.working}, det A {b.assembly}"
             click.echo(f"    {modes}: {v.line()}")
     if any(apart):
         click.echo(f"    the other {sum(apart)} {_plural(sum(apart), 'pair')}: no: different modes")
