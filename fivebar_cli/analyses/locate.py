@@ -10,7 +10,8 @@ value below `SINGULAR_TOL * scale^2`) it is in none.
 `decide` answers, for two configurations:
 - **no**, only when that is proven: their modes differ by a sign that does not vanish (det A, or,
   without serial crossings, B11 or B22 changes sign along every motion between them), or they lie
-  in two different aspects that are both certified (the certificate separates them);
+  in two different aspects that are both certified (the certificate separates them; with joint
+  limits or obstacles, a motion within them would cross a singularity or a constraint's boundary);
 - **yes**, only when that is proven: one aspect holds both (with interval lengths: one connected
   set of a robust aspect's cells in one space, so that the motion is singularity-free for every
   length vector);
@@ -19,7 +20,7 @@ value below `SINGULAR_TOL * scale^2`) it is in none.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -37,13 +38,15 @@ YES, NO, UNDECIDED = "yes", "no", "not decided"
 @dataclass(frozen=True)
 class Configuration:
     """One configuration: joint values, pose and mode signs ('0' where a sign vanishes, on or near
-    a singularity); `label` names it in messages."""
+    a singularity), and for a mechanism with limits or obstacles the ones it violates (by a
+    floating-point check); `label` names it in messages."""
 
     label: str
     joints: np.ndarray
     pose: np.ndarray
     working: str
     assembly: str
+    violates: str = ""  # the joint limits and obstacles it violates ('P limit; obstacle 1'), if any
 
     def point(self, space: str) -> np.ndarray:
         return self.joints if space == "jointspace" else self.pose
@@ -107,6 +110,9 @@ def configurations(m: Mechanism, point, space: str, label: str = "") -> list[Con
         signs = ["0" if abs(x) <= tol else ("+" if x > 0 else "-") for x in values]
         out.append(Configuration(label, np.asarray(joints, float), np.asarray(pose, float),
                                  "".join(signs[:-1]), signs[-1]))
+    if out and getattr(m, "constraints", None):
+        labels = m.violated_constraints(np.array([c.joints for c in out]), np.array([c.pose for c in out]))
+        out = [replace(c, violates="; ".join(names)) for c, names in zip(out, labels)]
     return out
 
 
@@ -126,11 +132,12 @@ def locate_configurations(m: Mechanism, aspects: list[Aspect], points: np.ndarra
 def row(m: Mechanism, c: Configuration, aspect: Aspect | None, index: int) -> dict:
     """A configuration as a row of `locate --csv`: its pose, its joint values (periodic ones
     wrapped into the root interval), its modes, the aspect holding it (None when on or near a
-    singularity or in no certified cell at this depth), whether that aspect is certified."""
+    singularity or in no certified cell at this depth), whether that aspect is certified; with
+    limits or obstacles, the ones it violates (`violates`)."""
     joint_space = m.spaces()["jointspace"]
     axes = [a.name for a in joint_space.axes]
     joints = _wrap(joint_space, c.joints)
-    return {
+    out = {
         "input": index, "x": float(c.pose[0]), "y": float(c.pose[1]),
         axes[0]: float(joints[0]), axes[1]: float(joints[1]),
         "working_mode": c.working, "assembly_mode": c.assembly,
@@ -138,6 +145,7 @@ def row(m: Mechanism, c: Configuration, aspect: Aspect | None, index: int) -> di
         "singular": "; ".join(singularities(m.aspect_model(), c)),
         "aspect_certified": None if aspect is None else aspect.certified,
     }
+    return {**out, "violates": c.violates} if getattr(m, "constraints", None) else out
 
 
 def _joint_key(space: Space, joints: np.ndarray) -> np.ndarray:
@@ -169,8 +177,11 @@ def _signs_of(a: Aspect) -> tuple[str, str]:
 def holders(aspects: list[Aspect], c: Configuration) -> list[tuple[Aspect, str, list[int]]]:
     """(aspect, space, leaves) for every aspect of the configuration's modes and every space whose
     cells of that aspect hold it (joint values in the joint-space cells, the pose in the workspace
-    cells), with the leaves holding it."""
+    cells), with the leaves holding it. A configuration that violates a limit or an obstacle is in
+    no aspect."""
     out = []
+    if c.violates:
+        return out
     for a in aspects:
         if _signs_of(a) != (c.working, c.assembly):
             continue
@@ -221,6 +232,9 @@ def mode_verdict(model: AspectModel, c1: Configuration, c2: Configuration, depth
                            "every motion between them crosses a serial singularity", depth,
                        advice="--allow-serial allows that" if offer_serial else "")
     for c in (c1, c2):
+        if c.violates:
+            return Verdict(UNDECIDED, f"{c.label} violates the {c.violates} (by a floating-point check): it is in "
+                                      "no aspect", depth)
         if c.assembly == "0":
             return Verdict(UNDECIDED, f"{c.label} is on or near a parallel singularity (det A = 0): no certified "
                                       "cell holds it", depth)
@@ -234,11 +248,12 @@ def mode_verdict(model: AspectModel, c1: Configuration, c2: Configuration, depth
 
 def decide(model: AspectModel, aspects: list[Aspect], c1: Configuration, c2: Configuration, depth: int,
            robust: bool = False, max_depth: int | None = None, pieces: Pieces | None = None,
-           offer_serial: bool = False) -> Verdict:
+           offer_serial: bool = False, constrained: bool = False) -> Verdict:
     """Whether a singularity-free motion (no serial and no parallel singularity) joins two
     configurations, given the aspects at `depth` (module docstring). With `robust` (interval
     lengths) the configurations are the nominal robot's and a yes means a motion that is
-    singularity-free for every length vector."""
+    singularity-free for every length vector; with `constrained` (limits or obstacles) the motion
+    also keeps within them, and two aspects apart may be parted by a constraint's boundary."""
     verdict = mode_verdict(model, c1, c2, depth, offer_serial=offer_serial)
     if verdict is not None:
         return verdict
@@ -267,7 +282,8 @@ def decide(model: AspectModel, aspects: list[Aspect], c1: Configuration, c2: Con
                                   "singularity (the nominal robot may move between them)", depth,
                        "ask again without the tolerance for the nominal robot's answer")
     if a.certified and b.certified:
-        return Verdict(NO, f"{where}, both certified: every motion between them crosses a singularity", depth)
+        crossed = "a singularity or a limit's or an obstacle's boundary" if constrained else "a singularity"
+        return Verdict(NO, f"{where}, both certified: every motion between them crosses {crossed}", depth)
     return Verdict(UNDECIDED, f"{where}, not both certified: they may be one aspect", depth,
                    deeper(depth, max_depth))
 

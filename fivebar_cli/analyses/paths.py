@@ -127,6 +127,9 @@ def resolve(m: Mechanism, endpoints: list[Endpoint], assembly: str | None, sourc
                 raise NoPath(f"{e.label} (working mode {r.working}) is in assembly mode {r.assembly}, not {assembly}: "
                              "every motion between them crosses a parallel singularity (det A = 0)")
             out.append(r)
+        if out[-1].violates:  # limits and obstacles
+            raise NoPath(f"{e.label} violates the {out[-1].violates}: no motion within the constraints starts or "
+                         "ends there")
     return out
 
 
@@ -215,7 +218,7 @@ def _why_not(m: Mechanism, depth: int, start: Configuration, end: Configuration,
     if aspects is None:
         aspects = analyse_aspects(m, depth, shapes=False).aspects
     verdict = decide(m.aspect_model(), aspects, start, end, depth, getattr(m, "is_interval", False), max_depth,
-                     offer_serial=True)
+                     offer_serial=True, constrained=bool(getattr(m, "constraints", None)))
     if verdict.answer != YES:
         return verdict
     return Verdict(UNDECIDED, f"{verdict.reason}, so a singularity-free motion joins them, but no chain of certified "

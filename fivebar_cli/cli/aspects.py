@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
+from fivebar_cli.analyses.aspect_split import cost_text, split_rows, write_split
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
 from fivebar_cli.analyses.crossings import crossing_pattern, paper_claim_verdict
 from fivebar_cli.analyses.locate import (
@@ -67,19 +68,29 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     non-singular and in the aspect's modes. The nominal aspects are then computed too and the
     report says which of them shrink, split or vanish.
 
+    With joint limits or obstacles in the config (limits:, obstacles:, clearance:) an aspect's
+    configurations also respect every limit and keep every link clear of every obstacle; the
+    constraints' boundaries separate aspects like singularities. The five-bar without its
+    constraints is analysed too: aspects-split.csv says which unconstrained aspect each one comes
+    from, and the report what the constraints cost.
+
     \b
     Examples:
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
       fivebar aspects configs/m1.yaml --depth 10 --tolerance 0.05 -o out/m1-tol
+      fivebar aspects configs/m1-obstacle.yaml --depth 10 -o out/m1-obstacle
     """
     m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
     robust = getattr(m, "is_interval", False)
-    with progress(quiet, region_count(m) * (2 if robust else 1) + 1, f"aspects depth {depth}") as advance:
+    limited = bool(getattr(m, "constraints", None))
+    with progress(quiet, region_count(m) * (1 + robust + limited) + 1, f"aspects depth {depth}") as advance:
         analysis = analyse_aspects(m, depth, advance, budget)
         nominal = analyse_aspects(m.nominal(), depth, advance, budget, shapes=False) if robust else None
         fates = aspect_fates(nominal, analysis) if robust else []
-    paths = write_aspects(folder, analysis)
+        free = analyse_aspects(m.unconstrained(), depth, advance, budget, shapes=False) if limited else None
+        split = split_rows(analysis, free) if limited else None
+    paths = write_aspects(folder, analysis) + write_split(folder, split)
     if not no_plot:
         from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
 
@@ -100,6 +111,8 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
         report(quiet, f"  {_no_aspect_hint(depth, robust)}")
     for f in fates:
         report(quiet, f"  nominal aspect {f.number:2d}: {fate_text(f)}")
+    if limited:
+        report(quiet, f"  {cost_text(split, free)}")
     if m.kind == "fivebar":
         from fivebar_cli.mechanisms.fivebar.paper import is_paper_mechanism
 
@@ -157,7 +170,9 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
     Angles are in radians, or in degrees with the suffix deg (--joints 30deg -45deg). The aspect
     trees that `aspects` wrote for the same mechanism and depth are reused. With interval lengths
     (or --tolerance T) the configurations are the nominal robot's and the aspects are robust: a
-    "yes" is a motion singularity-free for every robot built within the tolerance.
+    "yes" is a motion singularity-free for every robot built within the tolerance. With joint
+    limits or obstacles, a configuration that violates one is in no aspect and the report names
+    the constraint (the `violates` column with --csv).
 
     \b
     Examples:
@@ -166,6 +181,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
       fivebar locate configs/m2.yaml --joints 0.1 1.4 --joints 1.5 1.2 --assembly-mode +
       fivebar locate configs/m2.yaml --joints 10deg 80deg --joints 20deg 70deg --assembly-mode +
       fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3 --tolerance 0.05
+      fivebar locate configs/m1-obstacle.yaml --pose 4.5 1.5 --depth 8
     """
     if not poses and not joints:
         raise click.UsageError("give at least one --pose X Y or --joints TH1 TH2")
@@ -187,7 +203,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
                      for c in found_here])
     if as_csv:
         keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular",
-                "aspect_certified")
+                "aspect_certified", *(("violates",) if getattr(m, "constraints", None) else ()))
         cell = {None: "", True: "true", False: "false"}
         click.echo(csv_text(keys, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
                                     for k in keys] for rows in kept for _, r in rows]), nl=False)
@@ -216,7 +232,8 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
                 click.echo(f"  {i + 1} -> {j + 1}: not decided: location {empty + 1} has no configuration{wanted} "
                            "(floating-point kinematics): there is nothing to join")
                 continue
-            pairs = [(a, b, decide(model, found, a, b, depth, robust, MAX_ASPECT_DEPTH, pieces))
+            pairs = [(a, b, decide(model, found, a, b, depth, robust, MAX_ASPECT_DEPTH, pieces,
+                                   constrained=bool(getattr(m, "constraints", None))))
                      for a, _ in kept[i] for b, _ in kept[j]]
             if len(pairs) == 1:
                 click.echo(f"  {i + 1} -> {j + 1}: {pairs[0][2].line()}")
@@ -266,7 +283,10 @@ def _certified_count(aspects) -> str:
 
 
 def _where(row: dict, depth: int) -> str:
-    """Where a configuration lies: its aspect, the singularity it is on or near, or no cell."""
+    """Where a configuration lies: its aspect, the constraint it violates, the singularity it is on or
+    near, or no cell."""
+    if row.get("violates"):
+        return f"violates the {row['violates']} (in no aspect)"
     if row["aspect"] is not None:
         return f"aspect {row['aspect']} ({'certified' if row['aspect_certified'] else 'not certified at this depth'})"
     if row["singular"]:
