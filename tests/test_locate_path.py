@@ -341,3 +341,14 @@ def test_numbers_must_be_finite(tmp_path, command, args, needle):
 def test_degrees_are_refused_for_a_length(tmp_path):
     line = one_line(run("locate", RPR2_YAML, "--joints", "5deg", "6", "--depth", "4"), 2, "--joints")
     assert "rho1 is a length, not an angle" in line
+
+
+def test_a_configuration_violating_an_obstacle_is_in_no_aspect_and_not_decided():
+    """configs/m1-obstacle.yaml: at (4.5, 1.5) the ++ configuration's links meet the obstacle (issue
+    18's `violates`); locate says so, and leaves the pair undecided (never yes, never no)."""
+    r = run("locate", REPO / "configs" / "m1-obstacle.yaml", "--pose", "4.5", "1.5", "--pose", "4", "5",
+            "--working-mode", "++", "--depth", "4")
+    assert r.status == 0, r.stderr
+    assert "-> violates the obstacle 1 (in no aspect)" in r.stdout
+    assert r.stdout.endswith("1 -> 2: not decided at depth 4: location 1 violates the obstacle 1 (by a "
+                             "floating-point check): it is in no aspect\n")
