@@ -43,7 +43,7 @@ import numpy as np
 from bench_paving import measured  # (result, seconds, peak MiB); benchmarks/ is on sys.path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
-from reference_paths import shortest_through_boxes  # noqa: E402
+from reference_paths import shortest_through_tree  # noqa: E402
 
 from fivebar_cli.analyses.aspects import analyse_aspects
 from fivebar_cli.analyses.channel import containing_leaves, find_chain, lift, portals, pull_string, string_length
@@ -143,24 +143,6 @@ def timed(args: list[str], repeat: int) -> tuple[float, float, int]:
     return best, peak, status
 
 
-def reference(cells, start, end, bound: float) -> float:
-    """shapely's shortest polyline through the cells (3 x 3 copies on a torus)."""
-    grid = cells.grid
-    n = 1 << grid.depth
-    span = (1 << (grid.depth - cells.level))[:, None]
-    lo, hi = cells.coords * span, cells.coords * span + span
-    copies = [np.array(c) for c in product(*[(-1, 0, 1) if p else (0,) for p in grid.periodic])]
-    scale = grid.size / n
-
-    def to(p):
-        p = np.asarray(p, float) - grid.lo
-        return np.where(grid.periodic, p % grid.size, p) / scale
-
-    return shortest_through_boxes(np.concatenate([lo + c * n for c in copies]),
-                                  np.concatenate([hi + c * n for c in copies]),
-                                  to(start), [to(end) + c * n for c in copies], bound, scale)
-
-
 def chain_only(cells, start, end) -> float:
     """The string pulled through A*'s chain of cells alone (the motion before issue 20)."""
     chain = find_chain(cells, containing_leaves(cells, start)[0], containing_leaves(cells, end)[0], start)
@@ -181,7 +163,7 @@ def short_motion(m, depth: int, start, end, assembly: str, cells_of: dict):
     except NoPath:
         return None
     t0 = time.perf_counter()
-    best = reference(cells_of[key], first.joints, last.joints, result.length * (1 + 1e-9))
+    best = shortest_through_tree(cells_of[key], first.joints, last.joints, result.length * (1 + 1e-9))
     return (result.length, ours_s, len(result.joints), best, time.perf_counter() - t0,
             chain_only(cells_of[key], first.joints, last.joints))
 

@@ -10,6 +10,8 @@ tests and benchmarks. Nothing here is shared with `fivebar_cli/analyses/channel.
 
 from __future__ import annotations
 
+from itertools import product
+
 import numpy as np
 
 PINCH = 1e-7  # the union is shrunk by this many lattice steps, which parts cells touching at a corner
@@ -77,3 +79,23 @@ def shortest_through_boxes(lo: np.ndarray, hi: np.ndarray, start, ends, bound: f
                        shape=(len(nodes), len(nodes))).tocsr()
     dist = dijkstra(graph, indices=0)
     return float(np.min(dist[1:1 + len(ends)]))
+
+
+def shortest_through_tree(tree, start, end, bound: float | None = None) -> float:
+    """`shortest_through_boxes` on the leaves of a 2-D tree (lattice boxes computed here from the
+    leaves' levels and coordinates), points in the space's units; on a periodic axis over the
+    3 x 3 copies of the cells and of the end (the points wrapped into the root first)."""
+    grid = tree.grid
+    n = 1 << grid.depth
+    span = (1 << (grid.depth - tree.level))[:, None]
+    lo, hi = tree.coords * span, tree.coords * span + span
+    copies = [np.array(c) for c in product(*[(-1, 0, 1) if p else (0,) for p in grid.periodic])]
+    scale = grid.size / n
+
+    def to(p):
+        p = np.asarray(p, float) - grid.lo
+        return np.where(grid.periodic, p % grid.size, p) / scale
+
+    return shortest_through_boxes(np.concatenate([lo + c * n for c in copies]),
+                                  np.concatenate([hi + c * n for c in copies]),
+                                  to(start), [to(end) + c * n for c in copies], bound, scale)

@@ -13,7 +13,6 @@ from __future__ import annotations
 import csv
 import io
 import math
-from itertools import product
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +21,7 @@ from cli_helpers import one_line, run_cli
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from reference_kinematics import ref_dkp, ref_ikp
-from reference_paths import shortest_through_boxes
+from reference_paths import shortest_through_tree
 
 from fivebar_cli.analyses.aspects import analyse_aspects
 from fivebar_cli.analyses.channel import Waypoint, ExactCells, certified_polyline, find_chain, lift
@@ -409,31 +408,6 @@ def test_random_cell_sets(seed, periodic):
 # ---------------------------------------------------------------- short motions (issue 20)
 
 
-def lattice_boxes_of(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
-    """Integer bounds of the leaves in depth-D cells (computed here, for the reference)."""
-    span = (1 << (tree.grid.depth - tree.level))[:, None]
-    return tree.coords * span, tree.coords * span + span
-
-
-def reference_length(tree: Tree, start, end, bound: float) -> float:
-    """The shortest polyline from start to end in the tree's cells, by shapely's visibility graph
-    (tests/reference_paths.py), on a torus over the 3 x 3 copies of the cells and of the end;
-    `bound` (a length known to be reachable) only prunes what cannot matter."""
-    grid = tree.grid
-    n = 1 << grid.depth
-    lo, hi = lattice_boxes_of(tree)
-    copies = [np.array(s) for s in product(*[(-1, 0, 1) if p else (0,) for p in grid.periodic])]
-    scale = grid.size / n
-
-    def to(p):
-        p = np.asarray(p, float) - grid.lo
-        return np.where(grid.periodic, p % grid.size, p) / scale
-
-    return shortest_through_boxes(np.concatenate([lo + c * n for c in copies]),
-                                  np.concatenate([hi + c * n for c in copies]),
-                                  to(start), [to(end) + c * n for c in copies], bound, scale)
-
-
 @pytest.mark.parametrize("config,m,start,end,assembly,straight", [
     (REPO / "configs" / "rpr2.yaml", None, ("5", "6"), ("10", "12"), "+", math.sqrt(61)),
     (M1_YAML, M1, ("0", "1"), ("0.6", "0.6"), "+", math.sqrt(0.52)),
@@ -453,7 +427,8 @@ def test_a_straight_segment_in_the_cells_comes_back_as_it_is(tmp_path, config, m
     ends = [Endpoint("joints", tuple(float(v) for v in p)) for p in (start, end)]
     first, last = resolve(mech, ends, assembly, "test")
     cells = mode_cells(mech, 10, first.working, first.assembly)
-    assert reference_length(cells, first.joints, last.joints, straight * 1.01) == pytest.approx(straight, rel=1e-9)
+    best = shortest_through_tree(cells, first.joints, last.joints, straight * 1.01)
+    assert best == pytest.approx(straight, rel=1e-9)
 
 
 @settings(max_examples=30, deadline=None)
@@ -468,5 +443,5 @@ def test_motions_are_as_short_as_the_cells_allow(seed, periodic, density):
     tree, start, end, points = motion
     path = np.array([p.unwrapped(tree.grid) for p in points])
     length = float(np.sum(np.hypot(*np.diff(path, axis=0).T)))
-    best = reference_length(tree, start, end, length)
+    best = shortest_through_tree(tree, start, end, length)
     assert best * (1 - 1e-9) <= length <= best * 1.001
