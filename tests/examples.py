@@ -36,12 +36,6 @@ from cli_helpers import ENV, REPO, CliResult, run_cli
 README = REPO / "README.md"
 # Examples run by another test, as pasted (that test imports this and runs the very line).
 ELSEWHERE = {"fivebar reproduce -o out/check --no-plot": "tests/test_golden.py"}
-# Lines whose section another helper of issue 20 rewrites (locate and path): they are run, and a
-# failure is reported as expected until that work is merged (then they pass: remove them here).
-OTHER_PART = {
-    "fivebar path configs/m1.yaml --joints -0.1 -2.06 --joints 0.88 1.47 --assembly-mode +": "the README's path section",
-    "fivebar path configs/m1.yaml --joints 0.1 0.7 --joints 1.2 -2.6 --assembly-mode +": "`fivebar path --help`",
-}
 SHELL_LANGUAGES = ("", "sh", "bash", "console", "shell")
 NOT_RUN = re.compile(r"^<!--\s*not run:\s*(?P<reason>.+?)\s*-->$")
 PROMPT = re.compile(r"^(?:\S*\$ )(?P<command>.*)$")  # `$ fivebar ...`, `login$ dask ...`
@@ -162,21 +156,6 @@ def run(command: Command, cwd: Path) -> CliResult:
     env = dict(ENV, PATH=f"{Path(sys.executable).parent}{os.pathsep}{ENV.get('PATH', '')}")
     r = subprocess.run(["bash", "-c", command.line], cwd=cwd, env=env, capture_output=True, text=True, timeout=600)
     return CliResult(r.returncode, r.stdout, r.stderr)
-
-
-def check_as_pasted(command: Command, result: CliResult) -> None:
-    """`check`, with a failure of an OTHER_PART line reported as expected (pytest xfail)."""
-    try:
-        check(command, result)
-    except AssertionError:
-        if command.line in OTHER_PART:
-            import pytest
-
-            pytest.xfail(f"{OTHER_PART[command.line]} is rewritten by the other part of issue 20")
-        raise
-
-
-EXIT = re.compile(r"^\(exit status (\d+)\b.*\)$")
 
 
 def check(command: Command, result: CliResult) -> None:

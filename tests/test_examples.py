@@ -6,7 +6,7 @@ tests/examples.py. A command added later is walked like the others.
 from __future__ import annotations
 
 import pytest
-from examples import ELSEWHERE, check_as_pasted, help_examples, run, sandbox
+from examples import ELSEWHERE, check, help_examples, run, sandbox
 
 EXAMPLES = help_examples()
 
@@ -41,4 +41,4 @@ def test_help_example_runs_as_pasted(ran, index):
         pytest.skip(f"run as pasted by {ELSEWHERE[command.line]}")
     if index not in ran:
         return  # the same line, run earlier in this copy
-    check_as_pasted(*ran[index])
+    check(*ran[index])

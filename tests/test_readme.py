@@ -6,7 +6,7 @@ README would run them; see tests/examples.py. Blocks other helpers add are picke
 from __future__ import annotations
 
 import pytest
-from examples import ELSEWHERE, check_as_pasted, readme_blocks, run, sandbox
+from examples import ELSEWHERE, check, readme_blocks, run, sandbox
 
 BLOCKS = readme_blocks()
 COMMANDS = [(b, c) for b in BLOCKS if b.not_run is None for c in b.commands]
@@ -30,7 +30,7 @@ def test_readme_command_runs_as_pasted(ran, index):
     block, command = COMMANDS[index]
     if ran[index] is None:
         pytest.skip(f"run as pasted by {ELSEWHERE[command.line]}")
-    check_as_pasted(command, ran[index])
+    check(command, ran[index])
 
 
 def test_the_table_1_figures_are_the_tools():

@@ -14,7 +14,7 @@ from fivebar_cli.analyses.atlas.parts import ATLAS_CSV, read_table
 from fivebar_cli.analyses.atlas.cluster import check_address
 from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
 from fivebar_cli.cli.options import (
-    CONFIG, FiniteFloat, MAX_ASPECT_DEPTH, common_options, figure, plural, prepare_out, progress, report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, Number, common_options, figure, plural, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.io.outputs import output_set
 
@@ -36,7 +36,7 @@ def default_workers() -> int:
               help="Use the existing Dask cluster whose scheduler is at ADDRESS (tcp://HOST:PORT).")
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_ASPECT_DEPTH), default=None,
               help=f"Depth of every design's analyses (0..{MAX_ASPECT_DEPTH}) [default: the spec's depth].")
-@click.option("--tolerance", metavar="T", type=FiniteFloat(0), default=None,
+@click.option("--tolerance", metavar="T", type=Number(lo=0), default=None,
               help="Add robust metrics of every length widened to [L - T, L + T] (as `fivebar aspects "
                    "--tolerance T`); 0: none [default: the spec's tolerance].")
 @click.option("--restart", is_flag=True, help="Discard the parts of an earlier run in OUT/atlas.parts/ and start afresh.")

@@ -22,32 +22,6 @@ STDOUT = "-"  # `-o -`: a single-file output written to standard output
 STDOUT_META = "fivebar.data_on_stdout"  # click context meta: the report then goes to standard error
 
 
-class FiniteFloat(click.ParamType):
-    """A finite float (no nan, no inf), optionally within [lo, hi]: every number of the command line."""
-
-    name = "number"
-
-    def __init__(self, lo: float | None = None, hi: float | None = None):
-        self.lo, self.hi = lo, hi
-
-    def convert(self, value, param, ctx):
-        if isinstance(value, float) and math.isfinite(value):
-            x = value
-        else:
-            try:
-                x = float(value)
-            except (TypeError, ValueError):
-                self.fail(f"{value!r} is not a number", param, ctx)
-            if not math.isfinite(x):
-                self.fail(f"{value!r} is not a finite number", param, ctx)
-        if (self.lo is not None and x < self.lo) or (self.hi is not None and x > self.hi):
-            bounds = (f">= {self.lo:g}" if self.hi is None else f"<= {self.hi:g}" if self.lo is None
-                      else f"in [{self.lo:g}, {self.hi:g}]")
-            self.fail(f"{value!r} is not {bounds}", param, ctx)
-        return x
-
-
-FINITE = FiniteFloat()
 
 
 def common_options(func=None, *, single: str | None = None, default: str = "outputs/<config name>/"):
@@ -90,7 +64,7 @@ def depth_option(default: int = 10, limit: int = MAX_DEPTH):
 def tolerance_option(func):
     """`--tolerance T`: every link length widened to [L - T, L + T] (manufacturing tolerances)."""
     return click.option(
-        "--tolerance", type=FiniteFloat(0), default=0.0, show_default=True,
+        "--tolerance", type=Number(lo=0), default=0.0, show_default=True,
         help="Widen every link length to [L - T, L + T]: black then means valid for every length in "
              "the box (robust), the complement valid for none (impossible).",
     )(func)
@@ -206,3 +180,65 @@ def progress(quiet: bool, length: int, label: str, unit: str | None = None) -> I
             bar.update(n, n)
 
         yield advance
+
+
+# ---------------------------------------------------------------- command-line numbers and angles
+
+NUMBER_LIMIT = 1e50  # command-line numbers are finite and at most this in magnitude, as numbers in YAML files
+ANGLE_LIMIT = 1e6  # radians: a motion's exact check counts whole turns with 2 pi to 40 digits (formats.md)
+
+
+class Number(click.ParamType):
+    """A finite number of magnitude at most NUMBER_LIMIT (`nan`, `inf`, `1e300` are refused), at
+    least `lo` when given: every number of the command line."""
+
+    name = "number"
+
+    def __init__(self, lo: float | None = None):
+        self.lo = lo
+
+    def convert(self, value, param, ctx):
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            self.fail(f"{value!r} is not a number", param, ctx)
+        if not math.isfinite(number) or abs(number) > NUMBER_LIMIT:
+            self.fail(f"{value!r} is not a finite number of magnitude at most {NUMBER_LIMIT:g}", param, ctx)
+        if self.lo is not None and number < self.lo:
+            self.fail(f"{value!r} is not >= {self.lo:g}", param, ctx)
+        return number
+
+
+class Degrees(float):
+    """A joint value given in degrees on the command line (`30deg`), held in radians."""
+
+
+class JointValue(Number):
+    """A joint value: a number (radians for an angle, a length for a prismatic leg), or an angle in
+    degrees with the suffix `deg` (`30deg`, `-45.5deg`), converted to radians (`Degrees`)."""
+
+    name = "number[deg]"
+
+    def convert(self, value, param, ctx):
+        text = str(value).strip()
+        if text.lower().endswith("deg"):
+            return Degrees(math.radians(super().convert(text[:-3], param, ctx)))
+        return super().convert(value, param, ctx)
+
+
+NUMBER, JOINT = Number(), JointValue()
+
+
+def check_joints(m, joints, source) -> None:
+    """Joint values given in degrees only for angles; angles at most ANGLE_LIMIT rad (InputError)."""
+    from fivebar_cli.errors import InputError
+
+    axes = m.spaces()["jointspace"].axes
+    for values in joints:
+        for axis, value in zip(axes, values):
+            if axis.unit != "rad" and isinstance(value, Degrees):
+                what = "a length" if not axis.unit else f"in {axis.unit}"
+                raise InputError(str(source), "--joints", f"{axis.name} is {what}, not an angle: drop the 'deg' suffix")
+            if axis.unit == "rad" and abs(value) > ANGLE_LIMIT:
+                raise InputError(str(source), "--joints", f"{axis.name} = {value:g} rad: angles must be at most "
+                                 f"{ANGLE_LIMIT:g} rad ({math.degrees(ANGLE_LIMIT):g} deg) in magnitude")

@@ -9,7 +9,7 @@ from pathlib import Path
 import click
 import numpy as np
 
-from fivebar_cli.cli.options import FINITE, common_options, data_on_stdout, figure, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import NUMBER, common_options, data_on_stdout, figure, prepare_out, progress, report, wrote
 from fivebar_cli.io.files import csv_text, write_csv
 from fivebar_cli.io.outputs import output_set
 from fivebar_cli.io.schema import ConfigError
@@ -123,7 +123,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
 @click.argument("configs", nargs=-1, required=True, type=CONFIG, metavar="CONFIG...")
 @click.option("--over", type=click.Choice(["phi", "rho_min", "t2"]), required=True,
               help="phi: figures 3, 4, 6, 7; rho_min: figure 5 (at the config's phi); t2: figure 8.")
-@click.option("--range", "span", type=(FINITE, FINITE), default=None, metavar="LO HI",
+@click.option("--range", "span", type=(NUMBER, NUMBER), default=None, metavar="LO HI",
               help="Swept interval [default: phi 0.5 179.5; rho_min 0 up to where rho_max auto is finite; "
                    "t2 -5 t1+5].")
 @click.option("--steps", type=click.IntRange(2, 20001), default=None,
