@@ -158,6 +158,9 @@ def run(command: Command, cwd: Path) -> CliResult:
     return CliResult(r.returncode, r.stdout, r.stderr)
 
 
+EXIT = re.compile(r"^\(exit status (\d+)\b.*\)$")
+
+
 def check(command: Command, result: CliResult) -> None:
     """The status and, for a transcript, the printed lines."""
     printed = result.stdout.splitlines() + result.stderr.splitlines()
