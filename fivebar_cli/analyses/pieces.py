@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fivebar_cli.paving.engine import deepen
+from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, interleave
 from fivebar_cli.paving.tree import Tree, union_find
@@ -301,6 +301,23 @@ class ModeSet:
         return False
 
 
+def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
+    """Every (undetermined cell u, neighbour n) touching at a point; n < len(black leaves) is a
+    black leaf, else the undetermined cell n - len(black leaves). Undetermined cells are the
+    smallest cells, so looking up their neighbours finds every pair."""
+    grid, inside, und = paving.grid, paving.inside, paving.undetermined
+    level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
+    code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
+    order = np.argsort(code << (grid.dim * (grid.depth - level)), kind="stable")
+    everything = Tree(grid, level[order], code[order], canonical=True)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    mine = rank[len(inside):]
+    i, j = everything.subset(np.sort(mine)).adjacency(everything, corners=True)
+    und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
+    return und_of_sorted[i], order[j]
+
+
 def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:
     """Mask of the cells not in `inside` that touch (share a point with) a cell in it."""
     tree = cells.tree()
@@ -335,22 +352,24 @@ def _integer_boxes(grid: Grid, level: np.ndarray, code: np.ndarray):
 def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
     """Mask of the boxes b within about `radius` cells (Chebyshev) of some box a, periodic axes
     wrapping: boxes are hashed into blocks of side >= radius, and b is near when a block it overlaps
-    is within one block of a block some a overlaps (a superset of the exact answer: a window)."""
+    is within one block of a block some a overlaps (a superset of the exact answer: a window).
+    The marked blocks are kept as sorted flat indices, so memory follows the boxes, not the
+    (2^depth / radius)^dim blocks of the grid (an octree at depth 12 has 2^30 blocks of 4 cells)."""
     keep = np.zeros(len(b_lo), bool)
     if not len(a_lo) or not len(b_lo):
         return keep
     k = max(int(radius - 1).bit_length(), 0)
     n = (1 << grid.depth) >> k if grid.depth >= k else 1
     n = max(n, 1)
-    marked = np.zeros((n,) * grid.dim, bool)
-    for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic):
-        marked[idx] = True
+    shape = (n,) * grid.dim
+    marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape)
+                                       for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic)]))
     lo_blk, hi_blk = _block_span(b_lo, b_hi, k, n)
     single = np.all(lo_blk == hi_blk, axis=1)
-    keep[single] = marked[tuple(lo_blk[single].T)]
+    keep[single] = np.isin(np.ravel_multi_index(tuple(lo_blk[single].T), shape), marked)
     for i in np.flatnonzero(~single):  # cells spanning several blocks (large leaves): few
-        region = tuple(slice(a, b + 1) for a, b in zip(lo_blk[i], hi_blk[i]))
-        keep[i] = marked[region].any()
+        region = np.meshgrid(*(np.arange(a, b + 1) for a, b in zip(lo_blk[i], hi_blk[i])), indexing="ij")
+        keep[i] = np.isin(np.ravel_multi_index(tuple(r.ravel() for r in region), shape), marked).any()
     return keep
 
 
