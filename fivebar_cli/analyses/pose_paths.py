@@ -380,10 +380,9 @@ class PoseMotion:
         return float(np.sum(np.linalg.norm(np.diff(self.motion.unwrapped(), axis=0), axis=1)))
 
 
-def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str) -> int:
-    """The class of a requested pose: InputError (exit 2) when it is outside the root box on a
-    non-periodic axis (the orientation range of a 3-RPR) or not valid (a leg out of its range);
-    NoMotion when it is on or near a singularity (the class's signs are not certified there)."""
+def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str) -> None:
+    """InputError (exit 2) when a requested pose is outside the root box on a non-periodic axis
+    (the orientation range of a 3-RPR) or not valid (a joint out of its range)."""
     model = pose_model(m)
     space = m.spaces()[model.space]
     for axis, value in zip(space.axes, pose):
@@ -394,8 +393,14 @@ def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str) -> i
     if not model.valid(pose[None, :])[0]:
         joints, _ = model.ikp(pose[None, :], 0)
         names = ", ".join(f"{a.name} = {v:.6g} in [{a.lo:g}, {a.hi:g}]" for a, v in zip(model.joint_axes, joints[0]))
-        raise InputError(source, "--pose", f"{label} is not a valid pose: {names} (joints out of range)")
-    cls = int(model.classes_of_boxes(pose[None, :], pose[None, :])[0])
+        raise InputError(source, "--pose", f"{label} is not a valid pose: {names} (a joint out of its range)")
+
+
+def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str) -> int:
+    """The class of a requested endpoint (`check_pose` first); NoMotion when it is on or near a
+    singularity (the class's signs are not certified there)."""
+    check_pose(m, pose, label, source)
+    cls = int(pose_model(m).classes_of_boxes(pose[None, :], pose[None, :])[0])
     if cls < 0:
         raise NoMotion(f"{label} is on or near a singularity (its signs are not certified there): no "
                        "singularity-free motion starts there")

@@ -3,7 +3,7 @@
 One place for the layout that users' scripts rely on (docs/formats.md, "Output layout"):
 `outputs/<name>/<space>.qt` and `<space>.complement.qt`, `<space>.csv`, `aspects.csv`,
 `aspects-adjacency.csv`, `aspects/aspect-NN.<space>.qt` and `aspect-NN.workspace.geojson`,
-`<space>.geojson`, `path.csv` and `path.png`.
+`aspect-NN.<space>.ply` (3-D aspects), `<space>.geojson`, `path.csv` and `path.png`, `dkp.csv`.
 """
 
 from __future__ import annotations
@@ -50,6 +50,11 @@ def aspect_path(folder: Path, number: int, space: str) -> Path:
     return folder / "aspects" / f"aspect-{number:02d}.{space}.qt"
 
 
+def aspect_mesh_path(folder: Path, number: int, space: str) -> Path:
+    """`aspects/aspect-NN.<space>.ply`: one aspect's octree cells as a closed surface mesh."""
+    return folder / "aspects" / f"aspect-{number:02d}.{space}.ply"
+
+
 def aspect_geojson_path(folder: Path, number: int) -> Path:
     """`aspects/aspect-NN.workspace.geojson`: one generalized aspect's workspace region."""
     return folder / "aspects" / f"aspect-{number:02d}.workspace.geojson"
@@ -64,3 +69,5 @@ ASPECTS_CSV = "aspects.csv"
 CROSSINGS_CSV = "aspects-adjacency.csv"
 PATH_CSV = "path.csv"
 PATH_PNG = "path.png"
+DKP_CSV = "dkp.csv"
+DKP_PNG = "dkp.png"
