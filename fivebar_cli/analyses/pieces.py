@@ -287,6 +287,27 @@ class ModeSet:
                 return True
         return False
 
+    def hidden_parts(self, o: int, extra: int, budget: Budget) -> int:
+        """How many parts of outer component `o`, its undetermined cells paved `extra` levels
+        deeper, hold black cells but none of the paving's black leaves: components of S that the
+        paving's black cells missed (aspects thinner than its cells), each a component of its own
+        (the deeper outer set separates it from every anchor)."""
+        cells = self.outer_cells(o)
+        old = cells.select(cells.leaf >= 0)
+        deeper = self._deeper(cells, extra, budget)
+        if deeper is None:
+            return 0
+        black = deeper.select(deeper.black)  # first the black cells alone: usually all joined to a leaf
+        labels, count = components(black)
+        if np.all(np.isin(np.arange(count), labels[_position(black, old.level, old.code)])):
+            return 0
+        parts, count = components(deeper)
+        anchored = np.zeros(count, bool)
+        anchored[parts[_position(deeper, old.level, old.code)]] = True
+        black = np.zeros(count, bool)
+        black[parts[deeper.black]] = True
+        return int(np.count_nonzero(black & ~anchored))
+
     def vanish(self, o: int, budget: Budget, limit: int) -> bool:
         """Whether outer component `o`, which holds no black cell, is proved to miss S: paved
         deeper until no cell of it may meet S (True), or a black cell shows a component of S in it,

@@ -11,10 +11,17 @@ every kind whose model declares a `PoseAspectModel` (mechanisms/base.py): the 3-
 3. Certificate (`aspects._Count` on the mode sets of one space: nothing to link across spaces):
    the black components (anchors) of one outer component are joined by black cells found by
    local refinement, or separated by refinement; an outer component without anchor must vanish.
+4. Probe: the undetermined cells of every outer component holding an anchor are paved one level
+   deeper (PROBE_LEVELS); a part of the deeper outer set with black cells but no anchor is a
+   component of S that the depth-D black cells missed (an aspect thinner than a cell, hidden in
+   the band of another one): it is proven to be an aspect of its own, the count is then not
+   certified at this depth (both bounds count it) and a deeper run certifies it.
    An aspect is certified when its anchors lie in one outer component that holds no other
-   aspect (or was proven to split); the count is certified when every aspect is and no outer
-   component is left undecided. The same words, "N generalized aspects (certified)" or "between
-   L and U ...", as the five-bar's two-space certificate (docs/formats.md).
+   aspect (or was proven to split) and whose probe found nothing; the count is certified when
+   every aspect is and no outer component is left undecided. The same words, "N generalized
+   aspects (certified)" or "between L and U ...", as the five-bar's two-space certificate, with
+   the same caveat (docs/formats.md): an aspect hidden in the band even one level deeper is not
+   excluded.
 """
 
 from __future__ import annotations
@@ -29,10 +36,14 @@ from fivebar_cli.analyses.pieces import Budget, ModeSet, undetermined_pairs
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass
 from fivebar_cli.paving.engine import Paving, pave
+from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree
 
 __all__ = ["DEFAULT_BUDGET", "ClassRegion", "PoseAspect", "PoseAspectAnalysis", "analyse_pose_aspects",
            "aspect_at", "pose_model"]
+
+
+PROBE_LEVELS = 1  # the band of every outer component holding an aspect is paved this much deeper
 
 
 def pose_model(m: Mechanism) -> PoseAspectModel:
@@ -105,7 +116,15 @@ class PoseAspect:
 
 class PoseAspectAnalysis(AspectAnalysis):
     """`AspectAnalysis` of aspects in one space: `regions` are `ClassRegion`s, `aspects` are
-    `PoseAspect`s, there are no crossings; the count's fields and headline are the five-bar's."""
+    `PoseAspect`s, there are no crossings; the count's fields and headline are the five-bar's
+    (with "N ..., not certified" when the bounds meet: aspects found by the probe only)."""
+
+    def headline(self) -> str:
+        if self.certified or self.lower != self.upper:
+            return super().headline()
+        return (f"{self.mechanism.name}: {self.lower} generalized aspects, not certified at depth {self.depth}: "
+                f"{self.lower - len(self.aspects)} of them thinner than its cells, found one level deeper "
+                f"(raise --depth)")
 
 
 def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
@@ -125,10 +144,26 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
     sets = [ModeSet(region, ()) for region in regions]
     count = _Count(model, sets, Budget(budget), depth)
     timings["certificate"] = time.perf_counter() - t0
-    aspects = _number_aspects(model, sets, count)
+    t0 = time.perf_counter()
+    probe = Budget(1 << 62)  # part of the analysis at this depth, not of the refinement budget
+    hiding = {}  # (set, outer component) -> aspects found there by the probe
+    for k, s in enumerate(sets):
+        for o in range(s.n_outer):
+            if len(s.anchors_in(o)) and depth + PROBE_LEVELS <= MAX_INDEX_BITS // space.dim:
+                found = s.hidden_parts(o, PROBE_LEVELS, probe)
+                if found:
+                    hiding[(k, o)] = found
+    timings["probe"] = time.perf_counter() - t0
+
+    def certified(g: int) -> bool:
+        return count.certified(g) and not any(key in hiding for key in count.group_outers(g)[model.space])
+
+    aspects = _number_aspects(model, sets, count, certified)
     advance(1)
-    return PoseAspectAnalysis(m, model, depth, regions, aspects, [], count.lower, count.upper, count.undecided,
-                              count.empty_undecided, count.merged, count.budget.spent, timings)
+    extra = sum(hiding.values())
+    return PoseAspectAnalysis(m, model, depth, regions, aspects, [], count.lower + extra, count.upper + extra,
+                              count.undecided + len(hiding), count.empty_undecided + extra, count.merged,
+                              count.budget.spent + probe.spent, timings)
 
 
 def class_region(model: PoseAspectModel, grid, k: int) -> ClassRegion:
@@ -142,7 +177,7 @@ def class_region(model: PoseAspectModel, grid, k: int) -> ClassRegion:
     return region
 
 
-def _number_aspects(model: PoseAspectModel, sets: list[ModeSet], count: _Count) -> list[PoseAspect]:
+def _number_aspects(model: PoseAspectModel, sets: list[ModeSet], count: _Count, certified) -> list[PoseAspect]:
     """Groups of anchors -> aspects, numbered by class, then by the Morton order of their first
     cell; each with a pose inside (the centre of its largest cell, first in Morton order)."""
     roots = count.roots
@@ -160,7 +195,7 @@ def _number_aspects(model: PoseAspectModel, sets: list[ModeSet], count: _Count) 
         pose = tree.centres()[biggest]
         joints, _ = model.ikp(pose[None, :], cls)
         aspects.append(PoseAspect(number, cls, model.classes[cls], tree, tuple(float(v) for v in pose),
-                                  tuple(float(v) for v in joints[0]), count.certified(g)))
+                                  tuple(float(v) for v in joints[0]), certified(g)))
     return aspects
 
 

@@ -125,14 +125,19 @@ def pose_aspects(config_path, depth, budget, out, no_plot, quiet):
 # ---------------------------------------------------------------- dkp
 
 
+def check_joints(m: Mechanism, joints, option: str = "--legs") -> None:
+    """Exit 2 for joint values out of their ranges."""
+    for axis, value in zip(m.pose_aspect_model().joint_axes, joints):
+        if not axis.periodic and not axis.lo <= value <= axis.hi:
+            raise click.BadParameter(f"{axis.name} = {value:g} is outside its range [{axis.lo:g}, {axis.hi:g}]",
+                                     param_hint=option)
+
+
 def solve_joints(m: Mechanism, joints, source: str, option: str = "--legs") -> DkpResult:
     """Every pose with these joint values; InputError (exit 2) for values out of their ranges or
     that give no pose at all (certified)."""
     model = m.pose_aspect_model()
-    for axis, value in zip(model.joint_axes, joints):
-        if not axis.periodic and not axis.lo <= value <= axis.hi:
-            raise click.BadParameter(f"{axis.name} = {value:g} is outside its range [{axis.lo:g}, {axis.hi:g}]",
-                                     param_hint=option)
+    check_joints(m, joints, option)
     result = solve(model, m.spaces()[model.space], joints)
     if not result.solutions and result.certified:
         raise click.BadParameter(f"({_numbers(joints)}) give no pose within the space of poses (certified: every "
@@ -244,13 +249,17 @@ def pose_locate(config_path, poses, legs, depth, budget, out, as_csv):
     m = load_pose_kind(config_path, poses=True)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]
-    aspects, source = _aspects_for(m, output_dir(out, m.name), depth, budget)
     locations = [("pose", tuple(p)) for p in poses] + [("legs", tuple(r)) for r in legs]
+    for kind, value in locations:  # exit 2 for bad input before anything is computed
+        if kind == "pose":
+            check_pose(m, wrap_pose(space, value), f"pose ({_numbers(value)})", str(config_path))
+        else:
+            check_joints(m, value)
+    aspects, source = _aspects_for(m, output_dir(out, m.name), depth, budget)
     rows, notes = [], {}
     for k, (kind, value) in enumerate(locations, start=1):
         if kind == "pose":
             found = [wrap_pose(space, value)]
-            check_pose(m, found[0], f"pose ({_numbers(value)})", str(config_path))  # exit 2 when invalid
         else:
             result = solve_joints(m, value, str(config_path))
             found = [s.pose for s in result.solutions]
