@@ -16,27 +16,11 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from reference_aspects import _merge
 from rpr3_reference import det_j, legs
 
 TWENTY_SIX = np.ones((3, 3, 3), bool)
 MIN_CELLS = 8  # at n = 64; scaled with n^3
-
-
-def _merge(labels: np.ndarray, n: int, pairs: np.ndarray) -> np.ndarray:
-    parent = np.arange(n + 1)
-
-    def find(a):
-        while parent[a] != a:
-            parent[a] = parent[parent[a]]
-            a = parent[a]
-        return a
-
-    for a, b in np.unique(pairs, axis=0).tolist():
-        ra, rb = find(a), find(b)
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
-    roots = np.array([find(k) for k in range(n + 1)])
-    return roots[labels]
 
 
 def label(mask: np.ndarray, periodic_last: bool) -> np.ndarray:

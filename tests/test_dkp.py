@@ -13,6 +13,7 @@ from scipy.optimize import brentq
 
 from cli_helpers import REPO, one_line, ok, run_cli
 from rpr3_reference import det_j, legs
+from test_pose_aspects import robot
 
 from fivebar_cli.analyses.dkp import solve
 from fivebar_cli.mechanisms.rpr3.model import Rpr3
@@ -20,14 +21,6 @@ from fivebar_cli.mechanisms.rpr3.model import Rpr3
 CARO = REPO / "configs" / "rpr3-caro.yaml"
 GENERAL = REPO / "configs" / "rpr3-general.yaml"
 CUSP_LEGS = (14.98, 15.38, 12.0)
-
-
-def robot(base, platform, rho_min, rho_max, phi_range=(-180.0, 180.0), name="r") -> Rpr3:
-    data = {"name": name, "type": "rpr3",
-            "base": {f"B{i + 1}": [float(v) for v in base[i]] for i in range(3)},
-            "platform": {f"P{i + 1}": [float(v) for v in platform[i]] for i in range(3)},
-            "legs": {"rho_min": rho_min, "rho_max": rho_max}, "phi_range": [float(v) for v in phi_range]}
-    return Rpr3.parse(data, name)
 
 
 ALIAS = robot([(0, 0), (10, 0), (3, 10)], [(0, 0), (4, 0), (2, 2)], 1, 12, name="alias")

@@ -28,11 +28,15 @@ def load(path) -> Rpr3:
     return Rpr3.parse(yaml.safe_load(path.read_text()), str(path))
 
 
-def robot(base, platform, rho_min, rho_max, phi_range, name="r") -> Rpr3:
+def robot(base, platform, rho_min, rho_max, phi_range=(-180.0, 180.0), name="r") -> Rpr3:
+    """A general 3-RPR from its points, leg ranges (one number or three) and orientation range."""
+    def legs_of(v):
+        return float(v) if np.isscalar(v) else [float(x) for x in v]
+
     data = {"name": name, "type": "rpr3",
             "base": {f"B{i + 1}": [float(v) for v in base[i]] for i in range(3)},
             "platform": {f"P{i + 1}": [float(v) for v in platform[i]] for i in range(3)},
-            "legs": {"rho_min": [float(v) for v in rho_min], "rho_max": [float(v) for v in rho_max]},
+            "legs": {"rho_min": legs_of(rho_min), "rho_max": legs_of(rho_max)},
             "phi_range": [float(v) for v in phi_range]}
     return Rpr3.parse(data, name)
 

@@ -10,7 +10,6 @@ cells' volume times the product of the scales.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
@@ -55,10 +54,4 @@ def write_ply(path: str | Path, tree: Tree, axes, comments: list[str] = ()) -> P
               for k, (a, s) in enumerate(zip(axes, scales)) if s != 1.0]
     data = ply_bytes(vertices, triangles, notes)
 
-    def write(tmp: Path) -> None:
-        with open(tmp, "wb") as fh:
-            fh.write(data)
-            fh.flush()
-            os.fsync(fh.fileno())
-
-    return atomic_write(path, write)
+    return atomic_write(path, lambda tmp: tmp.write_bytes(data))
