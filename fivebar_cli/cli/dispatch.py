@@ -17,9 +17,11 @@ import click
 from fivebar_cli.mechanisms.base import Mechanism
 
 
-def _config_of(command: click.Command, info_name: str, args: list[str], parent) -> Path | None:
+def _config_of(command: click.Command, info_name: str, args: list[str]) -> Path | None:
+    """CONFIG as `command` would read it from `args`, parsed leniently in a context of its own (a
+    parent's `meta` would keep what the options' callbacks record)."""
     try:
-        ctx = command.make_context(info_name, list(args), parent=parent, resilient_parsing=True)
+        ctx = command.make_context(info_name, list(args), resilient_parsing=True)
     except (click.ClickException, click.exceptions.Exit):
         return None
     value = ctx.params.get("config_path")
@@ -46,11 +48,13 @@ class ByKind(click.Command):
                          context_settings=other.context_settings)
         self.other, self.pose = other, pose
 
-    def _choose(self, info_name: str, args: list[str], parent) -> click.Command:
+    def _choose(self, info_name: str, args: list[str]) -> click.Command:
+        """`pose` when CONFIG (as either command reads the arguments) is a mechanism file whose kind
+        declares a pose-space aspect model, else `other`."""
         for command in (self.other, self.pose):
-            path = _config_of(command, info_name, args, parent)
-            if path is not None and path.is_file() and _declares_pose_aspects(path):
-                return self.pose
+            path = _config_of(command, info_name, args)
+            if path is not None and path.is_file():
+                return self.pose if _declares_pose_aspects(path) else self.other
         return self.other
 
     def make_context(self, info_name, args, parent=None, **extra):
@@ -59,7 +63,7 @@ class ByKind(click.Command):
             ctx = click.Context(self, info_name=info_name, parent=parent)
             click.echo(self.get_help(ctx))
             ctx.exit(0)
-        return self._choose(info_name, args, parent).make_context(info_name, args, parent=parent, **extra)
+        return self._choose(info_name, args).make_context(info_name, args, parent=parent, **extra)
 
     def get_help(self, ctx: click.Context) -> str:
         first = click.Context(self.other, info_name=ctx.info_name, parent=ctx.parent)

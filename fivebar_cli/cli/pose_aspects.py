@@ -188,8 +188,8 @@ def dkp(config_path, legs, depth, budget, out, no_plot, quiet):
     """
     m = load_pose_kind(config_path, poses=True)
     model = m.pose_aspect_model()
-    folder = prepare_out(out, m.name)
     result = solve_joints(m, legs, str(config_path))
+    folder = prepare_out(out, m.name)
     aspects, source = _aspects_for(m, folder, depth, budget)
     rows = dkp_rows(m, result, aspects)
     paths = [write_csv(folder / DKP_CSV, dkp_header(m), rows)]
@@ -355,7 +355,6 @@ def pose_path(config_path, poses, legs, modes, depth, out, no_plot, quiet):
     m = load_pose_kind(config_path, poses=True)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]
-    folder = prepare_out(out, m.name)
     if legs is not None:
         result = solve_joints(m, legs, str(config_path))
         count = len(result.solutions)
@@ -369,8 +368,10 @@ def pose_path(config_path, poses, legs, modes, depth, out, no_plot, quiet):
     else:
         ends = [wrap_pose(space, p) for p in poses]
         labels = tuple(f"pose ({_numbers(p)})" for p in poses)
-    saved = load_pose_aspects(folder, m, depth)
+    folder = output_dir(out, m.name)
+    saved = load_pose_aspects(folder, m, depth) if folder.is_dir() else None
     motion = find_motion(m, depth, ends[0], ends[1], labels, str(config_path), saved)
+    folder = prepare_out(out, m.name)
     names = [*pose_columns(m), *joint_columns(m)]
     rows = [[_exact(v) for v in row] for row in path_rows(motion)]
     paths = [write_text(folder / PATH_CSV, csv_text(names, rows))]
