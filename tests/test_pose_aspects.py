@@ -261,3 +261,10 @@ def test_bad_input_is_one_line_exit_2(tmp_path):
     one_line(run_cli("locate", CARO, "--pose", "0", "0", "0", "-o", tmp_path), 2, "--pose", "not a valid pose")
     one_line(run_cli("locate", CARO, "--legs", "5", "15", "12", "-o", tmp_path), 2, "--legs", "outside its range")
     one_line(run_cli("locate", CARO, "--pose", "0", "0", "-o", tmp_path), 2, "--pose")
+
+
+def test_help_of_a_dispatched_command_shows_both_forms():
+    text = ok(run_cli("aspects", "--help")).stdout
+    assert "Usage: fivebar aspects [OPTIONS] CONFIG" in text and "--tolerance" in text  # the five-bar's
+    assert "For a kind whose aspects live in one space of poses" in text and "phi_deg" in text
+    assert "--pose X Y PHI" in ok(run_cli("locate", "--help")).stdout
