@@ -22,6 +22,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
+
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 CARO, GENERAL = REPO / "configs" / "rpr3-caro.yaml", REPO / "configs" / "rpr3-general.yaml"
@@ -139,6 +141,4 @@ def main() -> None:
 
 
 if __name__ == "__main__":
-    import numpy as np
-
     main()

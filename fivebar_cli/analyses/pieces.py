@@ -287,32 +287,71 @@ class ModeSet:
                 return True
         return False
 
-    def hidden_parts(self, o: int, extra: int, budget: Budget) -> int:
-        """How many parts of outer component `o`, its undetermined cells paved `extra` levels
-        deeper, hold black cells but none of the paving's black leaves: components of S that the
-        paving's black cells missed (aspects thinner than its cells), each a component of its own
-        (the deeper outer set separates it from every anchor)."""
+    def hidden_parts(self, o: int, extra: int, budget: Budget, limit: int) -> tuple[int, int]:
+        """What outer component `o` hides below the paving's depth: its undetermined cells are
+        paved `extra` levels deeper and the new black cells that touch no black cell joined to
+        the paving's leaves (islands) are joined to them by local refinement (growing windows
+        paved two levels deeper still). Returns (found, open): the islands left whose part of the
+        deeper outer set holds none of the paving's leaves are components of S of their own that
+        the paving's black cells missed (found, proven); an island left in a part with the
+        paving's leaves may be one (open), as may a part without black cells that does not vanish
+        under refinement."""
         cells = self.outer_cells(o)
         old = cells.select(cells.leaf >= 0)
         deeper = self._deeper(cells, extra, budget)
         if deeper is None:
-            return 0
-        black = deeper.select(deeper.black)  # first the black cells alone: usually all joined to a leaf
+            return 0, 1
+        black = deeper.select(deeper.black)
         labels, count = components(black)
-        if np.all(np.isin(np.arange(count), labels[_position(black, old.level, old.code)])):
-            return 0
-        parts, count = components(deeper)
-        anchored = np.zeros(count, bool)
+        joined = np.isin(np.arange(count), labels[_position(black, old.level, old.code)])
+        for island in np.flatnonzero(~joined):
+            joined[island] = self._joins(deeper, black, labels, joined, island, budget)
+        parts, n_parts = components(deeper)
+        anchored = np.zeros(n_parts, bool)
         anchored[parts[_position(deeper, old.level, old.code)]] = True
-        black = np.zeros(count, bool)
-        black[parts[deeper.black]] = True
-        return int(np.count_nonzero(black & ~anchored))
+        island_cells = np.flatnonzero(deeper.black)[~joined[labels]]
+        found = len(np.unique(parts[island_cells][~anchored[parts[island_cells]]]))
+        opened = int(np.any(anchored[parts[island_cells]]))
+        with_black = np.zeros(n_parts, bool)
+        with_black[parts[deeper.black]] = True
+        for k in np.flatnonzero(~anchored & ~with_black):
+            opened += not self.vanishes(deeper.select(parts == k), budget, limit)
+        return found, opened
+
+    def _joins(self, cells: CellSet, black: CellSet, labels: np.ndarray, joined: np.ndarray, island: int,
+               budget: Budget) -> bool:
+        """Whether black cells found by paving a window of `cells` around one island of `black`
+        (labels: its components; joined: those holding or joined to the paving's leaves) two
+        levels deeper join the island to a joined component."""
+        grid = cells.grid
+        own = black.select(labels == island)
+        i_lo, i_hi = _integer_boxes(grid, own.level, own.code)
+        c_lo, c_hi = _integer_boxes(grid, cells.level, cells.code)
+        for radius in (4, 16):
+            if grid.depth + 2 > MAX_INDEX_BITS // grid.dim or budget.left <= 0:
+                return False
+            window = _near(grid, i_lo, i_hi, c_lo, c_hi, radius)
+            local = self._deeper(cells.select(window), 2, budget)
+            if local is None:
+                return False
+            lb = local.select(local.black)
+            comp, _ = components(lb)
+            wb = cells.select(window & cells.black)  # the window's black cells, kept in `local`
+            where = _position(lb, wb.level, wb.code)
+            mine = np.isin(_position(black, wb.level, wb.code), np.flatnonzero(labels == island))
+            good = joined[labels[_position(black, wb.level, wb.code)]]
+            if np.intersect1d(comp[where[mine]], comp[where[good]]).size:
+                return True
+        return False
 
     def vanish(self, o: int, budget: Budget, limit: int) -> bool:
         """Whether outer component `o`, which holds no black cell, is proved to miss S: paved
         deeper until no cell of it may meet S (True), or a black cell shows a component of S in it,
         or the budget or the depth limit ends the search (False)."""
-        cells = self.outer_cells(o)
+        return self.vanishes(self.outer_cells(o), budget, limit)
+
+    def vanishes(self, cells: CellSet, budget: Budget, limit: int) -> bool:
+        """`vanish` for any cells without black ones (a part of the outer set, e.g. found deeper)."""
         while budget.left > 0 and cells.grid.depth + SPLIT_STEP <= limit:
             cells = self._deeper(cells, SPLIT_STEP, budget)
             if cells is None or cells.black.any():

@@ -12,10 +12,13 @@ every kind whose model declares a `PoseAspectModel` (mechanisms/base.py): the 3-
    the black components (anchors) of one outer component are joined by black cells found by
    local refinement, or separated by refinement; an outer component without anchor must vanish.
 4. Probe: the undetermined cells of every outer component holding an anchor are paved one level
-   deeper (PROBE_LEVELS); a part of the deeper outer set with black cells but no anchor is a
-   component of S that the depth-D black cells missed (an aspect thinner than a cell, hidden in
-   the band of another one): it is proven to be an aspect of its own, the count is then not
-   certified at this depth (both bounds count it) and a deeper run certifies it.
+   deeper (PROBE_LEVELS). New black cells touching no black cell joined to the anchors (islands)
+   must join them by local refinement; an island left in a part of the deeper outer set without
+   anchor is a component of S that the depth-D black cells missed (an aspect thinner than a
+   cell, hidden in the band of another one): proven, both bounds count it; an island left in the
+   anchors' part may be one (the upper bound counts it), as may a part without black cells that
+   does not vanish under refinement. Either way the count is not certified at this depth; a
+   deeper run sees the aspect's cells.
    An aspect is certified when its anchors lie in one outer component that holds no other
    aspect (or was proven to split) and whose probe found nothing; the count is certified when
    every aspect is and no outer component is left undecided. The same words, "N generalized
@@ -32,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
-from fivebar_cli.analyses.pieces import Budget, ModeSet, undetermined_pairs
+from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass
 from fivebar_cli.paving.engine import Paving, pave
@@ -146,23 +149,26 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
     timings["certificate"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     probe = Budget(1 << 62)  # part of the analysis at this depth, not of the refinement budget
-    hiding = {}  # (set, outer component) -> aspects found there by the probe
+    limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // space.dim)
+    found = opened = 0  # aspects the probe proved, and parts it left that may hide one
+    hiding = set()  # (set, outer component) where it found either
     for k, s in enumerate(sets):
         for o in range(s.n_outer):
-            if len(s.anchors_in(o)) and depth + PROBE_LEVELS <= MAX_INDEX_BITS // space.dim:
-                found = s.hidden_parts(o, PROBE_LEVELS, probe)
-                if found:
-                    hiding[(k, o)] = found
+            if len(s.anchors_in(o)) and depth + PROBE_LEVELS <= limit:
+                black, still = s.hidden_parts(o, PROBE_LEVELS, probe, limit)
+                if black or still:
+                    found, opened = found + black, opened + still
+                    hiding.add((k, o))
     timings["probe"] = time.perf_counter() - t0
 
     def certified(g: int) -> bool:
-        return count.certified(g) and not any(key in hiding for key in count.group_outers(g)[model.space])
+        return count.certified(g) and not (count.group_outers(g)[model.space] & hiding)
 
     aspects = _number_aspects(model, sets, count, certified)
     advance(1)
-    extra = sum(hiding.values())
-    return PoseAspectAnalysis(m, model, depth, regions, aspects, [], count.lower + extra, count.upper + extra,
-                              count.undecided + len(hiding), count.empty_undecided + extra, count.merged,
+    return PoseAspectAnalysis(m, model, depth, regions, aspects, [], count.lower + found,
+                              count.upper + found + opened, count.undecided + len(hiding),
+                              count.empty_undecided + found + opened, count.merged,
                               count.budget.spent + probe.spent, timings)
 
 
