@@ -8,7 +8,13 @@
    Peer: A* on the 8-connected grid of the 4^d cell centres classified by the point kinematics
    (dense grid, torus), the usual motion planner; it samples centres, so its path is not
    certified, and it is a staircase (its length is given for comparison).
-2. Largest circle and square of the ten aspects of M1 (`inscribed.py`, certified, within 1 %),
+2. Short motions: the length of the certified motion against the shortest polyline through the
+   same certified cells, computed independently by shapely (a visibility graph on the reflex
+   corners of the union of the cells, Dijkstra; tests/reference_paths.py). The issue's two cases
+   (2-RPR (5, 6) -> (10, 12): the straight 7.81; M1 (0, 1) -> (0.6, 0.6): 0.72), then random
+   pairs of joint values in one mode set of M1, M2 and the 2-RPR; also the string pulled through
+   A*'s chain of cells alone (what `path` returned before issue 20) for comparison.
+3. Largest circle and square of the ten aspects of M1 (`inscribed.py`, certified, within 1 %),
    against shapely's maximum_inscribed_circle (GEOS, tolerance 1e-3 r) and polylabel on the
    same cells made a polygon (io/geojson.py; the polygon's build time is its own column). shapely
    has no largest square. Neither peer certifies its disc.
@@ -16,7 +22,7 @@
 Seconds are the best of --repeat runs; peak memory from tracemalloc (numpy and Python heap) on
 one more run.
 
-    python benchmarks/bench_path.py [--depths 10,12] [--repeat 3]
+    python benchmarks/bench_path.py [--depths 10,12] [--repeat 3] [--pairs 20] [--pair-depth 10]
 """
 
 from __future__ import annotations
@@ -26,21 +32,29 @@ import contextlib
 import heapq
 import io
 import math
+import sys
 import tempfile
 import time
 import tracemalloc
+from itertools import product
 from pathlib import Path
 
 import numpy as np
 from bench_paving import measured  # (result, seconds, peak MiB); benchmarks/ is on sys.path
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from reference_paths import shortest_through_tree  # noqa: E402
+
 from fivebar_cli.analyses.aspects import analyse_aspects
+from fivebar_cli.analyses.channel import containing_leaves, find_chain, lift, portals, pull_string, string_length
 from fivebar_cli.analyses.inscribed import largest_disc, largest_square
 from fivebar_cli.cli import main as cli_main
 from fivebar_cli.io.geojson import tree_geometry
+from fivebar_cli.analyses.paths import Endpoint, NoPath, find_path, mode_cells, resolve
 from fivebar_cli.mechanisms.registry import load_config
 
-CONFIG = Path(__file__).resolve().parents[1] / "configs" / "m1.yaml"
+CONFIGS = Path(__file__).resolve().parents[1] / "configs"
+CONFIG = CONFIGS / "m1.yaml"
 MOTION = ["--joints", "-0.09817477", "-2.06167018", "--joints", "0.88357293", "1.47262156", "--assembly-mode", "+"]
 NO_MOTION = ["--joints", "-2.25801972", "-2.06167018", "--joints", "1.05537878", "2.03712649", "--assembly-mode", "+"]
 
@@ -129,11 +143,80 @@ def timed(args: list[str], repeat: int) -> tuple[float, float, int]:
     return best, peak, status
 
 
+def chain_only(cells, start, end) -> float:
+    """The string pulled through A*'s chain of cells alone (the motion before issue 20)."""
+    chain = find_chain(cells, containing_leaves(cells, start)[0], containing_leaves(cells, end)[0], start)
+    grid = cells.grid
+    return string_length(pull_string(start - grid.lo, lift(chain, end).unwrapped(grid) - grid.lo, portals(chain)))
+
+
+def short_motion(m, depth: int, start, end, assembly: str, cells_of: dict):
+    """(ours, seconds, waypoints, shapely's, seconds, chain only) for one pair, or None."""
+    try:
+        first, last = resolve(m, [Endpoint("joints", tuple(start)), Endpoint("joints", tuple(end))], assembly, "bench")
+        key = (first.working, first.assembly)
+        if key not in cells_of:
+            cells_of[key] = mode_cells(m, depth, *key)
+        t0 = time.perf_counter()
+        result = find_path(m, depth, first, last, cells=cells_of[key], aspects=[])
+        ours_s = time.perf_counter() - t0
+    except NoPath:
+        return None
+    t0 = time.perf_counter()
+    best = shortest_through_tree(cells_of[key], first.joints, last.joints, result.length * (1 + 1e-9))
+    return (result.length, ours_s, len(result.joints), best, time.perf_counter() - t0,
+            chain_only(cells_of[key], first.joints, last.joints))
+
+
+def short_motions(depth: int, pairs: int) -> None:
+    print(f"{'short motions (depth ' + str(depth) + ')':34s} {'pairs':>5s} {'ours':>8s} {'shapely':>8s} "
+          f"{'max ratio':>9s} {'mean':>7s} {'chain only':>10s} {'waypts':>6s} {'ours s':>7s} {'shapely s':>9s}")
+    cases = (("2-RPR (5, 6) -> (10, 12)", "rpr2", [((5, 6), (10, 12), "+")]),
+             ("M1 (0, 1) -> (0.6, 0.6)", "m1", [((0, 1), (0.6, 0.6), "+")]))
+    rng = np.random.default_rng(20)
+    randoms = []
+    for name in ("m1", "m2", "rpr2"):  # two points of the cells of one mode set (one aspect, or two)
+        m = load_config(CONFIGS / f"{name}.yaml")
+        model = m.aspect_model()
+        todo = []
+        for wm, am in product(model.working_modes, model.assembly_modes):
+            cells = mode_cells(m, depth, "".join("+" if s > 0 else "-" for s in wm), "+" if am > 0 else "-")
+            if not len(cells):
+                continue
+            lo, hi = cells.bounds()
+            area = np.prod(hi - lo, axis=1)
+            picks = rng.choice(len(lo), size=(2 * pairs, 2), p=area / area.sum())
+            points = lo[picks] + rng.uniform(0.02, 0.98, picks.shape + (2,)) * (hi - lo)[picks]
+            todo += [(tuple(a), tuple(b), "+" if am > 0 else "-") for a, b in points]
+        order = rng.permutation(len(todo))
+        randoms.append((f"{name} random pairs", name, [todo[k] for k in order]))
+    for label, name, todo in (*cases, *randoms):
+        m = load_config(CONFIGS / f"{name}.yaml")
+        cells_of, rows = {}, []
+        for start, end, assembly in todo:
+            row = short_motion(m, depth, start, end, assembly, cells_of)
+            if row is not None:
+                rows.append(row)
+            if len(rows) == (pairs if len(todo) > 1 else 1):
+                break
+        a = np.array(rows)
+        ratio = a[:, 0] / a[:, 3]
+        print(f"{label:34s} {len(a):5d} {a[:, 0].max() if len(a) == 1 else a[:, 0].mean():8.4f} "
+              f"{a[:, 3].max() if len(a) == 1 else a[:, 3].mean():8.4f} {ratio.max():9.6f} {ratio.mean():7.5f} "
+              f"{(a[:, 5] / a[:, 3]).max():10.4f} {int(a[:, 2].max()):6d} {a[:, 1].max():7.3f} {a[:, 4].max():9.3f}")
+    print("(lengths: the one case, or the mean over the pairs; ratios: ours / shapely's; chain only: the max "
+          "ratio of the string through A*'s chain alone; seconds: the slowest pair)")
+    print()
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--depths", default="12")
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--pairs", type=int, default=12, help="random pairs per mechanism for the short motions")
+    parser.add_argument("--pair-depth", type=int, default=10, help="depth of the short motions")
     args = parser.parse_args()
+    short_motions(args.pair_depth, args.pairs)
     with tempfile.TemporaryDirectory() as tmp:
         warm_up = Path(tmp) / "warm-up"
         run(["path", CONFIG, *MOTION, "--depth", 8, "-o", warm_up, "-q"])  # imports, matplotlib

@@ -116,29 +116,34 @@ def count(L, n: int = 1024) -> int:
     for key in joint:
         jl, p = joint[key]
         wl, a1, a2 = work[key]
-        nj = int(jl.max())
-        pairs = []
-        kept = jl > 0  # joint -> workspace
-        ix = np.floor((p[kept][:, 0] + reach) / (2 * reach) * n).astype(np.int64)
-        iy = np.floor((p[kept][:, 1] + reach) / (2 * reach) * n).astype(np.int64)
-        inside = (ix >= 0) & (ix < n) & (iy >= 0) & (iy < n)
-        target = np.zeros(len(ix), np.int64)
-        target[inside] = wl[ix[inside], iy[inside]]
-        hit = target > 0
-        pairs.append(np.stack([jl[kept][hit], nj + target[hit]], 1))
         kept = wl > 0  # workspace -> joint
         i1 = np.floor((a1[kept] + np.pi) / (2 * np.pi) * n).astype(np.int64) % n
         i2 = np.floor((a2[kept] + np.pi) / (2 * np.pi) * n).astype(np.int64) % n
-        target = jl[i1, i2]
-        hit = target > 0
-        pairs.append(np.stack([target[hit], nj + wl[kept][hit]], 1))
-        merged = np.arange(nj + int(wl.max()) + 1)
-        groups = _merge(merged, nj + int(wl.max()), np.concatenate(pairs))
-        size_j = np.bincount(groups[jl[jl > 0]], minlength=len(groups))
-        size_w = np.bincount(groups[nj + wl[wl > 0]], minlength=len(groups))
-        big = (size_j > 0) & (size_w > 0) & (size_j + size_w >= MIN_PIXELS * (n / 512) ** 2)
-        total += int(np.count_nonzero(big))
+        total += linked_groups(jl, p, wl, jl[i1, i2], reach, n)
     return total
+
+
+def linked_groups(jl, p, wl, back, reach: float, n: int) -> int:
+    """The groups of one mode: joint-space labels `jl` (P at each centre: `p`) and workspace labels
+    `wl` merged where a kept centre maps into a labelled cell of the other space (`back`: the joint
+    label each kept workspace centre maps to, 0 for none); those with centres in both spaces and at
+    least MIN_PIXELS (scaled) of them."""
+    nj = int(jl.max())
+    kept = jl > 0  # joint -> workspace
+    ix = np.floor((p[kept][:, 0] + reach) / (2 * reach) * n).astype(np.int64)
+    iy = np.floor((p[kept][:, 1] + reach) / (2 * reach) * n).astype(np.int64)
+    inside = (ix >= 0) & (ix < n) & (iy >= 0) & (iy < n)
+    target = np.zeros(len(ix), np.int64)
+    target[inside] = wl[ix[inside], iy[inside]]
+    hit = target > 0
+    pairs = [np.stack([jl[kept][hit], nj + target[hit]], 1)]
+    hit = back > 0
+    pairs.append(np.stack([back[hit], nj + wl[wl > 0][hit]], 1))
+    groups = _merge(np.arange(nj + int(wl.max()) + 1), nj + int(wl.max()), np.concatenate(pairs))
+    size_j = np.bincount(groups[jl[jl > 0]], minlength=len(groups))
+    size_w = np.bincount(groups[nj + wl[wl > 0]], minlength=len(groups))
+    big = (size_j > 0) & (size_w > 0) & (size_j + size_w >= MIN_PIXELS * (n / 512) ** 2)
+    return int(np.count_nonzero(big))
 
 
 def stable_count(L, sizes=(512, 1024)) -> int | None:

@@ -175,7 +175,7 @@ def test_locate_says_when_the_aspect_is_not_certified(tmp_path):
     assert r.status == 0, r.stderr
     assert "read from" in r.stdout.splitlines()[0]
     assert f"aspect {uncertified[0]} (not certified at this depth)" in r.stdout
-    assert f"-> aspect {certified[0]}\n" in r.stdout
+    assert f"-> aspect {certified[0]} (certified)\n" in r.stdout
     r = run_cli("locate", cfg, "--depth", "8", "-o", out, "--pose", uncertified[7], uncertified[8], "--csv")
     assert any(line.endswith(f",{uncertified[0]},,false") for line in r.stdout.splitlines())
 

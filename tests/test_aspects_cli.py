@@ -254,9 +254,10 @@ def test_locate_text_output(rows):
     first = rows[0]
     r = locate("--pose", first["x"], first["y"])
     assert r.status == 0, r.stderr
-    assert "4 configuration(s)" in r.stdout
+    assert "location 1: pose" in r.stdout and ": 4 configurations (floating-point kinematics, not certified)" in r.stdout
     assert "working mode ++, assembly mode +: " in r.stdout
-    assert "-> aspect 1" in r.stdout
+    assert "-> aspect 1 (certified)" in r.stdout
+    assert r.stdout.startswith("M1: 10 aspects at depth 8 computed (all certified)\n")
 
 
 def test_locate_joints_with_filters(rows):
@@ -314,10 +315,10 @@ def test_locate_motion_verdict(runs, rows):
     p2 = _second_pose_in(out, int(a1["aspect"]), p1)
     r = locate("--pose", *p1, "--pose", *p2, "--working-mode", "++")
     assert r.status == 0, r.stderr
-    assert f"1 -> 2: yes, within aspect(s) {a1['aspect']}" in r.stdout
+    assert f"1 -> 2: yes: both lie in aspect {a1['aspect']}\n" in r.stdout
     r = locate("--pose", *p1, "--pose", a6["x"], a6["y"], "--working-mode", "++")
     assert r.status == 0, r.stderr
-    assert "1 -> 2: no" in r.stdout
+    assert "1 -> 2: no: different assembly modes (+ for location 1, - for location 2)" in r.stdout
     assert "yes" not in r.stdout
 
 

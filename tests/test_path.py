@@ -21,11 +21,13 @@ from cli_helpers import one_line, run_cli
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from reference_kinematics import ref_dkp, ref_ikp
+from reference_paths import shortest_through_tree
 
 from fivebar_cli.analyses.aspects import analyse_aspects
 from fivebar_cli.analyses.channel import Waypoint, ExactCells, certified_polyline, find_chain, lift
-from fivebar_cli.analyses.paths import Endpoint, NoPath, find_path, resolve
+from fivebar_cli.analyses.paths import Endpoint, NoPath, find_path, mode_cells, resolve
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
+from fivebar_cli.mechanisms.registry import load_config
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree
 
@@ -361,31 +363,85 @@ def test_exact_check_refuses_a_segment_leaving_the_cells_by_a_hair():
     assert exact.covers(w(0.5, 0.5), w(2.0 + 2.0 ** -52, 0.5))  # within the one-ulp widening (4 ulp tested)
 
 
-@settings(max_examples=40, deadline=None)
-@given(seed=st.integers(0, 10 ** 6), periodic=st.booleans())
-def test_random_cell_sets(seed, periodic):
-    """Random cells on an 8 x 8 grid: whenever a chain joins two cells, every sampled point of the
-    polyline lies in the union of the closed cells (wrapped on a torus)."""
+def random_motion(seed: int, periodic: bool, depth: int, density: float):
+    """Random cells of a 2^depth x 2^depth grid (a torus, or [0, 2^depth]^2), two random points of
+    two of them and the certified motion between them: (tree, start, end, waypoints), or None when
+    no chain of cells joins them."""
     rng = np.random.default_rng(seed)
-    root = ((-np.pi, np.pi), (-np.pi, np.pi)) if periodic else ((0.0, 8.0), (0.0, 8.0))
-    grid = Grid(root, 3, (periodic, periodic))
-    mask = rng.random((8, 8)) < 0.6
-    coords = np.argwhere(mask)
+    n = 1 << depth
+    root = ((-np.pi, np.pi), (-np.pi, np.pi)) if periodic else ((0.0, float(n)), (0.0, float(n)))
+    coords = np.argwhere(rng.random((n, n)) < density)
     if len(coords) < 2:
-        return
-    tree = cells(grid, coords)
+        return None
+    tree = cells(Grid(root, depth, (periodic, periodic)), coords)
     a, b = rng.choice(len(tree), 2, replace=False)
     lo, hi = tree.bounds()
     start = lo[a] + rng.uniform(0.1, 0.9, 2) * (hi[a] - lo[a])
     end = lo[b] + rng.uniform(0.1, 0.9, 2) * (hi[b] - lo[b])
     chain = find_chain(tree, int(a), int(b), start)
     if chain is None:
+        return None
+    return tree, start, end, certified_polyline(chain, start, lift(chain, end))[0]
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), periodic=st.booleans())
+def test_random_cell_sets(seed, periodic):
+    """Random cells on an 8 x 8 grid: whenever a chain joins two cells, every sampled point of the
+    polyline lies in the union of the closed cells (wrapped on a torus)."""
+    motion = random_motion(seed, periodic, 3, 0.6)
+    if motion is None:
         return
-    points, _ = certified_polyline(chain, start, lift(chain, end))
-    path = np.array([p.unwrapped(grid) for p in points])
+    tree, start, end, points = motion
+    path = np.array([p.unwrapped(tree.grid) for p in points])
     t = np.linspace(0, 1, 300)[None, :, None]
     pts = (path[:-1, None] + t * (path[1:, None] - path[:-1, None])).reshape(-1, 2)
-    if periodic:
+    if periodic:  # wrapped, and on the seam theta = -pi also as theta = pi
         pts = (pts + np.pi) % (2 * np.pi) - np.pi
-    assert inside_closed(tree, pts, tol=1e-9).all()
+        copies = [pts + 2 * np.pi * np.array(s) for s in ((0, 0), (1, 0), (0, 1), (1, 1))]
+        assert np.any([inside_closed(tree, c, tol=1e-9) for c in copies], axis=0).all()
+    else:
+        assert inside_closed(tree, pts, tol=1e-9).all()
     assert np.allclose(points[0].at, start) and np.allclose(points[-1].at, end)
+
+
+# ---------------------------------------------------------------- short motions (issue 20)
+
+
+@pytest.mark.parametrize("config,m,start,end,assembly,straight", [
+    (REPO / "configs" / "rpr2.yaml", None, ("5", "6"), ("10", "12"), "+", math.sqrt(61)),
+    (M1_YAML, M1, ("0", "1"), ("0.6", "0.6"), "+", math.sqrt(0.52)),
+], ids=["2-RPR (5, 6) -> (10, 12)", "M1 (0, 1) -> (0.6, 0.6)"])
+def test_a_straight_segment_in_the_cells_comes_back_as_it_is(tmp_path, config, m, start, end, assembly, straight):
+    """The issue's two motions: the straight segment lies in the certified cells (shapely's
+    shortest polyline through the same cells is that long), so the motion is that segment."""
+    r = run_cli("path", config, "--joints", *start, "--joints", *end, "--assembly-mode", assembly, "--depth", "10",
+                "-o", tmp_path, "--no-plot", cwd=REPO)
+    assert r.status == 0, r.stderr
+    assert f"2 waypoints, joint-space length {straight:.6g}" in r.stdout
+    _, rows, text = read_path(tmp_path)
+    assert [t[:2] for t in text] == [[f"{float(v)!r}" if v != "0" else "0" for v in p] for p in (start, end)]
+    if m is not None:
+        check_motion(m, rows, 1, (1, 1))
+    mech = load_config(config)
+    ends = [Endpoint("joints", tuple(float(v) for v in p)) for p in (start, end)]
+    first, last = resolve(mech, ends, assembly, "test")
+    cells = mode_cells(mech, 10, first.working, first.assembly)
+    best = shortest_through_tree(cells, first.joints, last.joints, straight * 1.01)
+    assert best == pytest.approx(straight, rel=1e-9)
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), periodic=st.booleans(), density=st.floats(0.55, 0.8))
+def test_motions_are_as_short_as_the_cells_allow(seed, periodic, density):
+    """Random cells on a 16 x 16 grid, holes and corner contacts included: the certified motion is
+    at most 0.1 % longer than shapely's shortest polyline through the same cells (visibility graph,
+    corner contacts cut), and never shorter."""
+    motion = random_motion(seed, periodic, 4, density)
+    if motion is None:
+        return
+    tree, start, end, points = motion
+    path = np.array([p.unwrapped(tree.grid) for p in points])
+    length = float(np.sum(np.hypot(*np.diff(path, axis=0).T)))
+    best = shortest_through_tree(tree, start, end, length)
+    assert best * (1 - 1e-9) <= length <= best * 1.001

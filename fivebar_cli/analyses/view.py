@@ -38,6 +38,7 @@ class ViewTree:
     label: str
     qt: QtFile
     axes: tuple[tuple[str, str], ...]  # (name, unit) per axis; unit '' is the mechanism's length unit
+    marks: tuple = ()  # obstacles and joint limits of the mechanism over this space (`FiveBar.marks`)
 
     @property
     def role(self) -> str:
@@ -102,7 +103,7 @@ def _add_source(view: View, path: Path, files: list[tuple[str, Path]]) -> None:
     first = len(view.trees)
     for label, file in files:
         qt = read_qt(file)
-        view.trees.append(ViewTree(label, qt, tree_axes(qt, str(file))))
+        view.trees.append(ViewTree(label, qt, tree_axes(qt, str(file)), tree_marks(qt, str(file))))
     indices = list(range(first, len(view.trees)))
     folder = path if path.is_dir() else None
     path_index = None
@@ -143,6 +144,18 @@ def tree_axes(qt: QtFile, source: str) -> tuple[tuple[str, str], ...]:
     if space == "workspace" and dim == 2:
         return (("x", ""), ("y", ""))
     return tuple((f"axis{i + 1}", "") for i in range(dim))
+
+
+def tree_marks(qt: QtFile, source: str) -> tuple:
+    """What to draw over the tree's space: the obstacles and joint limits its mechanism header names
+    (none for a kind without `marks`, or a header this version cannot read)."""
+    if not (qt.get("mechanism") and qt.get("space")):
+        return ()
+    try:
+        m = from_description(qt.get("mechanism"), qt.get("name") or "?", source)
+    except InputError:
+        return ()
+    return tuple(m.marks(qt.get("space"))) if hasattr(m, "marks") else ()
 
 
 def _space_key(space: str) -> tuple:

@@ -6,7 +6,10 @@ import click
 
 from fivebar_cli.analyses.paths import Endpoint, find_path, resolve
 from fivebar_cli.cli.aspects import _load_with_aspects
-from fivebar_cli.cli.options import CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, prepare_out, report, wrote
+from fivebar_cli.cli.options import (
+    CONFIG, JOINT, MAX_ASPECT_DEPTH, NUMBER, check_joints, common_options, depth_option, figure, prepare_out, report,
+    wrote,
+)
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import csv_text, write_text
 from fivebar_cli.io.layout import PATH_CSV, PATH_PNG
@@ -39,10 +42,10 @@ def path_csv(result) -> str:
 
 @click.command(short_help="A certified singularity-free motion between two configurations.")
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
-@click.option("--joints", "joints", type=(float, float), multiple=True, metavar="TH1 TH2", callback=_record_order,
-              help="An endpoint by its joint values (radians); its assembly mode is --assembly-mode (or that of "
-                   "a --pose endpoint).")
-@click.option("--pose", "poses", type=(float, float), multiple=True, metavar="X Y", callback=_record_order,
+@click.option("--joints", "joints", type=(JOINT, JOINT), multiple=True, metavar="TH1 TH2", callback=_record_order,
+              help="An endpoint by its joint values (radians, or degrees with the suffix deg: 30deg); its "
+                   "assembly mode is --assembly-mode (or that of a --pose endpoint).")
+@click.option("--pose", "poses", type=(NUMBER, NUMBER), multiple=True, metavar="X Y", callback=_record_order,
               help="An endpoint by the position of P, in the working mode of --working-mode.")
 @click.option("--working-mode", "working_modes", type=click.Choice(WORKING_MODES), multiple=True,
               help="Working mode of the --pose endpoints: once for all, or once per --pose in order (needed "
@@ -60,16 +63,19 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     the motion stays in one generalized aspect (no serial and no parallel singularity); with it,
     it may change working mode across serial singularities but never crosses a parallel one.
     The motion is a polyline in the joint space whose every straight segment is proven, in exact
-    arithmetic, to lie in certified cells at --depth; it is shortened by string pulling through
-    the cells. Rows are in [-pi, pi); each segment goes the short way round on each angle. Writes
+    arithmetic, to lie in certified cells at --depth; it is the straight segment when that lies in
+    the cells, else the shortest polyline through them found by string pulling. Angles are in
+    radians, or in degrees with the suffix deg (--joints 30deg -45deg). Rows are in [-pi, pi);
+    each segment goes the short way round on each angle. Writes
     path.csv (theta1,theta2,x,y per waypoint; the first and last rows are the requested
     configurations) and path.png. Reuses the aspect trees an `aspects` run wrote into -o for
-    the same mechanism and depth. Exit status 1, with the reason, when no such motion exists
-    at this depth.
+    the same mechanism and depth. Exit status 1, with the reason, when no motion is found at this
+    depth: "no" when none exists (proven), "not decided at depth D" (with what to try) otherwise.
 
     \b
     Examples:
-      fivebar path configs/m1.yaml --joints 0.1 0.7 --joints 1.2 -2.6 --assembly-mode +
+      fivebar path configs/m1.yaml --joints -0.1 -2.06 --joints 0.88 1.47 --assembly-mode +
+      fivebar path configs/m1.yaml --joints -5deg -120deg --joints 50deg 85deg --assembly-mode +
       fivebar path configs/m1.yaml --pose 4 5 --pose 6 8 --working-mode ++
       fivebar path configs/m1.yaml --joints 0.1 0.7 --joints -0.5 -3.1 --assembly-mode + --allow-serial
     """
@@ -85,11 +91,12 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
         for k, value in enumerate(values[name]):
             endpoints.append(Endpoint("pose", value, pose_modes[k]) if name == "poses" else Endpoint("joints", value))
     m = _load_with_aspects(config_path)
+    check_joints(m, joints, config_path)
     if allow_serial and not hasattr(m.aspect_model(), "parallel_free_test"):
         raise InputError(str(config_path), "--allow-serial", f"a {m.kind} has no test for parallel singularities")
     folder = prepare_out(out, m.name)
     start, end = resolve(m, endpoints, assembly_mode, str(config_path))
-    result = find_path(m, depth, start, end, allow_serial, folder)
+    result = find_path(m, depth, start, end, allow_serial, folder, max_depth=MAX_ASPECT_DEPTH)
     paths = [write_text(folder / PATH_CSV, path_csv(result))]
     if not no_plot:
         from fivebar_cli.analyses.paths import component_of, workspace_backdrop

@@ -20,6 +20,13 @@ REPRODUCTION = (  # (what, arguments[, expected exit status]); {configs} and {ou
     ("M2 workspace (fig. 6)", ["workspace", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 aspects (figs. 8, 10)", ["aspects", "{configs}/m2.yaml", "--depth", "10", "-o", "{out}/M2"]),
     ("M2 in a browser (view.html)", ["view", "{out}/M2", "-o", "{out}/M2/view.html"]),
+    ("M1 with its end joint P limited to [-90, 90] deg (Caro et al. 2014: 12 aspects)",
+     ["aspects", "{configs}/m1-passive-limit.yaml", "--depth", "10", "-o", "{out}/M1-passive-limit"]),
+    ("M1 with P limited, in a browser (view.html)",
+     ["view", "{out}/M1-passive-limit", "-o", "{out}/M1-passive-limit/view.html"]),
+    ("M1 with a disc obstacle no link may touch (Caro et al. 2014: 26 aspects, a lower bound)",
+     ["aspects", "{configs}/m1-obstacle.yaml", "--depth", "10", "-o", "{out}/M1-obstacle"]),
+    ("M1 with the disc, in a browser (view.html)", ["view", "{out}/M1-obstacle", "-o", "{out}/M1-obstacle/view.html"]),
     ("M1 tolerances (the paper's future work)",
      ["tolerance", "{configs}/m1.yaml", "--tolerances", "0,0.01,0.02,0.05,0.1", "--depth", "9", "-o", "{out}/M1"]),
     ("M2 tolerances (the paper's future work)",
@@ -56,7 +63,8 @@ def reproduce(configs, out, no_plot, quiet):
     """Regenerate every table and figure of both papers (what `make reproduce` runs).
 
     Runs, in order: the five-bar Table 1 (kratio), the joint space, workspace and aspects of
-    M1 and M2 at depth 10 with a view.html page of each (fivebar view), their sensitivity to
+    M1 and M2 at depth 10 with a view.html page of each (fivebar view), the aspects of M1 with
+    the two constraints of Caro et al. (2014) (P in [-90, 90] deg; a disc obstacle), their sensitivity to
     manufacturing tolerances (depth 9), the 3-RPR construction, sweeps and synthesis, the octree
     of a general 3-RPR (and its page) and the `rpr3 verify` checks of the paper's designs (one of
     them must find a singular pose: exit 1 is its expected result). The .qt and CSV files are

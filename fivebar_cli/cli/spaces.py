@@ -83,8 +83,9 @@ def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int
         und = paving.undetermined_tree()
         s = m.spaces()[space]
         for complement, suffix in ((False, ""), (True, ".complement")):
+            marks = getattr(m, "marks", lambda name: [])(space)
             paths.append(figure(lambda: figure_paving(m.name, s, paving.inside, paving.outside, und, complement,
-                                                      paving.band, region), folder / f"{stem}{suffix}.png"))
+                                                      paving.band, region, marks), folder / f"{stem}{suffix}.png"))
     return paths
 
 
@@ -96,8 +97,10 @@ def _write(folder: Path, m, space: str, paving, procedure: str, evaluations: int
 @_geojson_option
 @common_options
 def jointspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, quiet):
-    """Certified joint space of a mechanism: (th1, th2) on the torus [-pi, pi]^2 for a five-bar,
-    the leg lengths (rho1, rho2) for a 2-RPR.
+    """Certified joint space of a mechanism: (th1, th2) on the torus [-pi, pi]^2 for a five-bar
+    (an actuated limit narrower than a turn makes its axis that interval), the leg lengths
+    (rho1, rho2) for a 2-RPR. With joint limits or obstacles, black cells hold only configurations
+    within them.
 
     Black cells can be assembled at every point (five-bar: |L3-L4| <= |B1B2| <= L3+L4,
     B1 != B2); complement cells at no point. Writes jointspace.qt, jointspace.complement.qt,

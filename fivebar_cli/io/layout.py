@@ -67,6 +67,7 @@ def geojson_path(folder: Path, space: str) -> Path:
 
 ASPECTS_CSV = "aspects.csv"
 CROSSINGS_CSV = "aspects-adjacency.csv"
+SPLIT_CSV = "aspects-split.csv"  # with limits or obstacles: what each constrained aspect comes from
 PATH_CSV = "path.csv"
 PATH_PNG = "path.png"
 DKP_CSV = "dkp.csv"

@@ -37,6 +37,17 @@ def sinusoid_range(a, b, lo, hi, trig=None) -> tuple[np.ndarray, np.ndarray]:
     return bottom, top
 
 
+def cos_sin_ranges(lo, hi, trig=None):
+    """Exact ranges ((cos min, cos max), (sin min, sin max)) over [lo, hi], from their values at
+    the ends (`trig` = (cos lo, sin lo, cos hi, sin hi) when the caller has them)."""
+    c_lo, s_lo, c_hi, s_hi = trig if trig is not None else (np.cos(lo), np.sin(lo), np.cos(hi), np.sin(hi))
+    cmin, cmax = np.minimum(c_lo, c_hi), np.maximum(c_lo, c_hi)
+    smin, smax = np.minimum(s_lo, s_hi), np.maximum(s_lo, s_hi)
+    return ((np.where(angle_inside(np.pi, lo, hi), -1.0, cmin), np.where(angle_inside(0.0, lo, hi), 1.0, cmax)),
+            (np.where(angle_inside(-0.5 * np.pi, lo, hi), -1.0, smin),
+             np.where(angle_inside(0.5 * np.pi, lo, hi), 1.0, smax)))
+
+
 def direction_range(xlo, xhi, ylo, yhi) -> tuple[np.ndarray, np.ndarray]:
     """Exact range of the direction atan2(y, x) over boxes of vectors (width 2 pi if a box holds 0).
 

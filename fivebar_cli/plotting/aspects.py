@@ -22,6 +22,8 @@ def _aspect_colour(number: int):
 def _label_aspects(ax, aspects, space: str) -> None:
     for a in aspects:
         tree = a.workspace if space == "workspace" else a.jointspace
+        if not len(tree):  # an aspect too thin for cells in this space at this depth
+            continue
         x, y = tree.centres()[int(np.argmin(tree.level))]
         ax.annotate(str(a.number), (x, y), ha="center", va="center", fontsize=9, fontweight="bold",
                     color="white", bbox={"boxstyle": "circle,pad=0.2", "fc": "0.15", "ec": "none", "alpha": 0.8})
@@ -43,11 +45,25 @@ def _draw_shapes(ax, aspects) -> None:
 def _aspect_panel(ax, analysis, region, aspects, space: str, title: str) -> None:
     layers = [(region.paving.outside, PALE), (region.paving.undetermined_tree(), BLACK)]
     layers += [(a.workspace if space == "workspace" else a.jointspace, _aspect_colour(a.number)) for a in aspects]
-    draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[])
+    marks = getattr(analysis.mechanism, "marks", lambda name: [])(space)
+    draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[], marks=marks)
     if space == "workspace":
         _draw_shapes(ax, aspects)
     _label_aspects(ax, aspects, space)
     ax.set_title(title, fontsize=9)
+
+
+LEGEND_ROW = 0.17  # inches per legend row (7 pt)
+
+
+def _legend_rows(aspects, shapes: bool) -> int:
+    return math.ceil((len(aspects) + 2 + 2 * shapes) / 3)
+
+
+def _room(aspects, shapes: bool, fits: int) -> float:
+    """Extra height (inches) for a legend of more rows than the figure leaves room for (`fits`):
+    mechanisms with limits or obstacles can have many aspects."""
+    return max(0, _legend_rows(aspects, shapes) - fits) * LEGEND_ROW
 
 
 def _aspect_legend(fig, aspects, shapes: bool = False) -> None:
@@ -70,7 +86,9 @@ def figure_aspects_workspace(analysis):
     modes = analysis.model.working_modes
     cols = math.ceil(math.sqrt(len(modes)))
     rows = math.ceil(len(modes) / cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, 5.4 * rows + 0.6), dpi=130, squeeze=False)
+    room = _room(analysis.aspects, True, 5)
+    height = 5.4 * rows + 0.6 + room
+    fig, axes = plt.subplots(rows, cols, figsize=(5 * cols, height), dpi=130, squeeze=False)
     signs = ", ".join(analysis.model.serial_names)
     for ax, wm in zip(axes.ravel(), modes):
         region = analysis.region("workspace", wm)
@@ -78,19 +96,20 @@ def figure_aspects_workspace(analysis):
         _aspect_panel(ax, analysis, region, mine, "workspace", f"working mode {signs_text(wm)} (signs of {signs})")
     fig.suptitle(f"{analysis.mechanism.name}: parallel aspects in the workspace, depth {analysis.depth}")
     _aspect_legend(fig, analysis.aspects, shapes=True)
-    fig.tight_layout(rect=(0, 0.08, 1, 0.97), h_pad=2.0)
+    fig.tight_layout(rect=(0, 0.08 + room / height * 0.92 if room else 0.08, 1, 0.97), h_pad=2.0)
     return fig
 
 
 def figure_aspects_jointspace(analysis, assembly: int):
     """Paper figures 9 and 10: the serial aspects in the joint space for one sign of det A."""
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6.8, 7.4), dpi=150)
-    region = analysis.region("jointspace", assembly)
     mine = [a for a in analysis.aspects if a.assembly == assembly]
+    room = _room(mine, False, 4)
+    fig, ax = plt.subplots(figsize=(6.8, 7.4 + room), dpi=150)
+    region = analysis.region("jointspace", assembly)
     _aspect_panel(ax, analysis, region, mine, "jointspace",
                   f"{analysis.mechanism.name}: serial aspects, det A {'>' if assembly > 0 else '<'} 0, "
                   f"depth {analysis.depth}")
     _aspect_legend(fig, mine)
-    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    fig.tight_layout(rect=(0, 0.1 + room / (7.4 + room) * 0.9 if room else 0.1, 1, 1))
     return fig

@@ -38,7 +38,9 @@ def figure_path(result, component, backdrop):
     spaces = m.spaces()
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 6.2), dpi=100)
     grid = result.cells.grid
-    draw_layers(left, [(result.cells, CELLS), (component, CHANNEL)], spaces["jointspace"].axes, outline=[])
+    marks = getattr(m, "marks", lambda name: [])
+    draw_layers(left, [(result.cells, CELLS), (component, CHANNEL)], spaces["jointspace"].axes, outline=[],
+                marks=marks("jointspace"))
     curve = wrapped(dense(result.unwrapped()), grid)
     left.plot(curve[:, 0], curve[:, 1], color="black", lw=1.4)
     corners = wrapped(result.unwrapped(), grid)
@@ -51,7 +53,7 @@ def figure_path(result, component, backdrop):
     image = np.where(ok[:, None], image, np.nan)
     ws_grid = spaces["workspace"].grid(result.depth)
     layers = [(backdrop if backdrop is not None and len(backdrop) else _empty(ws_grid), CHANNEL)]
-    draw_layers(right, layers, spaces["workspace"].axes, outline=[])
+    draw_layers(right, layers, spaces["workspace"].axes, outline=[], marks=marks("workspace"))
     right.plot(image[:, 0], image[:, 1], color="black", lw=1.4)
     right.plot(result.poses[:, 0], result.poses[:, 1], "o", color="black", ms=2.5)
     right.set_title("workspace: the motion of P over its aspect" if not result.allow_serial

@@ -16,6 +16,7 @@ MAX_RASTER_LEVEL = 10
 MAX_OUTLINES = 12000
 WHITE = np.array([1.0, 1.0, 1.0])
 BLACK, RED, PALE, AMBER = (0.0, 0.0, 0.0), (0.85, 0.15, 0.1), (0.88, 0.88, 0.88), (0.98, 0.7, 0.2)
+MARK = (0.1, 0.35, 0.85)  # obstacles and joint limits
 SPACE_TITLES = {"jointspace": "joint space", "workspace": "workspace"}
 SLICES = 4  # panels of a 3-D paving: slices at the centres of this many equal parts of the last axis
 
@@ -49,13 +50,38 @@ def axes_labels(ax, axes) -> None:
     ax.set_ylabel(axes[1].title)
 
 
-def draw_layers(ax, layers, axes, outline: list[Tree]) -> None:
-    """Coloured 2-D trees on the root box of their grid, in one panel."""
+def draw_marks(ax, marks) -> None:
+    """Obstacles (disc, polygon, with a dashed clearance outline) and limit lines over a panel
+    (`marks` as `FiveBar.marks(space)` gives them)."""
+    from matplotlib.patches import Circle, Polygon
+
+    style = {"ec": MARK, "fc": (*MARK, 0.25), "lw": 1.2, "hatch": "////"}
+    for mark in marks:
+        if mark["kind"] == "line":
+            draw = ax.axvline if mark["axis"] == 0 else ax.axhline
+            draw(mark["value"], color=MARK, lw=1.2, ls="--")
+        elif mark["kind"] == "disc":
+            ax.add_patch(Circle(mark["centre"], mark["radius"], **style))
+            if mark["clearance"] > 0:
+                ax.add_patch(Circle(mark["centre"], mark["radius"] + mark["clearance"], fill=False, ec=MARK,
+                                    lw=0.8, ls="--"))
+        else:
+            ax.add_patch(Polygon(mark["points"], closed=True, **style))
+            if mark["clearance"] > 0:
+                from shapely.geometry import Polygon as Shape
+
+                ring = Shape(mark["points"]).buffer(mark["clearance"]).exterior.coords
+                ax.plot(*zip(*ring), color=MARK, lw=0.8, ls="--")
+
+
+def draw_layers(ax, layers, axes, outline: list[Tree], marks=()) -> None:
+    """Coloured 2-D trees on the root box of their grid, in one panel, with the constraints' marks."""
     grid = layers[0][0].grid
     level = min(grid.depth, MAX_RASTER_LEVEL)
     (x0, x1), (y0, y1) = grid.root
     ax.imshow(paint(layers, level), origin="lower", extent=(x0, x1, y0, y1), interpolation="nearest")
     _outlines(ax, outline)
+    draw_marks(ax, marks)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
     ax.set_aspect("equal" if axes[0].unit == axes[1].unit else "auto")
@@ -70,11 +96,11 @@ def _legend(ax, legend) -> None:
 
 
 def figure_paving(name: str, space: Space, inside: Tree, outside: Tree, undetermined: Tree, complement: bool,
-                  band: Tree | None = None, region: str | None = None):
+                  band: Tree | None = None, region: str | None = None, marks=()):
     """Paper figures 3 and 6 (certified inside in black) or 4 (complementary space in black); a
     3-D paving as slices at a few values of its last axis. With interval lengths the uncertain band
     (valid for some lengths only) is drawn in amber; a region other than the space's own is named
-    in the title."""
+    in the title; obstacles and joint limits (`marks`) are drawn in blue."""
     shown, other = (outside, inside) if complement else (inside, outside)
     what = "complementary " if complement else ""
     where = SPACE_TITLES.get(space.name, space.name) + (f" ({region})" if region else "")
@@ -94,8 +120,10 @@ def figure_paving(name: str, space: Space, inside: Tree, outside: Tree, undeterm
     plt = pyplot()
     if space.dim == 2:
         fig, ax = plt.subplots(figsize=(6.4, 6.0), dpi=150)
-        draw_layers(ax, layers, space.axes, outline=[shown])
+        draw_layers(ax, layers, space.axes, outline=[shown], marks=marks)
         ax.set_title(title, fontsize=10)
+        if marks:
+            legend.append(("obstacle" if space.name == "workspace" else "joint limit", MARK))
         _legend(ax, legend)
         fig.tight_layout()
         return fig

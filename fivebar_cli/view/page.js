@@ -17,6 +17,7 @@
   const OTHER = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"];
   const FAINT = 0.1;  // weight of the aspects out of focus
   const INSIDE = "#000000", OUTSIDE = "#dcdcdc", UNDETERMINED = "#d9261a", INSIDE3D = "#3568b0";
+  const MARK = "#1a59d9";  // obstacles and joint limits
   const FIRST = { active: true, drawn: new Map() };  // leaves drawn per tree during the first paint
   const panels = [];
   const probes = [];  // per aspects section: () => the highlighted aspects (for #probe)
@@ -549,6 +550,29 @@
     for (const r of [first, last]) { const p = panel.screen(r[ix], r[iy]); ctx.beginPath(); ctx.arc(p[0], p[1], 4, 0, 2 * Math.PI); ctx.fill(); }
   }
 
+  function drawMarks(ctx, panel, marks) {  // obstacles (workspace) and joint limits (joint space), in blue
+    if (!marks || !marks.length) return;
+    ctx.save(); ctx.strokeStyle = MARK; ctx.fillStyle = "rgba(26, 89, 217, 0.25)"; ctx.lineWidth = 2;
+    const [[x0, x1], [y0, y1]] = panel.root;
+    const outline = (m, grow) => {  // the shape, or its outline grown by the clearance (corners cut)
+      ctx.beginPath();
+      if (m.kind === "disc") { const c = panel.screen(m.centre[0], m.centre[1]); ctx.arc(c[0], c[1], (m.radius + grow) * panel.sx, 0, 2 * Math.PI); return; }
+      m.points.forEach((q, k) => { const p = panel.screen(q[0], q[1]); if (k) ctx.lineTo(p[0], p[1]); else ctx.moveTo(p[0], p[1]); });
+      ctx.closePath();
+    };
+    for (const m of marks) {
+      ctx.setLineDash([]);
+      if (m.kind === "line") {
+        const a = m.axis === 0 ? panel.screen(m.value, y0) : panel.screen(x0, m.value), b = m.axis === 0 ? panel.screen(m.value, y1) : panel.screen(x1, m.value);
+        ctx.setLineDash([6, 4]); ctx.beginPath(); ctx.moveTo(a[0], a[1]); ctx.lineTo(b[0], b[1]); ctx.stroke();
+        continue;
+      }
+      outline(m, 0); ctx.fill(); ctx.stroke();
+      if (m.clearance > 0 && m.kind === "disc") { ctx.setLineDash([4, 3]); outline(m, m.clearance); ctx.stroke(); }
+    }
+    ctx.restore();
+  }
+
   // ------------------------------------------------------------------ sections
 
   function pavingLayers(sec, trees) {
@@ -590,10 +614,11 @@
     const panel = new Panel2D(row, {
       axes: t0.axes, root: t0.root, periodic: t0.periodic, layers: layers, background: background, size: panelSize(1),
       describe: (hits, p) => describeHits(hits, p, sec, trees),
-      overlay: (ctx, pn) => drawPath(ctx, pn, sec.path === null ? null : DATA.paths[sec.path]),
+      overlay: (ctx, pn) => { drawMarks(ctx, pn, t0.marks); drawPath(ctx, pn, sec.path === null ? null : DATA.paths[sec.path]); },
     });
     const side = el("div", { cls: "side" }, row), table = el("table", { cls: "legend" }, side);
     for (const L of layers) legendRow(table, L.color, L.label, true, v => { L.visible = v; panel.request(); }, L.title);
+    if (t0.marks && t0.marks.length) el("p", { cls: "note", text: "Blue: " + t0.marks.map(m => m.label).filter((x, k, a) => a.indexOf(x) === k).join(", ") + "." }, side);
     if (background) legendRow(table, UNDETERMINED, "undetermined (in neither tree, at depth " + t0.depth + ")", true, v => { background.visible = v; panel.request(); });
     if (t0.periodic.some(x => x)) el("p", { cls: "note", text: "Periodic axes (a torus): panning across the seams (dashed) continues on the other side." }, side);
     return [panel];
@@ -732,6 +757,7 @@
               ctx.strokeStyle = L.color; ctx.lineWidth = 1; ctx.strokeRect(a[0], a[1], b[0] - a[0], b[1] - a[1]);
             }
           }
+          drawMarks(ctx, pn, t0.marks);
           drawPath(ctx, pn, sec.path === null ? null : DATA.paths[sec.path]);
         },
       });

@@ -34,7 +34,7 @@ def tree_data(t: ViewTree) -> dict:
         "colour": t.qt.get("colour"), "role": t.role, "aspect": t.aspect, "dim": grid.dim,
         "root": [list(r) for r in grid.root], "depth": grid.depth, "periodic": list(grid.periodic),
         "axes": [list(a) for a in t.axes], "fields": {k: v for k, v in t.qt.fields.items() if k not in hidden},
-        "leaves": len(tree), "measure": tree.area, "body": tree.to_bwg(),
+        "leaves": len(tree), "measure": tree.area, "body": tree.to_bwg(), "marks": list(t.marks),
     }
 
 

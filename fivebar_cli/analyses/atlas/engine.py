@@ -29,7 +29,7 @@ def batch_text(spec: AtlasSpec, index: int) -> str:
     for design in batch_span(spec, index):
         lengths = spec.design(design)
         try:
-            rows.append(row(lengths, spec.depth, spec.tolerance))
+            rows.append(row(lengths, spec.depth, spec.tolerance, spec.constraints))
         except Interrupted:
             raise
         except Exception as exc:  # name the design; plain FivebarError: it must cross process boundaries

@@ -15,6 +15,7 @@ from typing import Callable
 
 from fivebar_cli.analyses.aspects import AspectAnalysis, analyse_aspects
 from fivebar_cli.analyses.spaces import pave_space
+from fivebar_cli.mechanisms.fivebar.constraints import NO_CONSTRAINTS, Constraints
 from fivebar_cli.mechanisms.fivebar.model import LENGTHS, FiveBar
 
 TRUE, FALSE = "true", "false"
@@ -38,10 +39,11 @@ class Design:
     lengths: tuple[float, ...]
     depth: int
     tolerance: float = 0.0
+    constraints: Constraints = NO_CONSTRAINTS  # the spec's limits and obstacles
 
     @cached_property
     def mechanism(self) -> FiveBar:
-        return FiveBar("design", *self.lengths)
+        return FiveBar("design", *self.lengths, constraints=self.constraints)
 
     @cached_property
     def analysis(self) -> AspectAnalysis:
@@ -81,6 +83,13 @@ def _circle_r(analysis: AspectAnalysis) -> float:
     return max((a.circle.r for a in analysis.aspects if a.circle is not None), default=0.0)
 
 
+def _workspace_area(d: Design) -> float:
+    """The exact workspace area; with limits or obstacles (no closed form) the certified area
+    (`inside_area` of `fivebar workspace`)."""
+    exact = d.mechanism.exact_measure("workspace")
+    return exact if exact is not None else pave_space(d.mechanism, "workspace", d.depth).inside.area
+
+
 def _robust_workspace_area(d: Design) -> float:
     """The certified robust workspace area (`inside_area` of `fivebar workspace --tolerance T`)."""
     return pave_space(d.widened, "workspace", d.depth).inside.area
@@ -92,7 +101,7 @@ METRICS: tuple[Metric, ...] = (
     Metric("assemblable", lambda d: TRUE, FALSE),
     Metric("aspects", lambda d: len(d.analysis.aspects), 0),
     Metric("certified", lambda d: _flag(d.analysis.certified), TRUE),
-    Metric("workspace_area", lambda d: d.mechanism.exact_measure("workspace"), 0.0),
+    Metric("workspace_area", _workspace_area, 0.0),
     Metric("largest_aspect_area", lambda d: _largest(d.analysis), 0.0),
     Metric("circle_r", lambda d: _circle_r(d.analysis), 0.0),
     Metric("robust_aspects", lambda d: len(d.robust.aspects), 0, robust=True),
@@ -113,10 +122,11 @@ def columns(tolerance: float = 0.0) -> tuple[str, ...]:
     return (*LENGTHS, *(m.name for m in metrics(tolerance)))
 
 
-def row(lengths: tuple[float, ...], depth: int, tolerance: float = 0.0) -> tuple:
-    """One row of `atlas.csv`: the lengths, then every metric of the design."""
+def row(lengths: tuple[float, ...], depth: int, tolerance: float = 0.0,
+        constraints: Constraints = NO_CONSTRAINTS) -> tuple:
+    """One row of `atlas.csv`: the lengths, then every metric of the design (with the constraints)."""
     chosen = metrics(tolerance)
     if not assemblable(*lengths):
         return (*lengths, *(m.unassemblable for m in chosen))
-    design = Design(tuple(lengths), depth, tolerance)
+    design = Design(tuple(lengths), depth, tolerance, constraints)
     return (*lengths, *(m.compute(design) for m in chosen))

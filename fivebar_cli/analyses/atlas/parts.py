@@ -40,6 +40,8 @@ def manifest(spec: AtlasSpec) -> dict:
         "batch": spec.batch_size,
         "columns": list(columns(spec.tolerance)),
     }
+    if spec.constraints:  # only then: the keys of atlases without constraints stay as they were
+        content["constraints"] = spec.constraints.words()
     key = hashlib.sha256(json.dumps(content, sort_keys=True).encode()).hexdigest()
     return {**content, "key": key, "designs": spec.size, "batches": batch_count(spec)}
 

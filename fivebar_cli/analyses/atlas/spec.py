@@ -17,6 +17,8 @@ from pathlib import Path
 from fivebar_cli.io import schema
 from fivebar_cli.io.files import FLOAT_FORMAT
 from fivebar_cli.io.schema import ConfigError
+from fivebar_cli.mechanisms.fivebar import constraints
+from fivebar_cli.mechanisms.fivebar.constraints import NO_CONSTRAINTS, Constraints
 from fivebar_cli.mechanisms.fivebar.model import LENGTHS
 
 KIND = "fivebar-atlas"
@@ -36,6 +38,7 @@ class AtlasSpec:
     depth: int = DEFAULT_DEPTH
     tolerance: float = 0.0
     batch: int | None = None  # designs per task; None: `default_batch(size)`
+    constraints: Constraints = NO_CONSTRAINTS  # limits, obstacles, clearance of every design
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -88,7 +91,7 @@ def read_spec(path: str | Path) -> AtlasSpec:
 
 
 def parse_spec(data: dict, source: str) -> AtlasSpec:
-    keys = {"name", "type", "lengths", "depth", "tolerance", "batch"}
+    keys = {"name", "type", "lengths", "depth", "tolerance", "batch", *constraints.KEYS}
     kind = data.get("type")
     if kind is None:
         raise ConfigError(source, "type", f"missing (an atlas spec has 'type: {KIND}')")
@@ -106,7 +109,7 @@ def parse_spec(data: dict, source: str) -> AtlasSpec:
     tolerance = check_tolerance(schema.number(data.get("tolerance", 0.0), source, "tolerance", nonnegative=True),
                                 grid, source, "tolerance")
     batch = schema.integer(data["batch"], source, "batch", 1, MAX_BATCH) if "batch" in data else None
-    return AtlasSpec(name, grid, depth, tolerance, batch)
+    return AtlasSpec(name, grid, depth, tolerance, batch, constraints.parse(data, source))
 
 
 def check_tolerance(tolerance: float, grid, source: str, field: str) -> float:

@@ -15,7 +15,8 @@ import numpy as np
 
 from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields
-from fivebar_cli.mechanisms.fivebar import boxtests, paper, robust
+from fivebar_cli.mechanisms.fivebar import boxtests, constrained, constraints, paper, robust
+from fivebar_cli.mechanisms.fivebar.constraints import NO_CONSTRAINTS, Constraints
 from fivebar_cli.mechanisms.fivebar.modes import FiveBarModes
 from fivebar_cli.mechanisms.fivebar.robust_modes import RobustFiveBarModes
 
@@ -65,9 +66,14 @@ class FiveBar(Mechanism):
     L3: float
     L4: float
     bounds: tuple[tuple[float, float], ...] | None = None
+    constraints: Constraints = NO_CONSTRAINTS  # joint limits and obstacles (constraints.py)
 
     kind = "fivebar"
-    procedures = ("exact", "paper")
+
+    @property
+    def procedures(self) -> tuple[str, ...]:
+        """`exact`, and the paper's procedure, which knows no joint limits or obstacles."""
+        return ("exact",) if self.constraints else ("exact", "paper")
 
     def __post_init__(self) -> None:
         if self.bounds is None:
@@ -86,11 +92,15 @@ class FiveBar(Mechanism):
         """The same five-bar with its nominal lengths."""
         return replace(self, bounds=None)
 
+    def unconstrained(self) -> "FiveBar":
+        """The same five-bar without its limits and obstacles."""
+        return replace(self, constraints=NO_CONSTRAINTS)
+
     @classmethod
-    def with_bounds(cls, name: str, bounds) -> "FiveBar":
+    def with_bounds(cls, name: str, bounds, constraints: Constraints = NO_CONSTRAINTS) -> "FiveBar":
         """A five-bar from (lo, hi) per length; nominal lengths are the midpoints."""
         mids = [lo if lo == hi else 0.5 * (lo + hi) for lo, hi in bounds]
-        return cls(name, *mids, bounds=tuple((float(lo), float(hi)) for lo, hi in bounds))
+        return cls(name, *mids, bounds=tuple((float(lo), float(hi)) for lo, hi in bounds), constraints=constraints)
 
     def widened(self, tolerance: float, source: str = "--tolerance") -> "FiveBar":
         """Every length widened by `tolerance` on both sides (ConfigError when a length would reach 0)."""
@@ -102,13 +112,17 @@ class FiveBar(Mechanism):
             if lo - tolerance <= 0:
                 raise schema.ConfigError(source, "--tolerance", f"{tolerance!r} would make {key} reach "
                                          f"{lo - tolerance!r}: lengths must stay positive")
-        return FiveBar.with_bounds(self.name, [(lo - tolerance, hi + tolerance) for lo, hi in self.bounds])
+        return FiveBar.with_bounds(self.name, [(lo - tolerance, hi + tolerance) for lo, hi in self.bounds],
+                                   self.constraints)
 
     @classmethod
-    def parse(cls, data: Mapping, source: str = "<config>") -> "FiveBar":
+    def parse(cls, data: Mapping, source: str = "<config>", check_empty: bool = True) -> "FiveBar":
         """Lengths are positive numbers or intervals `[lo, hi]` with 0 < lo <= hi; the (nominal)
-        five-bar must close on a set of positive area (`assembles`), else a ConfigError."""
-        schema.check_keys(data, {"name", "type", "lengths"}, {"name", "type", "lengths"}, source)
+        five-bar must close on a set of positive area (`assembles`), else a ConfigError. Optional
+        `limits`, `obstacles`, `clearance` (constraints.py) must keep clear of A1 and A2 and, with
+        `check_empty`, not be certified to leave nothing (a small paving: `.qt` headers, which
+        describe a mechanism a run already took, skip it)."""
+        schema.check_keys(data, {"name", "type", "lengths", *constraints.KEYS}, {"name", "type", "lengths"}, source)
         name = schema.name_field(data, source)
         lengths = schema.mapping(data, "lengths", source)
         schema.check_keys(lengths, set(LENGTHS), set(LENGTHS), source, "lengths.")
@@ -118,13 +132,21 @@ class FiveBar(Mechanism):
         if problem is not None:
             nominal = "nominal lengths: " if m.is_interval else ""
             raise schema.ConfigError(source, "lengths", nominal + problem)
+        limits = constraints.parse(data, source)
+        if limits:
+            m = replace(m, constraints=limits)
+            problem = constraints.base_problem(limits, (m.L0, 0.0))
+            if problem is None and check_empty:
+                problem = constrained.empty_problem(m)
+            if problem is not None:
+                raise schema.ConfigError(source, *problem)
+        elif "clearance" in data:
+            m = replace(m, constraints=limits)
         return m
 
     @classmethod
     def from_description(cls, fields: Mapping[str, str], name: str, source: str) -> "FiveBar":
-        extra = sorted(set(fields) - set(LENGTHS))
-        if extra:
-            raise schema.ConfigError(source, "mechanism", f"unknown parameter {extra[0]!r} in the mechanism description")
+        data = constraints.description_data({k: v for k, v in fields.items() if k not in LENGTHS}, source)
         lengths = {}
         for key in LENGTHS:
             if key not in fields:
@@ -137,31 +159,42 @@ class FiveBar(Mechanism):
                     lengths[key] = float(text)
             except ValueError:
                 raise schema.ConfigError(source, "mechanism", f"bad value {key}={text!r}") from None
-        return cls.parse({"name": name, "type": cls.kind, "lengths": lengths}, source)
+        return cls.parse({"name": name, "type": cls.kind, "lengths": lengths, **data}, source, check_empty=False)
 
     def describe(self) -> str:
         """One-line, round-trippable description (used in .qt headers): lengths as `L0=9.0`, or
         `L0=[8.95,9.05]` for an interval."""
         if not self.is_interval:
-            return describe_fields(self.kind, self.lengths)
+            return describe_fields(self.kind, self.lengths) + self.constraints.words()
         return self.kind + "".join(f" {k}={lo!r}" if lo == hi else f" {k}=[{lo!r},{hi!r}]"
-                                   for k, (lo, hi) in zip(LENGTHS, self.bounds))
+                                   for k, (lo, hi) in zip(LENGTHS, self.bounds)) + self.constraints.words()
 
     def spaces(self) -> dict[str, Space]:
         """Joint space: the torus [-pi, pi]^2; workspace: [-(L1+L3), L1+L3]^2, as in the paper (with
-        interval lengths the largest L1 + L3, so that the root holds every possible point)."""
+        interval lengths the largest L1 + L3, so that the root holds every possible point). An
+        actuated limit of less than a turn makes its axis that interval (rounded inward), not periodic."""
         reach = self.bounds[1][1] + self.bounds[3][1]
         return {
             "jointspace": Space("jointspace", "assemblable", (
-                Axis("theta1", -np.pi, np.pi, "rad", periodic=True, label=r"$\theta_1$"),
-                Axis("theta2", -np.pi, np.pi, "rad", periodic=True, label=r"$\theta_2$"),
-            )),
+                self._joint_axis("theta1", r"$\theta_1$"), self._joint_axis("theta2", r"$\theta_2$"))),
             "workspace": Space("workspace", "reachable", (Axis("x", -reach, reach), Axis("y", -reach, reach))),
         }
+
+    def _joint_axis(self, name: str, label: str) -> Axis:
+        limit = self.constraints.limit(name)
+        if limit is None or limit.full_turn:
+            return Axis(name, -np.pi, np.pi, "rad", periodic=True, label=label)
+        lo, hi = limit.radians  # within 2 ulp of the true angles: 4 ulp inward holds only allowed angles
+        return Axis(name, lo + 4 * abs(float(np.spacing(lo))), hi - 4 * abs(float(np.spacing(hi))), "rad", label=label)
 
     def box_test(self, space: str, procedure: str = "exact", region: str | None = None):
         if region not in (None, self.spaces()[space].region):
             raise KeyError(region)
+        if self.constraints:
+            if procedure != "exact":
+                raise schema.ConfigError(self.name, "--procedure", "the paper's procedure has no joint limits or "
+                                         "obstacles (use --procedure exact)")
+            return constrained.space_test(self, space, self.unconstrained().box_test(space))
         if self.is_interval:
             if procedure != "exact":
                 raise schema.ConfigError(self.name, "--procedure", "the paper's procedure has no interval version")
@@ -178,17 +211,28 @@ class FiveBar(Mechanism):
         """The workspace is the intersection of two annuli: its area is exact (arcs, Green); with
         interval lengths, that of the nominal five-bar. No closed form is known for the joint space
         (`jointspace_area` integrates one numerically)."""
+        if self.constraints:
+            return None
         return boxtests.workspace_area(self) if space == "workspace" and region is None else None
 
     def printed_k_percent(self, space: str, depth: int) -> int | None:
         """The paper's Table 1, for M1 and M2 (recognised by their lengths)."""
-        return paper.printed_percent(self, space, depth)
+        return None if self.constraints else paper.printed_percent(self, space, depth)
 
     def aspect_model(self) -> FiveBarModes:
         """Working and assembly modes; with interval lengths the aspects are robust (their cells
         are non-singular with their modes for every length vector), matched through the nominal
         kinematics."""
-        return RobustFiveBarModes(self) if self.is_interval else FiveBarModes(self)
+        base = RobustFiveBarModes(self) if self.is_interval else FiveBarModes(self)
+        return constrained.ConstrainedModes(self, base) if self.constraints else base
+
+    def violated_constraints(self, joints, poses) -> list[list[str]]:
+        """Per configuration (joint values and poses, (n, 2) each), the constraints it violates."""
+        return constraints.violated_labels(self, joints, poses)
+
+    def marks(self, space: str) -> list[dict]:
+        """Obstacles (workspace) and actuated limits (joint space) for figures and `fivebar view`."""
+        return constraints.marks(self.constraints, space)
 
 
 def _length(value, source: str, field: str) -> tuple[float, float]:

@@ -145,29 +145,52 @@ def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray):
     r, big = abs(m.L3 - m.L4), m.L3 + m.L4
     delta = DELTA_REL * scale(m) ** 2
     trig = box_trig(lo, hi)
-    dmin, dmax = crank_distance2_range(m, lo, hi, trig)
-    status = assembly_status(m, dmin, dmax)
-    strict = _strict(dmin, dmax, r, big, delta)
-    d_lo, d_hi = _valid_lengths(dmin, dmax, r, big, delta)
-    d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
-    a_lo, a_hi = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
-    e_lo, e_hi = triangle_angle_range(d_lo, d_hi, m.L4, m.L3)
-    u, v = serial_signs(sa, lo, hi, _crank_direction_range(m, lo, hi, trig), (a_lo, a_hi), (e_lo, e_hi))
+    tri = coupler_triangle(m, lo, hi, trig)
+    status = assembly_status(m, tri.dmin, tri.dmax)
+    strict = _strict(tri.dmin, tri.dmax, r, big, delta)
+    u, v = serial_signs(sa, lo, hi, tri.b, tri.a, tri.e)
     return status, strict, u, v
 
 
-def serial_signs(assembly: int, lo, hi, b, a, e):
-    """Signs of B11 and B22 over boxes of (th1, th2) (0 where not constant), from the ranges of the
-    direction b of B2 - B1 and of the coupler triangle's angles a (at B1) and e (at B2): in this
-    assembly mode th3 = b + a, th4 = b + pi - e (b - a, b + pi + e in the other), and the signs
-    are those of sin(th3 - th1) and sin(th4 - th2)."""
+@dataclass(frozen=True)
+class CouplerTriangle:
+    """Ranges over boxes of (th1, th2) of the coupler triangle B1 B2 P: |B1B2|^2 (`dmin`, `dmax`),
+    the valid |B1B2| (`d`), its angles at B1 (`a`) and B2 (`e`), the direction of B2 - B1 (`b`)."""
+
+    dmin: np.ndarray
+    dmax: np.ndarray
+    d: tuple
+    a: tuple
+    e: tuple
+    b: tuple
+
+
+def coupler_triangle(m, lo, hi, trig) -> CouplerTriangle:
+    """The coupler triangle's exact ranges (exact lengths), widened by the safety margin."""
+    r, big = abs(m.L3 - m.L4), m.L3 + m.L4
+    delta = DELTA_REL * scale(m) ** 2
+    dmin, dmax = crank_distance2_range(m, lo, hi, trig)
+    d_lo, d_hi = _valid_lengths(dmin, dmax, r, big, delta)
+    d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
+    a = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
+    e = triangle_angle_range(d_lo, d_hi, m.L4, m.L3)
+    return CouplerTriangle(dmin, dmax, (d_lo, d_hi), a, e, _crank_direction_range(m, lo, hi, trig))
+
+
+def coupler_directions(assembly: int, b, a, e):
+    """Ranges of th3 and th4 (the directions of P - B1 and P - B2) from the ranges of the direction
+    b of B2 - B1 and of the coupler triangle's angles a (at B1) and e (at B2): in this assembly
+    mode th3 = b + a, th4 = b + pi - e (b - a, b + pi + e in the other)."""
     (b_lo, b_hi), (a_lo, a_hi), (e_lo, e_hi) = b, a, e
     if assembly > 0:
-        t3 = (b_lo + a_lo, b_hi + a_hi)
-        t4 = (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
-    else:
-        t3 = (b_lo - a_hi, b_hi - a_lo)
-        t4 = (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
+        return (b_lo + a_lo, b_hi + a_hi), (b_lo + np.pi - e_hi, b_hi + np.pi - e_lo)
+    return (b_lo - a_hi, b_hi - a_lo), (b_lo + np.pi + e_lo, b_hi + np.pi + e_hi)
+
+
+def serial_signs(assembly: int, lo, hi, b, a, e):
+    """Signs of B11 and B22 over boxes of (th1, th2) (0 where not constant): those of sin(th3 - th1)
+    and sin(th4 - th2), th3 and th4 from `coupler_directions`."""
+    t3, t4 = coupler_directions(assembly, b, a, e)
     return sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0]), sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
 
 

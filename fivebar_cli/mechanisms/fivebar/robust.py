@@ -34,7 +34,7 @@ import numpy as np
 
 from fivebar_cli.mechanisms.fivebar.boxtests import DELTA_REL, ETA_REL, box_trig, crank_distance2_range
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
-from fivebar_cli.numerics.ranges import angle_inside, direction_range, point_box_distance2
+from fivebar_cli.numerics.ranges import cos_sin_ranges, direction_range, point_box_distance2
 from fivebar_cli.paving.engine import BAND
 
 # ---------------------------------------------------------------- exact pieces
@@ -147,21 +147,11 @@ def _finish(b: dict) -> dict:
     return b
 
 
-def _cos_sin_ranges(lo, hi, trig):
-    """Exact ranges of cos and sin over [lo, hi], from their values at the ends (`trig`)."""
-    c_lo, s_lo, c_hi, s_hi = trig
-    cmin, cmax = np.minimum(c_lo, c_hi), np.maximum(c_lo, c_hi)
-    smin, smax = np.minimum(s_lo, s_hi), np.maximum(s_lo, s_hi)
-    return ((np.where(angle_inside(np.pi, lo, hi), -1.0, cmin), np.where(angle_inside(0.0, lo, hi), 1.0, cmax)),
-            (np.where(angle_inside(-0.5 * np.pi, lo, hi), -1.0, smin),
-             np.where(angle_inside(0.5 * np.pi, lo, hi), 1.0, smax)))
-
-
 def crank_direction_range(m, lo, hi, trig, nominal: bool = False):
     """Range of the direction of B2 - B1 over the boxes (and every L0, L1, L2 unless `nominal`),
     from the exact ranges of its components, sums of independent products of lengths and sinusoids."""
-    c1, s1 = _cos_sin_ranges(lo[:, 0], hi[:, 0], trig[0])
-    c2, s2 = _cos_sin_ranges(lo[:, 1], hi[:, 1], trig[1])
+    c1, s1 = cos_sin_ranges(lo[:, 0], hi[:, 0], trig[0])
+    c2, s2 = cos_sin_ranges(lo[:, 1], hi[:, 1], trig[1])
     (l0, u0), (l1, u1), (l2, u2) = ((m.L0, m.L0), (m.L1, m.L1), (m.L2, m.L2)) if nominal else m.bounds[:3]
 
     def product(a, b, t):  # exact range of L * f, L in [a, b] > 0, f in t (f's sign picks the end)

@@ -69,22 +69,29 @@ def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
     no point assembles robustly."""
     trig = box_trig(lo, hi)
     bounds = robust.crank_distance_bounds(m, lo, hi, trig)
-    d_lo, d_hi = bounds["low"], bounds["high"]
-    reach, impossible = robust.joint_status(m, d_lo, d_hi)
-    strict, _ = robust.joint_status(m, d_lo, d_hi, strict=True)
-    (l3, u3), (l4, u4) = m.bounds[3], m.bounds[4]
-    p_in = 0.0 if max(l3, l4) <= min(u3, u4) else min(abs(l3 - u4), abs(l4 - u3))
-    _, eta = robust.margins(m)
-    d_lo = np.maximum(np.clip(d_lo - eta, p_in, u3 + u4), eta)  # beta is undefined at d = 0
-    d_hi = np.clip(d_hi + eta, p_in, u3 + u4)
-    a_lo, a_hi = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[3], m.bounds[4])
-    e_lo, e_hi = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[4], m.bounds[3])
-    b = robust.crank_direction_range(m, lo, hi, trig)
-    u, v = modes.serial_signs(assembly, lo, hi, b, (a_lo, a_hi), (e_lo, e_hi))
+    reach, impossible = robust.joint_status(m, bounds["low"], bounds["high"])
+    strict, _ = robust.joint_status(m, bounds["low"], bounds["high"], strict=True)
+    tri = coupler_triangle(m, lo, hi, trig, bounds)
+    u, v = modes.serial_signs(assembly, lo, hi, tri.b, tri.a, tri.e)
     status = np.where(reach, 1, np.where(impossible, -1, 0)).astype(np.int8)
     if with_band:
         return status, strict, u, v, robust.joint_band(m, bounds, possible_too=False)
     return status, strict, u, v
+
+
+def coupler_triangle(m, lo, hi, trig, bounds=None) -> modes.CouplerTriangle:
+    """The coupler triangle's ranges over the boxes and every length vector (`modes.CouplerTriangle`;
+    `dmin`, `dmax` are those of the nominal |B1B2|^2, `d` the valid |B1B2| of every length vector)."""
+    bounds = bounds if bounds is not None else robust.crank_distance_bounds(m, lo, hi, trig)
+    (l3, u3), (l4, u4) = m.bounds[3], m.bounds[4]
+    p_in = 0.0 if max(l3, l4) <= min(u3, u4) else min(abs(l3 - u4), abs(l4 - u3))
+    _, eta = robust.margins(m)
+    d_lo = np.maximum(np.clip(bounds["low"] - eta, p_in, u3 + u4), eta)  # beta is undefined at d = 0
+    d_hi = np.clip(bounds["high"] + eta, p_in, u3 + u4)
+    a = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[3], m.bounds[4])
+    e = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[4], m.bounds[3])
+    b = robust.crank_direction_range(m, lo, hi, trig)
+    return modes.CouplerTriangle(bounds["dmin"] ** 2, bounds["dmax"] ** 2, (d_lo, d_hi), a, e, b)
 
 
 def assembly_mode_joint_test(m, assembly: int):

@@ -1,0 +1,344 @@
+"""Certified box tests of a five-bar's limits and obstacles (`constraints.py`), and every five-bar
+test combined with them.
+
+Per box of either space and per mode (a working mode in the workspace, an assembly mode in the
+joint space, where each configuration is one point), `ranges` bounds what the constraints are
+about over the box's existing configurations: the five limited angles and the boxes the four link
+ends range over. Then `status` is 1 when every constraint holds at every configuration of the box,
+-1 when at each one some constraint fails, 0 otherwise. With interval lengths every range also
+covers every length vector: 1 then means for every length vector, -1 for none.
+
+The ranges, exact where cheap:
+- workspace (P in the box): alpha_i, the direction of P - A_i, and |P - A_i| have exact ranges;
+  the triangle angles beta_i (at A_i) and gamma_i (at P) of the leg triangle A_i B_i P are exact
+  functions of |P - A_i|. th1 = alpha1 - su beta1, th3 = alpha1 + su gamma1 (as the IKP and the
+  mode tests); the elbow B1 = su (pi - angle at B1) is an exact function of |P - A1| (and B2 of
+  |P - A2|); P = th4 - th3. B1 lies in the crank's box (th1's arc) and in the coupler's (P minus
+  L3 along th3's arc): their intersection.
+- joint space: th1, th2 are the box; |B1B2| has its exact range (interval lengths: the robust
+  bounds), the coupler triangle's angles and the direction of B2 - B1 follow (the mode tests'
+  `coupler_triangle`); P = sa (angle at P), an exact function of |B1B2|; B1 = B2 - th4 ... as above.
+- actuated limits narrower than a turn are the joint space's root box (`FiveBar.spaces`), so the
+  joint-space tests leave them out; in the workspace they are tested like the passive angles.
+- obstacles: each link's ends range over two boxes; `numerics/obstacles.py` bounds the signed
+  distance of every segment between them.
+
+Margins: angle ranges widen by ANGLE_MARGIN (1e-8 rad) before deciding, on top of the length
+margins (DELTA_REL, ETA_REL of the mode tests) the angles are computed from; obstacle distances by
+ETA_REL times the scale of the mechanism and its obstacles.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from fivebar_cli.mechanisms.fivebar import modes, robust, robust_modes
+from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, box_trig, joint_space_test
+from fivebar_cli.mechanisms.fivebar.constraints import LINKS
+from fivebar_cli.mechanisms.fivebar.kinematics import scale
+from fivebar_cli.numerics.ranges import ANGLE_MARGIN, cos_sin_ranges, direction_range, triangle_angle_range
+from fivebar_cli.paving.engine import pave
+
+TWO_PI = 2.0 * np.pi
+EMPTY_DEPTH = 6  # `empty_problem` paves the joint space this deep to find constraints that leave nothing
+
+
+# ---------------------------------------------------------------- ranges
+
+
+def arc_status(lo, hi, arc_lo: float, arc_hi: float, margin: float = ANGLE_MARGIN) -> np.ndarray:
+    """1 where every angle of [lo, hi] has a turn in the closed arc [arc_lo, arc_hi], -1 where none
+    has, 0 otherwise; the range is widened by `margin` first."""
+    if arc_hi - arc_lo >= TWO_PI:
+        return np.ones(np.shape(lo), np.int8)
+    lo, hi = lo - margin, hi + margin
+    k = np.ceil((hi - arc_hi) / TWO_PI)
+    inside = (arc_lo + k * TWO_PI <= lo) & (hi - lo < TWO_PI)
+    j = np.floor((lo - arc_hi) / TWO_PI)
+    outside = (lo > arc_hi + j * TWO_PI) & (hi < arc_lo + (j + 1) * TWO_PI)
+    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+
+
+def _triangle(s, adjacent, opposite):
+    """Range of the angle between a side s (range) and the side `adjacent` of a triangle whose third
+    side is `opposite` (lengths as (lo, hi) bounds): exact for exact lengths."""
+    if adjacent[0] == adjacent[1] and opposite[0] == opposite[1]:
+        return triangle_angle_range(s[0], s[1], adjacent[0], opposite[0])
+    return robust.triangle_angle_range3(s[0], s[1], adjacent, opposite)
+
+
+def included_angle_range(s, a, b):
+    """Exact range of the angle between sides a and b (bounds) of a triangle whose opposite side is
+    s (range): arccos((a^2 + b^2 - s^2) / (2 a b)). The cosine decreases in s; for a fixed s its
+    extremes over the (a, b) rectangle lie at corners or at a* = sqrt(b^2 - s^2), b* = sqrt(a^2 - s^2)
+    on the edges (no interior critical point for s > 0). Cosines are clipped to [-1, 1] where the
+    triangle cannot close."""
+    if a[0] == a[1] and b[0] == b[1]:  # exact lengths: monotone in s
+        x, y = a[0], b[0]
+        return (np.arccos(np.clip((x * x + y * y - s[0] * s[0]) / (2 * x * y), -1, 1)),
+                np.arccos(np.clip((x * x + y * y - s[1] * s[1]) / (2 * x * y), -1, 1)))
+
+    def cosines(z):
+        values = []
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for x in a:
+                for y in b:
+                    values.append((x * x + y * y - z * z) / (2 * x * y))
+            for fixed, other in ((a, b), (b, a)):
+                for x in fixed:
+                    star = np.sqrt(np.maximum(x * x - z * z, 0.0))
+                    inside = (x > z) & (other[0] <= star) & (star <= other[1])
+                    y = np.where(inside, star, other[0])
+                    values.append(np.where(inside, (x * x + y * y - z * z) / (2 * x * y), np.nan))
+        return np.stack(values)
+
+    with np.errstate(invalid="ignore"):
+        cmax = np.nanmax(cosines(s[0]), axis=0)
+        cmin = np.nanmin(cosines(s[1]), axis=0)
+    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
+
+
+def _scaled(bounds, f):
+    """Exact range of L * f for L in `bounds` (> 0) and f in the range `f`."""
+    lo, hi = bounds
+    return np.minimum(lo * f[0], hi * f[0]), np.maximum(lo * f[1], hi * f[1])
+
+
+def _arc_box(lo, hi, length, trig=None):
+    """The box of the points `length` (bounds) along the directions [lo, hi]: (lo corner, hi corner)."""
+    c, s = cos_sin_ranges(lo, hi, trig)
+    cx, cy = _scaled(length, c), _scaled(length, s)
+    return np.column_stack([cx[0], cy[0]]), np.column_stack([cx[1], cy[1]])
+
+
+def _meet(a, b):
+    """The intersection of two boxes that both hold every possible point (a point box where they
+    miss each other: no configuration exists there, and any answer is right)."""
+    lo, hi = np.maximum(a[0], b[0]), np.minimum(a[1], b[1])
+    empty = lo > hi
+    mid = 0.5 * (lo + hi)
+    return np.where(empty, mid, lo), np.where(empty, mid, hi)
+
+
+def _plus(a, s: int, g):
+    """The range of a + s g (s = +1 or -1) from the ranges of a and g."""
+    return (a[0] + g[0], a[1] + g[1]) if s > 0 else (a[0] - g[1], a[1] - g[0])
+
+
+@dataclass(frozen=True)
+class Ranges:
+    """Over boxes in one mode: `angles[name]` = (lo, hi) radians of each limited angle the space
+    does not handle itself (only those the constraints limit), `ends[name]` = (lo corner, hi corner)
+    of A1, A2, B1, B2, P (None without obstacles)."""
+
+    angles: dict
+    ends: dict | None
+
+
+def _ends(m, p, b1, b2):
+    """The link ends' boxes: A1, A2 (A2 on [l0, u0] x {0}), B1, B2, P."""
+    n = len(p[0])
+    l0, u0 = m.bounds[0]
+    zeros = np.zeros((n, 2))
+    a2 = (np.column_stack([np.full(n, l0), np.zeros(n)]), np.column_stack([np.full(n, u0), np.zeros(n)]))
+    return {"A1": (zeros, zeros), "A2": a2, "B1": b1, "B2": b2, "P": p}
+
+
+def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray) -> Ranges:
+    """The ranges over boxes of P in a working mode (module docstring)."""
+    su, sv = working
+    bounds, limited = m.bounds, {lim.name for lim in m.constraints.limits}
+    delta, _ = robust.margins(m)
+    (d1, d2) = robust.leg_ranges(m, lo, hi)
+    _, _, p1_in, p1_out = robust.radii(m, 1, 3)
+    _, _, p2_in, p2_out = robust.radii(m, 2, 4)
+    s1 = modes._valid_lengths(*d1, p1_in, p1_out, delta)
+    s2 = modes._valid_lengths(*d2, p2_in, p2_out, delta)
+    wlo, whi = robust.widened(m, lo, hi)
+    a1 = direction_range(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1])
+    a2 = direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1])
+    th1 = _plus(a1, -su, _triangle(s1, bounds[1], bounds[3]))  # alpha1 - su beta1
+    th2 = _plus(a2, -sv, _triangle(s2, bounds[2], bounds[4]))
+    th3 = _plus(a1, su, _triangle(s1, bounds[3], bounds[1]))  # alpha1 + su gamma1
+    th4 = _plus(a2, sv, _triangle(s2, bounds[4], bounds[2]))
+    angles = {"theta1": th1, "theta2": th2, "P": (th4[0] - th3[1], th4[1] - th3[0])}
+    for name, sign, s, crank, coupler in (("B1", su, s1, bounds[1], bounds[3]), ("B2", sv, s2, bounds[2], bounds[4])):
+        if name in limited:  # sign (pi - the angle at B_i), an exact function of |P - A_i|
+            angles[name] = _plus((np.full(len(lo), np.pi * sign),) * 2, -sign, included_angle_range(s, crank, coupler))
+    if not m.constraints.obstacles:
+        return Ranges(angles, None)
+    coupler1, coupler2 = _arc_box(*th3, bounds[3]), _arc_box(*th4, bounds[4])
+    b1 = _meet(_arc_box(*th1, bounds[1]), (lo - coupler1[1], hi - coupler1[0]))
+    crank2 = _arc_box(*th2, bounds[2])
+    b2 = _meet((crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0]), (lo - coupler2[1], hi - coupler2[0]))
+    return Ranges(angles, _ends(m, (lo, hi), b1, b2))
+
+
+def jointspace_ranges(m, assembly: int, lo: np.ndarray, hi: np.ndarray) -> Ranges:
+    """The ranges over boxes of (th1, th2) in an assembly mode (module docstring); the actuated
+    angles are the box itself (left to the root box)."""
+    bounds = m.bounds
+    trig = box_trig(lo, hi)
+    tri = (robust_modes.coupler_triangle if m.is_interval else modes.coupler_triangle)(m, lo, hi, trig)
+    th3, th4 = modes.coupler_directions(assembly, tri.b, tri.a, tri.e)
+    at_p = included_angle_range(tri.d, bounds[3], bounds[4])
+    angles = {"B1": (th3[0] - hi[:, 0], th3[1] - lo[:, 0]), "B2": (th4[0] - hi[:, 1], th4[1] - lo[:, 1]),
+              "P": at_p if assembly > 0 else (-at_p[1], -at_p[0])}
+    if not m.constraints.obstacles:
+        return Ranges(angles, None)
+    b1 = _arc_box(lo[:, 0], hi[:, 0], bounds[1], trig[0])
+    crank2 = _arc_box(lo[:, 1], hi[:, 1], bounds[2], trig[1])
+    b2 = (crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0])
+    via1, via2 = _arc_box(*th3, bounds[3]), _arc_box(*th4, bounds[4])
+    p = _meet((b1[0] + via1[0], b1[1] + via1[1]), (b2[0] + via2[0], b2[1] + via2[1]))
+    return Ranges(angles, _ends(m, p, b1, b2))
+
+
+LINK_ENDS = {"A1B1": ("A1", "B1"), "B1P": ("B1", "P"), "A2B2": ("A2", "B2"), "B2P": ("B2", "P")}
+assert tuple(LINK_ENDS) == LINKS
+
+
+def obstacle_margin(m) -> float:
+    """The margin on obstacle distances: ETA_REL times the size of the mechanism and its obstacles."""
+    return ETA_REL * (scale(m) + sum(b[1] - b[0] for b in m.bounds) + m.constraints.extent())
+
+
+def status(m, ranges: Ranges) -> np.ndarray:
+    """1 / -1 / 0 per box: every constraint holds at every configuration / at each some constraint
+    fails / cannot tell (module docstring)."""
+    c = m.constraints
+    n = len(next(iter(ranges.angles.values()))[0])
+    all_hold = np.ones(n, bool)
+    some_fails = np.zeros(n, bool)
+    for lim in c.limits:
+        if lim.name not in ranges.angles:
+            continue
+        s = arc_status(*ranges.angles[lim.name], *lim.radians)
+        all_hold &= s == 1
+        some_fails |= s == -1
+    if c.obstacles:
+        eta = obstacle_margin(m)
+        boxes = {k: (0.5 * (lo + hi), 0.5 * (hi - lo)) for k, (lo, hi) in ranges.ends.items()}
+        for start, end in LINK_ENDS.values():
+            (c1, h1), (c2, h2) = boxes[start], boxes[end]
+            for o in c.obstacles:
+                lower, upper = o.bounds(c1, h1, c2, h2, enough=c.clearance + eta)
+                all_hold &= lower > c.clearance + eta
+                some_fails |= upper < c.clearance - eta
+    return np.where(some_fails, -1, np.where(all_hold, 1, 0)).astype(np.int8)
+
+
+def workspace_status(m, working, lo, hi) -> np.ndarray:
+    return status(m, workspace_ranges(m, working, lo, hi))
+
+
+def jointspace_status(m, assembly, lo, hi) -> np.ndarray:
+    return status(m, jointspace_ranges(m, assembly, lo, hi))
+
+
+# ---------------------------------------------------------------- combined with the existing tests
+
+
+def restricted(base: np.ndarray, constraint) -> np.ndarray:
+    """A test's answers restricted to the constraints: -1 where the constraints fail everywhere,
+    1 and BAND (interval lengths: nowhere robust, possibly valid everywhere) only where the
+    constraints hold everywhere, else 0. `constraint(mask)` gives the constraint status of the
+    boxes selected by `mask` (only those the test did not already answer -1 are evaluated)."""
+    out = base.copy()
+    todo = base != -1
+    if todo.any():
+        c = constraint(todo)
+        out[todo] = np.where(c == -1, -1, np.where(c == 1, out[todo], 0))
+    return out.astype(np.int8)
+
+
+def space_test(m, space: str, base):
+    """The `workspace` / `jointspace` test with the constraints: a point is valid when some mode
+    (a working mode in the workspace, an assembly mode in the joint space) reaches or assembles
+    it within the constraints. 1 needs one mode whose constraints hold on the whole box."""
+    keys = modes.WORKING_MODES if space == "workspace" else modes.ASSEMBLY_MODES
+    of = workspace_status if space == "workspace" else jointspace_status
+
+    def test(lo, hi):
+        def combined(mask):
+            s = np.stack([of(m, key, lo[mask], hi[mask]) for key in keys])
+            return np.where(np.any(s == 1, axis=0), 1, np.where(np.all(s == -1, axis=0), -1, 0))
+
+        return restricted(base(lo, hi), combined)
+
+    return test
+
+
+@dataclass(frozen=True)
+class ConstrainedModes(modes.FiveBarModes):
+    """The `AspectModel` of a five-bar with limits or obstacles: every mode test and classifier of
+    the lengths' model (`base`: exact or interval lengths) restricted to the constraints. A black
+    cell is non-singular, in its modes and within every constraint; a cell the constraints fail
+    everywhere is certified out of every mode set, so constraint boundaries separate aspects as
+    singularities do. Kinematics (IKP, DKP, mode values) are the nominal ones, as before."""
+
+    base: modes.FiveBarModes = None
+
+    def workspace_test(self, working):
+        base = self.base.workspace_test(working)
+        return lambda lo, hi: restricted(base(lo, hi), lambda k: workspace_status(self.m, working, lo[k], hi[k]))
+
+    def jointspace_test(self, assembly):
+        base = self.base.jointspace_test(assembly)
+        return lambda lo, hi: restricted(base(lo, hi), lambda k: jointspace_status(self.m, assembly, lo[k], hi[k]))
+
+    def parallel_free_test(self, assembly):
+        base = self.base.parallel_free_test(assembly)
+        return lambda lo, hi: restricted(base(lo, hi), lambda k: jointspace_status(self.m, assembly, lo[k], hi[k]))
+
+    def serial_band_signs(self, assembly, lo, hi):
+        """Band cells must also be within every constraint (a crossing is a motion)."""
+        strict, signs = self.base.serial_band_signs(assembly, lo, hi)
+        ok = strict.copy()
+        if ok.any():
+            ok[ok] = jointspace_status(self.m, assembly, lo[ok], hi[ok]) == 1
+        return ok, signs
+
+    def workspace_signs(self, working, lo, hi):
+        possible, sign = self.base.workspace_signs(working, lo, hi)
+        return _possible(possible, lambda k: workspace_status(self.m, working, lo[k], hi[k])), sign
+
+    def jointspace_signs(self, assembly, lo, hi):
+        possible, signs = self.base.jointspace_signs(assembly, lo, hi)
+        return _possible(possible, lambda k: jointspace_status(self.m, assembly, lo[k], hi[k])), signs
+
+
+def _possible(possible: np.ndarray, constraint) -> np.ndarray:
+    """`possible` (may hold a valid point) without the boxes where the constraints fail everywhere."""
+    out = possible.copy()
+    if out.any():
+        out[out] = constraint(out) != -1
+    return out
+
+
+# ---------------------------------------------------------------- constraints that leave nothing
+
+
+def leaves_nothing(m, depth: int = EMPTY_DEPTH) -> bool:
+    """Whether the joint space is certified empty under the constraints: every cell of a paving
+    `depth` deep is certified outside."""
+    space = m.spaces()["jointspace"]
+    base = (robust.joint_space_test if m.is_interval else joint_space_test)(m)
+    paving = pave(space.grid(depth), space_test(m, "jointspace", base))
+    return len(paving.inside) == 0 and len(paving.undetermined) == 0 and len(paving.band) == 0
+
+
+def empty_problem(m) -> tuple[str, str] | None:
+    """(field, message) when the constraints are certified to leave no configuration, naming the
+    constraint that alone empties it (or all of them together), else None."""
+    c = m.constraints
+    if not c or not leaves_nothing(m):
+        return None
+    fields = c.fields()
+    for k, label in enumerate(c.labels()):
+        if leaves_nothing(replace(m, constraints=c.only(k))):
+            return fields[k], f"the {label} alone leaves no configuration of this five-bar"
+    return "limits", "the limits and obstacles together leave no configuration of this five-bar"
+
