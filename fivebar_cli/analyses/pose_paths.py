@@ -30,7 +30,9 @@ from fractions import Fraction
 
 import numpy as np
 
+from fivebar_cli.analyses.channel import from_lattice, lattice_boxes, to_lattice
 from fivebar_cli.analyses.pose_aspects import PoseAspect, analyse_pose_aspects, aspect_at, class_region, pose_model
+from fivebar_cli.analyses.slabs import csr
 from fivebar_cli.errors import FivebarError, InputError
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
@@ -64,32 +66,17 @@ class Motion:
 # ---------------------------------------------------------------- lattice geometry
 
 
-def lattice_boxes(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
-    """Integer bounds of every leaf in depth-D cells: (lo, hi), each (m, dim)."""
-    span = np.int64(1) << (tree.grid.depth - tree.level)
-    lo = tree.coords * span[:, None]
-    return lo, lo + span[:, None]
-
-
-def to_lattice(grid, points: np.ndarray) -> np.ndarray:
-    return (np.asarray(points, float) - grid.lo) / grid.size * float(1 << grid.depth)
-
-
-def from_lattice(grid, points: np.ndarray) -> np.ndarray:
-    return grid.lo + np.asarray(points, float) * (grid.size / float(1 << grid.depth))
-
-
 def containing_leaves(tree: Tree, point: np.ndarray) -> list[int]:
     """The leaves whose closed cell holds the point (periodic axes wrapped), in index order."""
     grid = tree.grid
     n = float(1 << grid.depth)
-    u = to_lattice(grid, np.asarray(point, float)[None, :])[0]
+    u = to_lattice(tree, np.asarray(point, float)[None, :])[0]
     for axis, wrap in enumerate(grid.periodic):
         if wrap:
             u[axis] %= n
     tiny = 1e-9
     offsets = np.stack(np.meshgrid(*([np.array([-tiny, 0.0, tiny])] * grid.dim), indexing="ij"), -1)
-    leaves = np.unique(tree.locate(from_lattice(grid, offsets.reshape(-1, grid.dim) + u)))
+    leaves = np.unique(tree.locate(from_lattice(tree, offsets.reshape(-1, grid.dim) + u)))
     lo, hi = lattice_boxes(tree)
     return sorted(int(k) for k in leaves[leaves >= 0] if np.all(lo[k] - 1e-7 <= u) and np.all(u <= hi[k] + 1e-7))
 
@@ -109,8 +96,7 @@ def _wrapped(delta: np.ndarray, grid) -> np.ndarray:
 def _neighbours(cells: Tree) -> tuple[np.ndarray, np.ndarray]:
     """Face-sharing neighbours as CSR: leaf k's are targets[first[k]:first[k + 1]]."""
     i, j = cells.adjacency(corners=False)
-    pairs = np.unique(np.column_stack([np.concatenate([i, j]), np.concatenate([j, i])]), axis=0)
-    return np.searchsorted(pairs[:, 0], np.arange(len(cells) + 1)), pairs[:, 1]
+    return csr(len(cells), np.concatenate([i, j]), np.concatenate([j, i]))
 
 
 def find_chain(cells: Tree, start: int, end: int, start_point: np.ndarray) -> Chain | None:
@@ -151,7 +137,7 @@ def _unwrap(cells: Tree, leaves: np.ndarray, start_point: np.ndarray) -> np.ndar
     n = 1 << grid.depth
     lo, hi = lattice_boxes(cells)
     lo, hi = lo[leaves], hi[leaves]
-    u = to_lattice(grid, np.asarray(start_point, float)[None, :])[0]
+    u = to_lattice(cells, np.asarray(start_point, float)[None, :])[0]
     shifts = np.zeros((len(leaves), grid.dim), np.int64)
     for axis in np.flatnonzero(grid.periodic):
         shifts[0, axis] = int(np.round((u[axis] - 0.5 * (lo[0, axis] + hi[0, axis])) / n))
@@ -191,7 +177,7 @@ class ExactCells:
         grid = chain.cells.grid
         self.grid, self.n = grid, 1 << grid.depth
         lo, hi = shifted_boxes(chain)
-        self.float_lo, self.float_hi = from_lattice(grid, lo), from_lattice(grid, hi)
+        self.float_lo, self.float_hi = from_lattice(chain.cells, lo), from_lattice(chain.cells, hi)
         self.periods = [Fraction(b) - Fraction(a) for a, b in grid.root]
         widen = Fraction(float(np.spacing(max(abs(v) for r in grid.root for v in r))))
         raw_lo, raw_hi = lattice_boxes(chain.cells)
@@ -293,11 +279,11 @@ def certified_motion(chain: Chain, start: np.ndarray, end: np.ndarray) -> Motion
     exact = ExactCells(chain)
     lo, hi = shifted_boxes(chain)
     n = 1 << grid.depth
-    u_end = to_lattice(grid, np.asarray(end, float)[None, :])[0]
+    u_end = to_lattice(chain.cells, np.asarray(end, float)[None, :])[0]
     end_turns = tuple(int(np.round((0.5 * (lo[-1, a] + hi[-1, a]) - u_end[a]) / n)) if grid.periodic[a] else 0
                       for a in range(grid.dim))
     points = [(np.asarray(start, float).copy(), (0,) * grid.dim)]
-    points += [written(grid, from_lattice(grid, c)) for c in face_centres(chain)]
+    points += [written(grid, from_lattice(chain.cells, c)) for c in face_centres(chain)]
     points.append((np.asarray(end, float).copy(), end_turns))
     ok = lambda a, b: exact.covers(a[0], a[1], b[0], b[1])  # noqa: E731
     for a, b in zip(points, points[1:]):
