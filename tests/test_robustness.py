@@ -304,9 +304,10 @@ for _i, (_label, _content, _field) in enumerate(RPR3_FIELD_CASES):
     _name = RPR3_COMMANDS[_i % len(RPR3_COMMANDS)]
     add(f"field/{_name}/{_label}", config_case(_name, _content, _field))
 
-# A config of the other mechanism type (a 3-RPR has a workspace since issue 11: `workspace` paves it).
+# A config of the other mechanism type (a 3-RPR has a workspace since issue 11: `workspace` paves it;
+# aspects over (x, y, phi) and `locate --pose X Y PHI` since issue 19).
 for _name in FIVEBAR_COMMANDS:
-    if _name != "workspace":
+    if _name not in ("workspace", "aspects", "locate"):
         add(f"wrong-type/{_name}", config_case(_name, RPR3_TABLE1.read_text(), "type"))
 for _name in RPR3_COMMANDS:
     add(f"wrong-type/{_name}", config_case(_name, M1.read_text(), "type"))

@@ -7,17 +7,16 @@ a folder holds exactly one run's set, and read back, when they are of one comple
 from __future__ import annotations
 
 import csv
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis, signs_text
 from fivebar_cli.analyses.inscribed import Disc, Square
-from fivebar_cli.errors import FivebarWarning, InputError
+from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.geojson import write_geojson
 from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
-from fivebar_cli.io.outputs import output_set, read_runs
+from fivebar_cli.io.outputs import of_complete_runs, output_set
 from fivebar_cli.io.qtfile import read_qt, write_qt
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
@@ -161,11 +160,8 @@ def load_aspects(folder: Path, m: Mechanism, depth: int) -> list[Aspect] | None:
     rows = read_aspect_table(folder, m)
     if rows is None:
         return None
-    runs = read_runs(folder)
     files = [folder / ASPECTS_CSV] + [aspect_path(folder, row.number, space) for row in rows for space in SPACES]
-    foreign = next((p for p in files if p.exists() and not runs.accepts(p)), None)
-    if foreign is not None:
-        warnings.warn(FivebarWarning(f"{foreign}: not read ({runs.why(foreign)}); the aspects are computed"))
+    if not of_complete_runs(folder, files, "the aspects are computed"):
         return None
     aspects = []
     for row in rows:

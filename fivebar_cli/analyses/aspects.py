@@ -33,11 +33,11 @@ import numpy as np
 from fivebar_cli.analyses.crossings import Crossing, find_crossings
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_square
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
+from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism
 from fivebar_cli.paving.engine import Paving, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
-from fivebar_cli.paving.morton import interleave
 from fivebar_cli.paving.tree import Tree, union_find
 
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
@@ -231,23 +231,6 @@ def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, dep
     return region
 
 
-def _undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
-    """Every (undetermined cell u, neighbour n) touching at a point; n < len(black leaves) is a
-    black leaf, else the undetermined cell n - len(black leaves). Undetermined cells are the
-    smallest cells, so looking up their neighbours finds every pair."""
-    grid, inside, und = paving.grid, paving.inside, paving.undetermined
-    level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
-    code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
-    order = np.argsort(code << (grid.dim * (grid.depth - level)), kind="stable")
-    everything = Tree(grid, level[order], code[order], canonical=True)
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
-    mine = rank[len(inside):]
-    i, j = everything.subset(np.sort(mine)).adjacency(everything, corners=True)
-    und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
-    return und_of_sorted[i], order[j]
-
-
 # ---------------------------------------------------------------- the certificate
 
 
@@ -263,6 +246,10 @@ class _Count:
     4. Empty outer components (no anchor, no partner) must vanish under refinement; outer
        components still holding several groups must split under refinement (`pieces.py`); one
        that also holds a partner group is never taken as separated (`strangers`).
+
+    With mode sets of one space only (`pose_aspects.py`: aspects over a space of poses) there is
+    nothing to link: steps 2 and 4 alone make the certificate, and a group is certified by its one
+    outer component in that space.
     """
 
     def __init__(self, model: AspectModel, sets: list[ModeSet], budget: Budget, depth: int):
@@ -274,7 +261,7 @@ class _Count:
         self._join()
         self.partner = self._partners()
         self.undecided = self.empty_undecided = 0
-        limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // 2)
+        limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // max((s.cells.grid.dim for s in sets), default=2))
         self.split_ok = {}
         for k, s in enumerate(sets):
             local_roots = self.roots[self.offset[k]:self.offset[k + 1]]
@@ -343,11 +330,12 @@ class _Count:
 
     def _link(self) -> None:
         for k, s in enumerate(self.sets):
-            points, owners = self._samples(s)
+            others = self._others(s)  # none when the aspects live in one space
+            points, owners = self._samples(s) if others else (np.zeros((0, 2)), None)
             if not len(points):
                 continue
             images, ok = self._images(s, points)
-            for j in self._others(s):
+            for j in others:
                 t = self.sets[j]
                 leaf = np.full(len(points), -1, np.int64)
                 leaf[ok] = t.region.tree.locate(images[ok])
@@ -406,7 +394,7 @@ class _Count:
 
     def group_outers(self, g: int) -> dict:
         """Per space: the set of (mode set, outer component) pairs holding group g."""
-        out = {"workspace": set(), "jointspace": set()}
+        out = {s.space: set() for s in self.sets}
         roots = self.roots
         for k, s in enumerate(self.sets):
             local = np.flatnonzero(roots[self.offset[k]:self.offset[k + 1]] == g)
@@ -423,7 +411,7 @@ class _Count:
 
     def certified(self, g: int) -> bool:
         outers = self.group_outers(g)
-        for space in ("workspace", "jointspace"):
+        for space in outers:
             if len(outers[space]) != 1:
                 return False
             (k, o), = outers[space]

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fivebar_cli.paving.engine import deepen
+from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, interleave
 from fivebar_cli.paving.tree import Tree, union_find
@@ -287,11 +287,71 @@ class ModeSet:
                 return True
         return False
 
+    def hidden_parts(self, o: int, extra: int, budget: Budget, limit: int) -> tuple[int, int]:
+        """What outer component `o` hides below the paving's depth: its undetermined cells are
+        paved `extra` levels deeper and the new black cells that touch no black cell joined to
+        the paving's leaves (islands) are joined to them by local refinement (growing windows
+        paved two levels deeper still). Returns (found, open): the islands left whose part of the
+        deeper outer set holds none of the paving's leaves are components of S of their own that
+        the paving's black cells missed (found, proven); an island left in a part with the
+        paving's leaves may be one (open), as may a part without black cells that does not vanish
+        under refinement."""
+        cells = self.outer_cells(o)
+        old = cells.select(cells.leaf >= 0)
+        deeper = self._deeper(cells, extra, budget)
+        if deeper is None:
+            return 0, 1
+        black = deeper.select(deeper.black)
+        labels, count = components(black)
+        joined = np.isin(np.arange(count), labels[_position(black, old.level, old.code)])
+        for island in np.flatnonzero(~joined):
+            joined[island] = self._joins(deeper, black, labels, joined, island, budget)
+        parts, n_parts = components(deeper)
+        anchored = np.zeros(n_parts, bool)
+        anchored[parts[_position(deeper, old.level, old.code)]] = True
+        island_cells = np.flatnonzero(deeper.black)[~joined[labels]]
+        found = len(np.unique(parts[island_cells][~anchored[parts[island_cells]]]))
+        opened = int(np.any(anchored[parts[island_cells]]))
+        with_black = np.zeros(n_parts, bool)
+        with_black[parts[deeper.black]] = True
+        for k in np.flatnonzero(~anchored & ~with_black):
+            opened += not self.vanishes(deeper.select(parts == k), budget, limit)
+        return found, opened
+
+    def _joins(self, cells: CellSet, black: CellSet, labels: np.ndarray, joined: np.ndarray, island: int,
+               budget: Budget) -> bool:
+        """Whether black cells found by paving a window of `cells` around one island of `black`
+        (labels: its components; joined: those holding or joined to the paving's leaves) two
+        levels deeper join the island to a joined component."""
+        grid = cells.grid
+        own = black.select(labels == island)
+        i_lo, i_hi = _integer_boxes(grid, own.level, own.code)
+        c_lo, c_hi = _integer_boxes(grid, cells.level, cells.code)
+        for radius in (4, 16):
+            if grid.depth + 2 > MAX_INDEX_BITS // grid.dim or budget.left <= 0:
+                return False
+            window = _near(grid, i_lo, i_hi, c_lo, c_hi, radius)
+            local = self._deeper(cells.select(window), 2, budget)
+            if local is None:
+                return False
+            lb = local.select(local.black)
+            comp, _ = components(lb)
+            wb = cells.select(window & cells.black)  # the window's black cells, kept in `local`
+            where = _position(lb, wb.level, wb.code)
+            mine = np.isin(_position(black, wb.level, wb.code), np.flatnonzero(labels == island))
+            good = joined[labels[_position(black, wb.level, wb.code)]]
+            if np.intersect1d(comp[where[mine]], comp[where[good]]).size:
+                return True
+        return False
+
     def vanish(self, o: int, budget: Budget, limit: int) -> bool:
         """Whether outer component `o`, which holds no black cell, is proved to miss S: paved
         deeper until no cell of it may meet S (True), or a black cell shows a component of S in it,
         or the budget or the depth limit ends the search (False)."""
-        cells = self.outer_cells(o)
+        return self.vanishes(self.outer_cells(o), budget, limit)
+
+    def vanishes(self, cells: CellSet, budget: Budget, limit: int) -> bool:
+        """`vanish` for any cells without black ones (a part of the outer set, e.g. found deeper)."""
         while budget.left > 0 and cells.grid.depth + SPLIT_STEP <= limit:
             cells = self._deeper(cells, SPLIT_STEP, budget)
             if cells is None or cells.black.any():
@@ -299,6 +359,23 @@ class ModeSet:
             if len(cells.level) == 0:
                 return True
         return False
+
+
+def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
+    """Every (undetermined cell u, neighbour n) touching at a point; n < len(black leaves) is a
+    black leaf, else the undetermined cell n - len(black leaves). Undetermined cells are the
+    smallest cells, so looking up their neighbours finds every pair."""
+    grid, inside, und = paving.grid, paving.inside, paving.undetermined
+    level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
+    code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
+    order = np.argsort(code << (grid.dim * (grid.depth - level)), kind="stable")
+    everything = Tree(grid, level[order], code[order], canonical=True)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    mine = rank[len(inside):]
+    i, j = everything.subset(np.sort(mine)).adjacency(everything, corners=True)
+    und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
+    return und_of_sorted[i], order[j]
 
 
 def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:
@@ -335,22 +412,24 @@ def _integer_boxes(grid: Grid, level: np.ndarray, code: np.ndarray):
 def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
     """Mask of the boxes b within about `radius` cells (Chebyshev) of some box a, periodic axes
     wrapping: boxes are hashed into blocks of side >= radius, and b is near when a block it overlaps
-    is within one block of a block some a overlaps (a superset of the exact answer: a window)."""
+    is within one block of a block some a overlaps (a superset of the exact answer: a window).
+    The marked blocks are kept as sorted flat indices, so memory follows the boxes, not the
+    (2^depth / radius)^dim blocks of the grid (an octree at depth 12 has 2^30 blocks of 4 cells)."""
     keep = np.zeros(len(b_lo), bool)
     if not len(a_lo) or not len(b_lo):
         return keep
     k = max(int(radius - 1).bit_length(), 0)
     n = (1 << grid.depth) >> k if grid.depth >= k else 1
     n = max(n, 1)
-    marked = np.zeros((n,) * grid.dim, bool)
-    for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic):
-        marked[idx] = True
+    shape = (n,) * grid.dim
+    marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape)
+                                       for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic)]))
     lo_blk, hi_blk = _block_span(b_lo, b_hi, k, n)
     single = np.all(lo_blk == hi_blk, axis=1)
-    keep[single] = marked[tuple(lo_blk[single].T)]
+    keep[single] = np.isin(np.ravel_multi_index(tuple(lo_blk[single].T), shape), marked)
     for i in np.flatnonzero(~single):  # cells spanning several blocks (large leaves): few
-        region = tuple(slice(a, b + 1) for a, b in zip(lo_blk[i], hi_blk[i]))
-        keep[i] = marked[region].any()
+        region = np.meshgrid(*(np.arange(a, b + 1) for a, b in zip(lo_blk[i], hi_blk[i])), indexing="ij")
+        keep[i] = np.isin(np.ravel_multi_index(tuple(r.ravel() for r in region), shape), marked).any()
     return keep
 
 

@@ -213,7 +213,8 @@ def _aspect_section(view: View, indices: list[int], aspects_csv: Path | None, cr
         if t.aspect not in known:
             known.add(t.aspect)
             table.append({"aspect": t.aspect, "working_mode": t.qt.get("working_mode"),
-                          "assembly_mode": t.qt.get("assembly_mode"), "certified": "", "circle": None,
+                          "assembly_mode": t.qt.get("assembly_mode"), "det_sign": t.qt.get("det_sign"),
+                          "certified": "", "circle": None,
                           "square": None, "cells": []})
     numbers = {t.aspect for t in (trees[i] for i in indices)}
     table = sorted((row for row in table if row["aspect"] in numbers), key=lambda row: row["aspect"])

@@ -74,6 +74,7 @@ def read_aspect_table(path: Path) -> list[dict]:
             "aspect": number,
             "working_mode": row.get("working_mode", ""),
             "assembly_mode": row.get("assembly_mode", ""),
+            "det_sign": row.get("det_sign", ""),
             "certified": row.get("certified", ""),
             "circle": _optional_shape(path, line, row, CIRCLE),
             "square": _optional_shape(path, line, row, SQUARE),

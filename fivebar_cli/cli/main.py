@@ -19,8 +19,10 @@ import click
 from fivebar_cli import __version__
 from fivebar_cli.cli.aspects import aspects, locate
 from fivebar_cli.cli.atlas import atlas
+from fivebar_cli.cli.dispatch import ByKind
 from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.path import path
+from fivebar_cli.cli.pose_aspects import dkp, pose_aspects, pose_locate, pose_path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
@@ -51,8 +53,9 @@ def cli() -> None:
     """
 
 
-for command in (jointspace, workspace, aspects, locate, path, atlas, kratio, refine, diff, tolerance, view, rpr3,
-                reproduce):
+rpr3.add_command(dkp)  # any kind with a pose-space aspect model; the 3-RPR's --legs
+for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(locate, pose_locate),
+                ByKind(path, pose_path), atlas, kratio, refine, diff, tolerance, view, rpr3, reproduce):
     cli.add_command(command)
 
 

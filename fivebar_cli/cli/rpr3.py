@@ -42,8 +42,8 @@ def _check_phis(values, where: str) -> None:
 
 @click.group()
 def rpr3() -> None:
-    """3-RPR: closed forms for a platform similar to the base (area, sweep, synthesize) and
-    certified octrees of any 3-RPR in (x, y, phi) (pave, verify).
+    """3-RPR: closed forms for a platform similar to the base (area, sweep, synthesize),
+    certified octrees of any 3-RPR in (x, y, phi) (pave, verify) and its assembly modes (dkp).
 
     \b
     Examples (each also in its command's help):
@@ -52,6 +52,7 @@ def rpr3() -> None:
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
       fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
+      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6
     """
 
 

@@ -3,8 +3,9 @@
 One place for the layout that users' scripts rely on (docs/formats.md, "Output layout"):
 `outputs/<name>/<space>.qt` and `<space>.complement.qt`, `<space>.csv`, `aspects.csv`,
 `aspects-adjacency.csv`, `aspects/aspect-NN.<space>.qt` and `aspect-NN.workspace.geojson`,
-`<space>.geojson`, `path.csv` and `path.png`; and the files each output set owns (`io.outputs`):
-the glob patterns of every file a command may write in one of its runs.
+`aspect-NN.<space>.ply` (3-D aspects), `<space>.geojson`, `path.csv` and `path.png`, `dkp.csv`; and
+the files each output set owns (`io.outputs`): the glob patterns of every file a command may write
+in one of its runs.
 """
 
 from __future__ import annotations
@@ -51,6 +52,11 @@ def aspect_path(folder: Path, number: int, space: str) -> Path:
     return folder / "aspects" / f"aspect-{number:02d}.{space}.qt"
 
 
+def aspect_mesh_path(folder: Path, number: int, space: str) -> Path:
+    """`aspects/aspect-NN.<space>.ply`: one aspect's octree cells as a closed surface mesh."""
+    return folder / "aspects" / f"aspect-{number:02d}.{space}.ply"
+
+
 def aspect_geojson_path(folder: Path, number: int) -> Path:
     """`aspects/aspect-NN.workspace.geojson`: one generalized aspect's workspace region."""
     return folder / "aspects" / f"aspect-{number:02d}.workspace.geojson"
@@ -66,6 +72,8 @@ CROSSINGS_CSV = "aspects-adjacency.csv"
 SPLIT_CSV = "aspects-split.csv"  # with limits or obstacles: what each constrained aspect comes from
 PATH_CSV = "path.csv"
 PATH_PNG = "path.png"
+DKP_CSV = "dkp.csv"
+DKP_PNG = "dkp.png"
 
 
 def paving_files(stem: str) -> tuple[str, ...]:
@@ -76,6 +84,7 @@ def paving_files(stem: str) -> tuple[str, ...]:
 
 # The output sets of the commands writing into a mechanism's folder (io.outputs): name -> owned files.
 ASPECT_FILES = (ASPECTS_CSV, CROSSINGS_CSV, SPLIT_CSV, "aspects/aspect-*.qt", "aspects/aspect-*.geojson",
-                "aspects-*.png")
+                "aspects/aspect-*.ply", "aspects-*.png")
 PATH_FILES = (PATH_CSV, PATH_PNG)
+DKP_FILES = (DKP_CSV, DKP_PNG)
 TOLERANCE_FILES = ("tolerance.csv", "tolerance-*.png")

@@ -31,11 +31,13 @@ import fnmatch
 import hashlib
 import json
 import os
+import warnings
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Iterable, Iterator
 
+from fivebar_cli.errors import FivebarWarning
 from fivebar_cli.io.files import ACTIVE_SET, write_text
 
 MANIFESTS = ".fivebar"
@@ -187,6 +189,16 @@ class FolderRuns:
             return None
         claimed = [run for run in self.runs for rel in rels if run.claims(rel)]
         return claimed[0].problem() if claimed else None
+
+
+def of_complete_runs(folder: str | Path, paths, instead: str) -> bool:
+    """Whether every existing file of `paths` may be read (`FolderRuns.accepts`); if not, a
+    FivebarWarning names the first that may not, why, and what the reader does `instead`."""
+    runs = read_runs(folder)
+    foreign = next((Path(p) for p in paths if Path(p).exists() and not runs.accepts(p)), None)
+    if foreign is not None:
+        warnings.warn(FivebarWarning(f"{foreign}: not read ({runs.why(foreign)}); {instead}"))
+    return foreign is None
 
 
 def read_runs(folder: str | Path) -> FolderRuns:

@@ -12,7 +12,8 @@ point of group `fivebar.mechanisms` in a third-party package). It declares:
   of a 3-RPR's workspace, one per sign of det J), each paved like the space itself;
 - a box test per space, procedure and region (`box_test`), the exact measure of a space (or
   region) when a closed form is known, and, for 2-DOF mechanisms with working and assembly modes,
-  an `AspectModel`.
+  an `AspectModel`; or, for mechanisms whose aspects live in one space of poses (the 3-RPR over
+  (x, y, phi)), a `PoseAspectModel`.
 
 A box test takes arrays lo, hi of shape (m, dim) and returns int8: 1 when every point of the box
 belongs to the set, -1 when none does, 0 when it cannot tell. It must be sound (docs/formats.md,
@@ -145,6 +146,11 @@ class Mechanism:
         """What the generalized-aspect analysis needs, or None when the kind has no aspects."""
         return None
 
+    def pose_aspect_model(self) -> "PoseAspectModel | None":
+        """What the one-space aspect analysis (aspects, dkp, locate, path over a space of poses)
+        needs, or None when the kind has none."""
+        return None
+
 
 def _while_parsing(parse):
     def parse_checked(cls, data, source="<config>", *args, **kwargs):
@@ -251,3 +257,73 @@ class AspectModel(Protocol):
     # Optional (`fivebar path --allow-serial`): a joint-space box test, 1 where every point
     # assembles in `assembly` with det A != 0 (serial singularities allowed), -1 where none does.
     # def parallel_free_test(self, assembly: int) -> BoxTest: ...
+
+
+# ---------------------------------------------------------------- aspects in one space of poses
+
+
+@dataclass(frozen=True)
+class SignClass:
+    """One class of poses of a `PoseAspectModel`: the signs that are constant on an aspect, as
+    named columns of `aspects.csv` and header keys of the aspect trees, e.g. (("det_sign", "+"),)
+    for a 3-RPR, (("working_mode", "+-+"), ("det_sign", "-")) for a 3-RRR."""
+
+    fields: tuple[tuple[str, str], ...]
+
+    @property
+    def label(self) -> str:
+        """'det_sign +' or 'working_mode +-+, det_sign -': for reports."""
+        return ", ".join(f"{k} {v}" for k, v in self.fields)
+
+
+class PoseSystem(Protocol):
+    """The equations F(pose) = 0 of the poses with given joint values (the direct kinematic
+    problem), in the units of the pose space's axes (phi in degrees for a 3-RPR)."""
+
+    def values(self, poses: np.ndarray) -> np.ndarray:
+        """F at poses (n, d), floating point: (n, d)."""
+
+    def jacobian(self, poses: np.ndarray) -> np.ndarray:
+        """dF/dpose at poses (n, d), floating point: (n, d, d)."""
+
+    def enclosure(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Over boxes [lo, hi] (n, d): certified bounds of F, (n, d) each, and of the Jacobian,
+        (n, d, d) each (outward rounded); a point box gives an enclosure of F at that point."""
+
+
+class PoseAspectModel(Protocol):
+    """What the one-space aspect analysis (`analyses/pose_aspects.py`), `dkp.py`, `pose_paths.py`
+    and the commands on them need from a kind whose aspects live in a space of poses.
+
+    The poses are split into sign classes (a 3-RPR: the sign of det J; a 3-RRR: working mode and
+    sign of det A); an aspect is a connected component of the valid (legs in range), non-singular
+    poses of one class. Each class has a box test whose black cells are valid and non-singular in
+    that class (so singularities stay undetermined and separate the aspects) and whose -1 means no
+    pose of the box is a valid pose of that class. The space may have a periodic axis (a full turn
+    of the platform); the joint space may be a box or a torus (`joint_axes`).
+    """
+
+    space: str  # the name of the space in `Mechanism.spaces()` (e.g. "workspace": x, y, phi)
+    classes: tuple[SignClass, ...]  # in the order aspects are numbered
+    joint_axes: tuple[Axis, ...]  # the actuated joints: names, units, ranges, periodic
+    length_scale: float  # a typical length: tolerances are relative to it
+
+    def class_test(self, k: int) -> BoxTest:
+        """1: every pose of the box is valid, non-singular and of class k; -1: none is."""
+
+    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """The class whose signs hold at every pose of each box, validity aside (the joint limits
+        are not checked), certified; -1 where the signs are not certified constant."""
+
+    def valid(self, poses: np.ndarray) -> np.ndarray:
+        """Whether poses (n, d) satisfy every constraint (joints in range), floating point."""
+
+    def ikp(self, poses: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
+        """Joint values (n, j) of poses in class k, and where they exist."""
+
+    def dkp_system(self, joints: np.ndarray) -> PoseSystem:
+        """The equations of the poses with joint values `joints` (j,), for class-free solving."""
+
+    def sketch(self, poses: np.ndarray) -> dict[str, np.ndarray]:
+        """Planar drawing of the mechanism at poses (n, d), for figures: 'base' (k, 2), a closed
+        polygon; 'platform' (n, m, 2), closed polygons; 'links' (n, s, 2, 2), segments."""

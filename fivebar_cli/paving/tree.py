@@ -167,11 +167,15 @@ class Tree:
         neighbours here. Periodic axes wrap around. The leaves need not be canonical (a tree built
         with `canonical=True` from sorted disjoint cells of several sets works the same).
         """
+        pairs = list(self._pairs(other, corners))
+        return np.concatenate([i for i, _ in pairs]), np.concatenate([j for _, j in pairs])
+
+    def _pairs(self, other: "Tree | None", corners: bool):
+        """The pairs of `adjacency`, one direction at a time."""
         target = self if other is None else other
         grid, level = self.grid, self.level
         if target.grid != grid:
             raise ValueError("trees live on different grids")
-        pairs_i, pairs_j = [], []
         for offset in _offsets(grid.dim, corners):
             code, valid = self.code, np.ones(len(self), dtype=bool)
             for axis in np.flatnonzero(offset):
@@ -187,15 +191,14 @@ class Tree:
             hit[hit] &= target.end[leaf[hit]] >= last[hit]
             if other is None:
                 hit &= leaf != idx  # a root-sized periodic cell touching itself
-            pairs_i.append(idx[hit])
-            pairs_j.append(leaf[hit])
-        return np.concatenate(pairs_i), np.concatenate(pairs_j)
+            yield idx[hit], leaf[hit]
 
     def components(self, corners: bool = False) -> tuple[np.ndarray, int]:
         """Label leaves by connected component (face-connected; with `corners`, touching at any
         point); labels are numbered in Morton order of their first leaf."""
-        i, j = self.adjacency(corners=corners)
-        root = union_find(len(self), i, j)
+        root = np.arange(len(self), dtype=np.int64)
+        for i, j in self._pairs(None, corners):  # one direction at a time: memory of one, not 26, sets of pairs
+            root = union_find(len(self), i, j, root)
         _, first, labels = np.unique(root, return_index=True, return_inverse=True)
         order = np.argsort(first, kind="stable")
         rank = np.empty_like(order)
@@ -338,9 +341,10 @@ def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
 # ---------------------------------------------------------------- union-find
 
 
-def union_find(n: int, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-    """Connected-component roots (smallest index of each component) by hooking + pointer jumping."""
-    parent = np.arange(n, dtype=np.int64)
+def union_find(n: int, i: np.ndarray, j: np.ndarray, parent: np.ndarray | None = None) -> np.ndarray:
+    """Connected-component roots (smallest index of each component) by hooking + pointer jumping;
+    `parent`: roots found from other edges already (each node's smallest-index root), to add to."""
+    parent = np.arange(n, dtype=np.int64) if parent is None else parent.copy()
     while True:
         while True:  # pointer jumping until every node points at its root
             grand = parent[parent]

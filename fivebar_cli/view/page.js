@@ -624,8 +624,9 @@
     return [panel];
   }
 
-  function buildOctree(host, sec, trees) {
-    const layers = pavingLayers(sec, trees), t0 = trees[sec.layers[0].tree];
+  /* A slider along the third axis (inserted before `row`), the slice through it (a 2-D panel:
+     `spec` adds its background, describe and hover callbacks) and the 3-D view, of octree layers. */
+  function sliceAndSolid(host, row, layers, t0, size, spec) {
     const depth = Math.max.apply(null, layers.map(L => L.tree.depth)), n = Math.pow(2, depth);
     const state = { layer: n >> 1 };
     const fraction = () => (state.layer + 0.5) / n;
@@ -634,27 +635,35 @@
       return i => { const L = Math.min(m - 1, Math.floor(fraction() * m)), span = Math.pow(2, T.depth - lev[i]); return cz[i] * span <= L && L < (cz[i] + 1) * span; };
     };
     const sliceLayers = layers.map(L => Object.assign({}, L, { keep: sliceKeep(L.tree) }));
-    const ctl = el("div", { cls: "slider" }, host);
+    const ctl = el("div", { cls: "slider" });
+    host.insertBefore(ctl, row);
     const ax = t0.axes[2], [zlo, zhi] = t0.root[2];
     el("span", { text: "slice " + axisTitle(ax) + ":" }, ctl);
     const input = el("input", { type: "range", min: "0", max: String(n - 1), step: "1", value: String(state.layer) }, ctl);
     const label = el("span", {}, ctl);
-    const row = el("div", { cls: "row" }, host);
-    const size = panelSize(2);
-    const background = sec.undetermined ? { color: UNDETERMINED, visible: true } : null;
-    const slice = new Panel2D(row, {
+    const slice = new Panel2D(row, Object.assign({
       title: "slice", axes: t0.axes.slice(0, 2), root: t0.root.slice(0, 2), periodic: t0.periodic.slice(0, 2),
-      layers: sliceLayers, background: background, size: size,
-      describe: (hits, p) => describeHits(hits, p, sec, trees),
-    });
+      layers: sliceLayers, background: null, size: size,
+    }, spec));
     const view3d = new Panel3D(row, { title: "3-D (drag to rotate)", axes: t0.axes, root: t0.root, layers: layers, size: size + 44,
       sliceValue: () => fraction() });
     const setLabel = () => {
       const a = zlo + (zhi - zlo) * state.layer / n, b = zlo + (zhi - zlo) * (state.layer + 1) / n;
-      label.textContent = ax[0] + " in [" + num(a) + ", " + num(b) + "]" + (ax[1] ? " " + ax[1] : "") + " (layer " + (state.layer + 1) + " of " + n + ")";
+      label.textContent = ax[0] + " in [" + num(a) + ", " + num(b) + "]" + (ax[1] ? " " + ax[1] : "") + " (layer " + (state.layer + 1) + " of " + n + ")" + (t0.periodic[2] ? ", periodic" : "");
     };
     setLabel();
     input.addEventListener("input", () => { state.layer = +input.value; setLabel(); slice.request(); view3d.request(); });
+    return { slice: slice, view3d: view3d, sliceLayers: sliceLayers };
+  }
+
+  function buildOctree(host, sec, trees) {
+    const layers = pavingLayers(sec, trees), t0 = trees[sec.layers[0].tree];
+    const row = el("div", { cls: "row" }, host);
+    const size = panelSize(2);
+    const background = sec.undetermined ? { color: UNDETERMINED, visible: true } : null;
+    const { slice, view3d, sliceLayers } = sliceAndSolid(host, row, layers, t0, size, {
+      background: background, describe: (hits, p) => describeHits(hits, p, sec, trees),
+    });
     const side = el("div", { cls: "side" }, row), table = el("table", { cls: "legend" }, side);
     layers.forEach((L, k) => legendRow(table, L.color, L.label, true, v => { L.visible = v; sliceLayers[k].visible = v; slice.request(); view3d.request(); }, L.title));
     if (background) legendRow(table, UNDETERMINED, "undetermined (slice only)", true, v => { background.visible = v; slice.request(); });
@@ -673,9 +682,10 @@
       const r = info.get(a);
       return panel.focus === null || !r || r[panel.focusKey] === panel.focus ? 1 : FAINT;
     };
-    const modes = a => { const r = info.get(a) || {}; return (r.working_mode ? "working mode " + r.working_mode : "") + (r.assembly_mode ? ", assembly mode " + r.assembly_mode : "") + (r.certified === "true" ? " (certified)" : r.certified === "false" ? " (not certified)" : ""); };
+    const modes = a => { const r = info.get(a) || {}; return (r.working_mode ? "working mode " + r.working_mode : "") + (r.assembly_mode ? ", assembly mode " + r.assembly_mode : "") + (r.det_sign ? "det J " + r.det_sign : "") + (r.certified === "true" ? " (certified)" : r.certified === "false" ? " (not certified)" : ""); };
     const row = el("div", { cls: "row" }, host);
-    const size = panelSize(sec.panels.length);
+    const solid = sec.panels.some(p => trees[p.layers[0].tree].dim === 3);  // aspects of octrees: a slice and a 3-D view
+    const size = panelSize(solid ? 2 : sec.panels.length);
     const views = [];
     let legendRows = new Map(), graphNodes = new Map();
     const refresh = () => {
@@ -696,7 +706,20 @@
       const focus = { focusKey: p.space === "workspace" ? "working_mode" : "assembly_mode", focus: null };
       const groups = [...new Set(p.layers.map(ly => (info.get(ly.aspect) || {})[focus.focusKey]).filter(x => x))];
       focus.focus = groups.length > 1 ? groups[0] : null;
-      const layers = p.layers.map(ly => ({ tree: trees[ly.tree], aspect: ly.aspect, color: colour(ly.aspect), visible: true, weight: weight(ly.aspect, focus), label: "aspect " + ly.aspect }));
+      const layers = p.layers.map(ly => ({ tree: trees[ly.tree], aspect: ly.aspect, color: colour(ly.aspect), color3d: colour(ly.aspect), style: "solid", visible: true, weight: weight(ly.aspect, focus), label: "aspect " + ly.aspect }));
+      const describeAspects = hits => hits.length ? hits.map(h => "aspect " + h.layer.aspect + ": " + modes(h.layer.aspect) + "\n  cell " + leafBox(h.layer.tree, h.leaf)).join("\n") : "in no shown aspect (white: not certified in one)";
+      if (t0.dim === 3) {
+        const { slice, view3d, sliceLayers } = sliceAndSolid(host, row, layers, t0, size, {
+          title: (p.space || "tree") + " slice (" + t0.axes.slice(0, 2).map(axisTitle).join(", ") + ")", describe: describeAspects,
+          onHover: hits => setHover(new Set(hits.map(h => h.layer.aspect))), onLeave: () => setHover(new Set()),
+          onClick: () => pin(state.pinned.size ? new Set() : new Set(state.hover)),
+          overlay: (ctx, pn) => drawPath(ctx, pn, sec.path === null ? null : DATA.paths[sec.path]),
+        });
+        slice.aspectLayers = sliceLayers;
+        view3d.aspectLayers = layers;
+        views.push(slice, view3d);
+        continue;
+      }
       const xy = t0.axes[0][0] === "x" && t0.axes[1][0] === "y";
       const tools = box => {
         if (groups.length < 2) return;
@@ -714,7 +737,7 @@
       const panel = new Panel2D(row, {
         title: (p.space || "tree") + " (" + t0.axes.map(axisTitle).join(", ") + ")", axes: t0.axes, root: t0.root, periodic: t0.periodic,
         layers: layers, background: null, size: size, tools: tools,
-        describe: hits => hits.length ? hits.map(h => "aspect " + h.layer.aspect + ": " + modes(h.layer.aspect) + "\n  cell " + leafBox(h.layer.tree, h.leaf)).join("\n") : "in no shown aspect (white: not certified in one)",
+        describe: describeAspects,
         onHover: hits => setHover(new Set(hits.map(h => h.layer.aspect))),
         onLeave: () => setHover(new Set()),
         onClick: () => pin(state.pinned.size ? new Set() : new Set(state.hover)),
@@ -756,7 +779,7 @@
     const table = el("table", { cls: "legend" }, side);
     for (const r of sec.aspects) {
       const cells = r.cells.length ? r.cells.map(c => c[0] + ": " + c[1]).join("\n") : "";
-      const row = legendRow(table, colour(r.aspect), "aspect " + r.aspect + "  " + (r.working_mode || "") + " " + (r.assembly_mode || "") + (r.certified === "false" ? "  not certified" : ""), true, v => setVisible(r.aspect, v), cells);
+      const row = legendRow(table, colour(r.aspect), "aspect " + r.aspect + "  " + (r.working_mode || "") + " " + (r.assembly_mode || "") + (r.det_sign ? "det J " + r.det_sign : "") + (r.certified === "false" ? "  not certified" : ""), true, v => setVisible(r.aspect, v), cells);
       boxes.set(r.aspect, row.box);
       legendRows.set(r.aspect, row.tr);
       row.tr.addEventListener("mouseenter", () => setHover(new Set([r.aspect])));

@@ -147,8 +147,22 @@ class Rpr3(Mechanism):
         axes = (Axis("x", xlo, xhi), Axis("y", ylo, yhi))
         phi1, phi2 = self.phi_range
         if phi1 < phi2:
-            axes += (Axis("phi", phi1, phi2, "deg", label=r"$\varphi$"),)
+            axes += (Axis("phi", phi1, phi2, "deg", periodic=self.full_turn, label=r"$\varphi$"),)
         return {"workspace": Space("workspace", REACHABLE, axes)}
+
+    @property
+    def full_turn(self) -> bool:
+        """Whether the orientation range is one whole turn (phi2 - phi1 = 360 degrees exactly, e.g.
+        [-180, 180]): phi is then a periodic axis, and regions wrap across phi1 = phi2."""
+        return self.phi_range[1] - self.phi_range[0] == 360.0
+
+    def pose_aspect_model(self):
+        """Aspects over (x, y, phi) by sign of det J (`rpr3/aspects.py`); None for unbounded legs."""
+        if "workspace" not in self.spaces():
+            return None
+        from fivebar_cli.mechanisms.rpr3.aspects import Rpr3PoseAspects
+
+        return Rpr3PoseAspects(self)
 
     def regions(self, space: str) -> tuple[str, ...]:
         """Reachable, and reachable with det J > 0, resp. < 0 (the singularity-free parts)."""

@@ -1,0 +1,220 @@
+"""Generalized aspects that live in one space of poses, with a certificate for their count, for
+every kind whose model declares a `PoseAspectModel` (mechanisms/base.py): the 3-RPR over
+(x, y, phi), a 3-RRR per working mode, any dimension, with periodic axes.
+
+1. Regions: the space is paved once per sign class (the class's box test: black = valid and
+   non-singular in that class, so singularities stay undetermined and separate the aspects).
+2. Mode sets: each class's set S has an inner approximation (its black cells) and an outer one
+   (adding every undetermined cell: the class test could not exclude it); cells touching at a
+   corner share a point, so components are taken with corner contact, wrapping periodic axes
+   (`pieces.ModeSet`, with no sign left free).
+3. Certificate (`aspects._Count` on the mode sets of one space: nothing to link across spaces):
+   the black components (anchors) of one outer component are joined by black cells found by
+   local refinement, or separated by refinement; an outer component without anchor must vanish.
+4. Probe: the undetermined cells of every outer component holding an anchor are paved one level
+   deeper (PROBE_LEVELS). New black cells touching no black cell joined to the anchors (islands)
+   must join them by local refinement; an island left in a part of the deeper outer set without
+   anchor is a component of S that the depth-D black cells missed (an aspect thinner than a
+   cell, hidden in the band of another one): proven, both bounds count it; an island left in the
+   anchors' part may be one (the upper bound counts it), as may a part without black cells that
+   does not vanish under refinement. Either way the count is not certified at this depth; a
+   deeper run sees the aspect's cells.
+   An aspect is certified when its anchors lie in one outer component that holds no other
+   aspect (or was proven to split) and whose probe found nothing; the count is certified when
+   every aspect is and no outer component is left undecided. The same words, "N generalized
+   aspects (certified)" or "between L and U ...", as the five-bar's two-space certificate, with
+   the same caveat (docs/formats.md): an aspect hidden in the band even one level deeper is not
+   excluded.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
+from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
+from fivebar_cli.errors import FivebarError
+from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass
+from fivebar_cli.paving.engine import Paving, pave
+from fivebar_cli.paving.grid import MAX_INDEX_BITS
+from fivebar_cli.paving.tree import Tree
+
+__all__ = ["DEFAULT_BUDGET", "ClassRegion", "PoseAspect", "PoseAspectAnalysis", "analyse_pose_aspects",
+           "aspect_at", "pose_model"]
+
+
+PROBE_LEVELS = 1  # the band of every outer component holding an aspect is paved this much deeper
+
+
+def pose_model(m: Mechanism) -> PoseAspectModel:
+    """The kind's pose-space aspect model (FivebarError when it has none)."""
+    model = m.pose_aspect_model()
+    if model is None:
+        raise FivebarError(f"a {m.kind} has no aspects over a space of poses here")
+    return model
+
+
+@dataclass
+class ClassRegion:
+    """The paving of one sign class, seen by `pieces.ModeSet` as a region that leaves no sign free:
+    every undetermined cell may meet the class's set (the class test already says -1 for the
+    cells it can exclude)."""
+
+    space: str
+    index: int
+    paving: Paving
+    test: object
+    model: PoseAspectModel
+    black_labels: np.ndarray = None
+    und_pairs: tuple = None
+
+    @property
+    def tree(self) -> Tree:
+        return self.paving.inside
+
+    @property
+    def free(self) -> np.ndarray:
+        return np.zeros((len(self.paving.inside), 0), np.int8)
+
+    @property
+    def und_possible(self) -> np.ndarray:
+        return np.ones(len(self.paving.undetermined), bool)
+
+    @property
+    def und_signs(self) -> np.ndarray:
+        return np.zeros((len(self.paving.undetermined), 0), np.int8)
+
+    def title(self) -> str:
+        return f"{self.space}, {self.model.classes[self.index].label}"
+
+    def modes_with(self, free) -> tuple[int, ...]:
+        return (self.index,)
+
+    def free_signs(self, points: np.ndarray) -> np.ndarray:
+        return np.zeros((len(points), 0), np.int8)
+
+    def signs(self, lo: np.ndarray, hi: np.ndarray):
+        return np.ones(len(lo), bool), np.zeros((len(lo), 0), np.int8)
+
+
+@dataclass(frozen=True)
+class PoseAspect:
+    """One aspect: its class, its certified cells, a pose inside it and that pose's joints."""
+
+    number: int
+    cls: int
+    signs: SignClass
+    tree: Tree
+    pose: tuple[float, ...]
+    joints: tuple[float, ...]
+    certified: bool = True
+
+    @property
+    def volume(self) -> float:
+        return self.tree.area
+
+
+class PoseAspectAnalysis(AspectAnalysis):
+    """`AspectAnalysis` of aspects in one space: `regions` are `ClassRegion`s, `aspects` are
+    `PoseAspect`s, there are no crossings; the count's fields and headline are the five-bar's
+    (with "N ..., not certified" when the bounds meet: aspects found by the probe only)."""
+
+    def headline(self) -> str:
+        if self.certified or self.lower != self.upper:
+            return super().headline()
+        return (f"{self.mechanism.name}: {self.lower} generalized aspects, not certified at depth {self.depth}: "
+                f"{self.lower - len(self.aspects)} of them thinner than its cells, found one level deeper "
+                f"(raise --depth)")
+
+
+def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
+                         budget: int = DEFAULT_BUDGET) -> PoseAspectAnalysis:
+    """Pave every sign class, find the anchors and outer components, join and separate them
+    under the budget, number the aspects (class order, then Morton order of their first cell)."""
+    model = pose_model(m)
+    space = m.spaces()[model.space]
+    timings = {"paving": 0.0}
+    regions = []
+    for k in range(len(model.classes)):
+        t0 = time.perf_counter()
+        regions.append(class_region(model, space.grid(depth), k))
+        timings["paving"] += time.perf_counter() - t0
+        advance(1)
+    t0 = time.perf_counter()
+    sets = [ModeSet(region, ()) for region in regions]
+    count = _Count(model, sets, Budget(budget), depth)
+    timings["certificate"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    probe = Budget(1 << 62)  # part of the analysis at this depth, not of the refinement budget
+    limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // space.dim)
+    found = opened = 0  # aspects the probe proved, and parts it left that may hide one
+    hiding = set()  # (set, outer component) where it found either
+    for k, s in enumerate(sets):
+        for o in range(s.n_outer):
+            if len(s.anchors_in(o)) and depth + PROBE_LEVELS <= limit:
+                black, still = s.hidden_parts(o, PROBE_LEVELS, probe, limit)
+                if black or still:
+                    found, opened = found + black, opened + still
+                    hiding.add((k, o))
+    timings["probe"] = time.perf_counter() - t0
+
+    def certified(g: int) -> bool:
+        return count.certified(g) and not (count.group_outers(g)[model.space] & hiding)
+
+    aspects = _number_aspects(model, sets, count, certified)
+    advance(1)
+    return PoseAspectAnalysis(m, model, depth, regions, aspects, [], count.lower + found,
+                              count.upper + found + opened, count.undecided + len(hiding),
+                              count.empty_undecided + found + opened, count.merged,
+                              count.budget.spent + probe.spent, timings)
+
+
+def class_region(model: PoseAspectModel, grid, k: int) -> ClassRegion:
+    """The paving of class k with its black components and undetermined neighbour pairs."""
+    test = model.class_test(k)
+    paving = pave(grid, test)
+    region = ClassRegion(model.space, k, paving, test, model)
+    # two closed black cells of one class touching at a point are in one aspect: corner contact
+    region.black_labels, _ = paving.inside.components(corners=True)
+    region.und_pairs = undetermined_pairs(paving)
+    return region
+
+
+def _number_aspects(model: PoseAspectModel, sets: list[ModeSet], count: _Count, certified) -> list[PoseAspect]:
+    """Groups of anchors -> aspects, numbered by class, then by the Morton order of their first
+    cell; each with a pose inside (the centre of its largest cell, first in Morton order)."""
+    roots = count.roots
+    found = []
+    for k, s in enumerate(sets):
+        local = roots[count.offset[k]:count.offset[k + 1]]
+        for g in np.unique(local):
+            leaves = np.flatnonzero(np.isin(s.anchor_of_leaf, np.flatnonzero(local == g)))
+            tree = s.region.tree.subset(leaves)
+            found.append(((s.region.index, int(tree.start[0])), int(g), s.region.index, tree))
+    found.sort(key=lambda item: item[0])
+    aspects = []
+    for number, (_, g, cls, tree) in enumerate(found, start=1):
+        biggest = int(np.argmin(tree.level))
+        pose = tree.centres()[biggest]
+        joints, _ = model.ikp(pose[None, :], cls)
+        aspects.append(PoseAspect(number, cls, model.classes[cls], tree, tuple(float(v) for v in pose),
+                                  tuple(float(v) for v in joints[0]), certified(g)))
+    return aspects
+
+
+def aspect_at(aspects: list[PoseAspect], model: PoseAspectModel, pose: np.ndarray) -> tuple[int, PoseAspect | None]:
+    """(class, aspect) of a pose: the class certified at that point (-1: on or near a singularity,
+    or not a valid pose) and the aspect whose cells hold it (None: in no certified cell)."""
+    pose = np.asarray(pose, float)[None, :]
+    if not model.valid(pose)[0]:
+        return -1, None
+    cls = int(model.classes_of_boxes(pose, pose)[0])
+    if cls < 0:
+        return -1, None
+    for a in aspects:
+        if a.cls == cls and a.tree.locate(pose)[0] >= 0:
+            return cls, a
+    return cls, None
