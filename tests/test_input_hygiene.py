@@ -131,8 +131,8 @@ def test_counts_say_whether_they_are_certified_and_kinds_take_their_article(tmp_
     assert "not certified at this depth" in first and "between" in first, first  # M1 has 10, depth 6 cannot tell
     r = ok(run_cli("tolerance", M2_YAML, "--tolerances", "0", "--depth", 9, "-o", "out2", "--no-plot", cwd=tmp_path))
     assert "(10 nominal generalized aspects, certified)" in r.stdout.splitlines()[0]
-    one_line(run_cli("aspects", CONFIGS / "rpr3-general.yaml", "-o", "o", cwd=tmp_path), 2,
-             "an rpr3 has no working and assembly modes")
+    one_line(run_cli("jointspace", CONFIGS / "rpr3-general.yaml", "-o", "o", cwd=tmp_path), 2,
+             "an rpr3 has no jointspace to pave")
     one_line(run_cli("workspace", CONFIGS / "rpr2.yaml", "--tolerance", 0.1, "-o", "o", cwd=tmp_path), 2,
              "an rpr2 has no interval lengths")
     one_line(run_cli("rpr3", "area", M1_YAML, "-o", "o", cwd=tmp_path), 2, "this command needs an rpr3")
