@@ -66,25 +66,30 @@ class Block:
 
 
 def help_examples() -> list[Command]:
-    """The example lines of every command's --help (the group first, then its commands in order)."""
+    """The example lines of every command's --help as it prints (the group first, then its
+    commands in order): in every block whose heading starts with `Example`, the lines starting
+    with `fivebar `."""
+    import click
+
     from fivebar_cli.cli import cli
 
     found = []
 
-    def walk(command, path: str) -> None:
-        lines = (command.help or "").splitlines()
-        start = next((i for i, line in enumerate(lines) if line.strip() in ("Example:", "Examples:")), None)
-        if start is not None:
-            for line in lines[start + 1:]:
-                text = line.strip()
-                if not text:
-                    break
-                if text.startswith("fivebar "):
-                    documented = re.search(r"#\s*exit (\d+)\b", text)
-                    found.append(Command(f"`{path} --help`", strip_comment(text), None,
-                                         int(documented.group(1)) if documented else 0))
+    def walk(command, path: str, parent=None) -> None:
+        ctx = click.Context(command, info_name=path.split()[-1], parent=parent)
+        in_examples = False
+        for line in command.get_help(ctx).splitlines():
+            text = line.strip()
+            if re.match(r"^Examples?\b.*:$", text):
+                in_examples = True
+            elif not text:
+                in_examples = False
+            elif in_examples and text.startswith("fivebar "):
+                documented = re.search(r"#\s*exit (\d+)\b", text)
+                found.append(Command(f"`{path} --help`", strip_comment(text), None,
+                                     int(documented.group(1)) if documented else 0))
         for name in getattr(command, "commands", {}):
-            walk(command.commands[name], f"{path} {name}")
+            walk(command.commands[name], f"{path} {name}", ctx)
 
     walk(cli, "fivebar")
     return found

@@ -187,7 +187,7 @@ def dkp(config_path, legs, depth, budget, out, no_plot, quiet):
 
     \b
     Example:
-      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 -o out/caro
+      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6 -o out/caro
     """
     m = load_pose_kind(config_path, poses=True)
     model = m.pose_aspect_model()
@@ -245,8 +245,8 @@ def pose_locate(config_path, poses, legs, depth, budget, out, as_csv):
 
     \b
     Examples:
-      fivebar locate configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --depth 6
-      fivebar locate configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6
+      fivebar locate configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --depth 6 -o out/caro
+      fivebar locate configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6 -o out/caro
     """
     if not poses and not legs:
         raise click.UsageError("give at least one --pose X Y PHI or --legs R1 R2 R3")
@@ -347,8 +347,8 @@ def pose_path(config_path, poses, legs, modes, depth, out, no_plot, quiet):
 
     \b
     Examples:
-      fivebar path configs/rpr3-caro.yaml --legs 14.98 15.38 12 --modes 1 2 --depth 6
-      fivebar path configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --pose 8 -9 -5.6 --depth 6
+      fivebar path configs/rpr3-caro.yaml --legs 14.98 15.38 12 --modes 1 2 --depth 6 -o out/caro
+      fivebar path configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --pose 8 -9 -5.6 --depth 6 -o out/caro
     """
     if legs is None and modes is not None:
         raise click.UsageError("--modes needs --legs R1 R2 R3")

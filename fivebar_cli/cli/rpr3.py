@@ -52,7 +52,7 @@ def rpr3() -> None:
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
       fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
-      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6
+      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6 -o out/caro
     """
 
 
