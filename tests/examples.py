@@ -76,7 +76,8 @@ def help_examples() -> list[Command]:
     found = []
 
     def walk(command, path: str, parent=None) -> None:
-        ctx = click.Context(command, info_name=path.split()[-1], parent=parent)
+        # the command's own context settings (-h for --help): click caches the help option it builds here
+        ctx = click.Context(command, info_name=path.split()[-1], parent=parent, **command.context_settings)
         in_examples = False
         for line in command.get_help(ctx).splitlines():
             text = line.strip()

@@ -82,12 +82,14 @@ def install_signal_handlers() -> dict:
 
 def _unraisable(hook):
     """An interruption raised inside a finaliser (`__del__`, a weakref callback) is swallowed by
-    Python with an "Exception ignored ... Traceback" block: instead, say nothing and raise the
-    signal again, so that it stops the run at the next ordinary line. Other cases go to `hook`."""
+    Python with an "Exception ignored ... Traceback" block: instead, say nothing and send the signal
+    again a moment later, from another thread, so that it stops the run at the next ordinary line of
+    the main thread (sent from here, its handler would raise inside this hook). Other cases go to
+    `hook`."""
     def unraisable(info):
-        if isinstance(info.exc_value, Interrupted) and threading.current_thread() is threading.main_thread():
-            signal.raise_signal(info.exc_value.signum)
-        elif not isinstance(info.exc_value, (Interrupted, KeyboardInterrupt)):
+        if isinstance(info.exc_value, Interrupted):
+            threading.Timer(0.01, os.kill, (os.getpid(), info.exc_value.signum)).start()
+        elif not isinstance(info.exc_value, KeyboardInterrupt):
             hook(info)
     return unraisable
 
