@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from fivebar_cli.io.qtfile import QtFile
+from fivebar_cli.mechanisms.base import plural
 from fivebar_cli.paving.tree import Tree
 
 MEANING = ("colour", "mechanism", "space", "region")  # header keys that say what a black cell claims
@@ -41,17 +42,17 @@ class TreeDiff:
     def report(self, name_a: str, name_b: str, sets_only: bool = False) -> list[str]:
         """The lines `fivebar diff` prints."""
         if self.equal:
-            lines = [f"same set: {len(self.a)} cells, area {self.a.area:.10g}"]
+            lines = [f"same set: {plural(len(self.a), 'cell')}, area {self.a.area:.10g}"]
             if self.meaning and not sets_only:
                 keys = ", ".join(k for k, _, _ in self.meaning)
                 lines.append(f"but the trees do not claim the same thing: their {keys} differ "
                              "(--sets-only compares the cells alone)")
         else:
             lines = [
-                f"{name_a}: {len(self.a)} cells, area {self.a.area:.10g}",
-                f"{name_b}: {len(self.b)} cells, area {self.b.area:.10g}",
-                f"only in A: {len(self.only_a)} cells, area {self.only_a.area:.10g}",
-                f"only in B: {len(self.only_b)} cells, area {self.only_b.area:.10g}",
+                f"{name_a}: {plural(len(self.a), 'cell')}, area {self.a.area:.10g}",
+                f"{name_b}: {plural(len(self.b), 'cell')}, area {self.b.area:.10g}",
+                f"only in A: {plural(len(self.only_a), 'cell')}, area {self.only_a.area:.10g}",
+                f"only in B: {plural(len(self.only_b), 'cell')}, area {self.only_b.area:.10g}",
             ]
             for label, t in (("A", self.only_a), ("B", self.only_b)):
                 if len(t):

@@ -13,6 +13,7 @@ import click
 
 from fivebar_cli.io.files import check_writable_dir, save_figure
 from fivebar_cli.io.layout import output_dir
+from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
 
 MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need several GiB
 MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
@@ -95,11 +96,6 @@ def report(quiet: bool, message: str) -> None:
     if not quiet:
         ctx = click.get_current_context(silent=True)
         click.echo(message, err=bool(ctx and ctx.find_root().meta.get(STDOUT_META)))
-
-
-def plural(n: int, word: str, words: str | None = None) -> str:
-    """'1 aspect', '2 aspects' (`words`: an irregular plural)."""
-    return f"{n} {word if n == 1 else (words or word + 's')}"
 
 
 def wrote(quiet: bool, paths) -> None:

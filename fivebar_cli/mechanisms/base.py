@@ -81,6 +81,11 @@ def article(kind: str) -> str:
     return f"{'an' if kind[:1].lower() in 'aeiour' else 'a'} {kind}"
 
 
+def plural(n: int, word: str, words: str | None = None) -> str:
+    """'1 aspect', '2 aspects' (`words`: an irregular plural): counts in messages."""
+    return f"{n} {word if n == 1 else (words or word + 's')}"
+
+
 _PARSING: ContextVar[bool] = ContextVar("fivebar_parsing_a_mechanism", default=False)
 
 
