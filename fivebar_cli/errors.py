@@ -30,11 +30,13 @@ class OutputError(FivebarError, OSError):
     """An output could not be written, exit status 1."""
 
 
-class Interrupted(FivebarError):
-    """Ctrl-C, SIGTERM or SIGHUP, raised by the CLI's signal handlers (cli/main.py) so that click does
-    not turn it into its own Abort, and so that the atomic writer removes its temporary file on the
-    way out. Code that wraps errors lets it through unchanged. Exit status 128 + the signal's
-    number (130 for Ctrl-C), as a shell reports a process killed by it."""
+class Interrupted(BaseException):
+    """Ctrl-C, SIGTERM or SIGHUP, raised by the CLI's signal handlers (cli/main.py); the atomic
+    writer removes its temporary file on the way out. A BaseException, like KeyboardInterrupt, so
+    that no library's `except Exception` swallows it (matplotlib reading a style file printed "Bad
+    value in file ..." and went on), and not a KeyboardInterrupt, which click turns into its own
+    Abort. Exit status 128 + the signal's number (130 for Ctrl-C), as a shell reports a process
+    killed by it."""
 
     def __init__(self, message: str, signum: int = signal.SIGINT):
         super().__init__(message)

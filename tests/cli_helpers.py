@@ -108,6 +108,13 @@ def command(args, memory_limit: bool = False) -> list[str]:
     return [sys.executable, "-c", code, *args]
 
 
+def default_ctrl_c() -> None:
+    """`preexec_fn` of a child that must be stoppable by Ctrl-C: a process started with SIGINT ignored
+    (pytest run in the background by a shell, nohup) passes that on, and Python then leaves Ctrl-C
+    ignored, as the CLI rightly does too."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def run_process(*args, cwd: Path | str | None = None, memory_limit: bool = False, timeout: float = 180) -> CliResult:
     """`python -m fivebar_cli ARGS` in a subprocess: its status, stdout and stderr."""
     r = subprocess.run(command(args, memory_limit), cwd=cwd, env=ENV, capture_output=True, text=True,

@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 import pytest
-from cli_helpers import ENV, CliResult, check_whole, command, ok, one_line, run_cli, run_process
+from cli_helpers import ENV, CliResult, check_whole, command, default_ctrl_c, ok, one_line, run_cli, run_process
 
 DASK = Path(sys.executable).with_name("dask")
 
@@ -95,7 +95,7 @@ def _run_until_parts(args, cwd: Path, parts: Path, sig: int, group: bool) -> tup
     """Start `fivebar ARGS` in its own session; send `sig` (to its whole process group when `group`,
     as Ctrl-C in a terminal does) once it has written a part. Returns its result and process group."""
     proc = subprocess.Popen(command(args), cwd=cwd, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, start_new_session=True)
+                            text=True, start_new_session=True, preexec_fn=default_ctrl_c)
     before = set(parts.glob("part-*.csv")) if parts.exists() else set()
     try:
         deadline = time.monotonic() + 120
@@ -168,7 +168,7 @@ def test_ctrl_c_during_the_start_up_of_a_local_cluster(spec_file, tmp_path):
         folder = tmp_path / f"out{delay}"
         proc = subprocess.Popen(command(["atlas", spec_file, "--workers", "2", "-o", folder, "--no-plot"]), cwd=tmp_path,
                                 env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                start_new_session=True)
+                                start_new_session=True, preexec_fn=default_ctrl_c)
         try:
             time.sleep(delay)
             assert proc.poll() is None, proc.communicate()

@@ -333,3 +333,22 @@ def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
     line = one_line(r, 143, "terminated")
     assert line.startswith("fivebar: ")
     check_whole(folder, before, allow_tmp=False)
+
+
+def test_an_interruption_passes_through_a_librarys_except_exception(tmp_path, monkeypatch):
+    """Ctrl-C while matplotlib reads a style file once printed "Bad value in file ..." and the run went
+    on (exit 0): matplotlib catches `Exception` around each value. Interrupted must pass through."""
+    import matplotlib
+    import matplotlib.rcsetup
+
+    from fivebar_cli.errors import Interrupted
+
+    def interrupted(value):
+        raise Interrupted("interrupted (no output was left half-written)", signal.SIGINT)
+
+    style = tmp_path / "one.mplstyle"
+    style.write_text("lines.linewidth: 2\n")
+    monkeypatch.setitem(matplotlib.rcsetup._validators, "lines.linewidth", interrupted)
+    with pytest.raises(Interrupted) as caught:
+        matplotlib.rc_params_from_file(style, use_default_template=False)
+    assert caught.value.exit_status == 130

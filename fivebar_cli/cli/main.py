@@ -150,7 +150,7 @@ def _run(argv) -> int:
         return exc.exit_code
     except click.exceptions.Abort:
         return _fail("aborted", 1, "fivebar: ")
-    except FivebarError as exc:  # Interrupted too: 130 for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP
+    except (FivebarError, Interrupted) as exc:  # Interrupted: 130 for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP
         return _fail(exc, exc.exit_status)
     except KeyboardInterrupt:
         return _fail("interrupted (no output was left half-written)", 130)
