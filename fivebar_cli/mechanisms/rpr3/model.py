@@ -29,6 +29,7 @@ from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields, description_numbers
 from fivebar_cli.mechanisms.rpr3 import boxtests, closed_form
 from fivebar_cli.mechanisms.rpr3.boxtests import MINUS, PLUS, REACHABLE
+from fivebar_cli.numerics import platform as platform_geometry
 
 SIMILAR_KEYS = ("t1", "t2", "t3", "k", "rho_min", "rho_max", "phi1", "phi2")
 GENERAL_KEYS = ("B1", "B2", "B3", "P1", "P2", "P3", "rho_min", "rho_max", "phi1", "phi2")
@@ -241,38 +242,12 @@ def workspace_root(m: Rpr3) -> tuple[tuple[float, float], tuple[float, float]] |
 
     Leg i reaches X only within rho_max_i of C_i(phi) = B_i - R(phi) P_i, and C_i runs along an
     arc of radius |P_i| about B_i: the box is the intersection over the legs of each arc's
-    bounding box widened by rho_max_i, padded for rounding and rounded outward to a dyadic step
-    (so that libm differences in the last bit do not move it). None when unbounded or empty.
+    bounding box widened by rho_max_i (`numerics.platform.root_box`). None when unbounded or empty.
     """
     _, rho_max = m.leg_limits()
     if not all(math.isfinite(r) for r in rho_max):
         return None
-    a1, a2 = (to_radians(p, m.phi_range[0]) for p in m.phi_range)
-    boxes = []
-    for (bx, by), (px, py), rmax in zip(m.base, m.platform, rho_max):
-        r = math.hypot(px, py)
-        start = math.atan2(py, px) + math.pi
-        xs, ys = _arc_extent(start + a1, start + a2)
-        boxes.append((bx + r * xs[0] - rmax, bx + r * xs[1] + rmax, by + r * ys[0] - rmax, by + r * ys[1] + rmax))
-    xlo, xhi = max(b[0] for b in boxes), min(b[1] for b in boxes)
-    ylo, yhi = max(b[2] for b in boxes), min(b[3] for b in boxes)
-    if not (xlo < xhi and ylo < yhi):
-        return None
-    scale = max(abs(v) for b in boxes for v in b) + max(rho_max)
-    pad = 1e-9 * scale
-    step = 2.0 ** (math.floor(math.log2(max(xhi - xlo, yhi - ylo))) - 10)
-    return tuple((math.floor((lo - pad) / step) * step, math.ceil((hi + pad) / step) * step)
-                 for lo, hi in ((xlo, xhi), (ylo, yhi)))
-
-
-def _arc_extent(t1: float, t2: float) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Ranges of cos t and sin t over [t1, t2] (radians), from the ends and the extrema inside."""
-    c = [math.cos(t1), math.cos(t2)]
-    s = [math.sin(t1), math.sin(t2)]
-    for k in range(math.ceil(t1 / (0.5 * math.pi)), math.floor(t2 / (0.5 * math.pi)) + 1):
-        c.append(math.cos(k * 0.5 * math.pi))
-        s.append(math.sin(k * 0.5 * math.pi))
-    return (min(c), max(c)), (min(s), max(s))
+    return platform_geometry.root_box(m.base, m.platform, rho_max, m.phi_range)
 
 
 # ---------------------------------------------------------------- exact volumes (similar form)
