@@ -34,7 +34,6 @@ from fivebar_cli.numerics import platform as platform_geometry
 SIMILAR_KEYS = ("t1", "t2", "t3", "k", "rho_min", "rho_max", "phi1", "phi2")
 GENERAL_KEYS = ("B1", "B2", "B3", "P1", "P2", "P3", "rho_min", "rho_max", "phi1", "phi2")
 REGION_FILES = {REACHABLE: "workspace", PLUS: "singularity-free.plus", MINUS: "singularity-free.minus"}
-PHI_LIMIT = 1e6  # degrees: beyond, a float angle has no resolution left for the box tests
 FLAT_BASE = 1e7  # circumradius / longest side above which the closed forms refuse the base
 
 Point = tuple[float, float]
@@ -318,8 +317,8 @@ def _parse(cls, data: Mapping, source: str) -> Rpr3:
     base_map = schema.mapping(data, "base", source)
     if any(k in base_map for k in ("B1", "B2", "B3")):
         schema.check_keys(base_map, {"B1", "B2", "B3"}, {"B1", "B2", "B3"}, source, "base.")
-        base = tuple(point(base_map[f"B{i}"], source, f"base.B{i}") for i in (1, 2, 3))
-        _distinct(base, source, "base", "B")
+        base = tuple(schema.point(base_map[f"B{i}"], source, f"base.B{i}") for i in (1, 2, 3))
+        schema.distinct_points(base, source, "base", "B")
         if "k" in data:
             raise schema.ConfigError(source, "k", "only with base: {t1, t2, t3} (the similar form); with base "
                                      "points give platform: {P1, P2, P3}")
@@ -343,7 +342,7 @@ def _parse(cls, data: Mapping, source: str) -> Rpr3:
             platform, similar = _general_platform(data, source, allow_t=True), None
 
     rho_min, rho_max = _legs(data, source, similar is not None, why)
-    phi_range, field = _orientations(data, source)
+    phi_range, field = schema.orientations(data, source)
     lo, hi = phi_range
     if similar is not None and reaches_singular_orientation(lo, hi):
         what = f"{list(phi_range)} contains" if lo != hi else f"{lo!r} is"
@@ -358,22 +357,6 @@ def _parse(cls, data: Mapping, source: str) -> Rpr3:
     return m
 
 
-def point(value, source: str, field: str) -> Point:
-    """A point [x, y] of two numbers."""
-    if not isinstance(value, list) or len(value) != 2:
-        raise schema.ConfigError(source, field, f"expected a point [x, y], got {schema.kind_of(value)} "
-                                 f"{schema.short(value)}")
-    return (schema.number(value[0], source, f"{field}[0]"), schema.number(value[1], source, f"{field}[1]"))
-
-
-def _distinct(points, source: str, field: str, letter: str) -> None:
-    scale = max(abs(v) for p in points for v in p) or 1.0
-    for i in range(3):
-        for j in range(i + 1, 3):
-            if math.dist(points[i], points[j]) <= 1e-12 * scale:
-                raise schema.ConfigError(source, field, f"{letter}{i + 1} and {letter}{j + 1} coincide")
-
-
 def _general_platform(data: Mapping, source: str, allow_t: bool) -> tuple[Point, Point, Point]:
     """Platform points in the platform frame: {P1, P2, P3} as given, or (with a t-form base)
     {t4, t5, t6} (not similar to the base) with the frame at the platform centroid."""
@@ -386,8 +369,8 @@ def _general_platform(data: Mapping, source: str, allow_t: bool) -> tuple[Point,
         pts = tuple((x - g[0], y - g[1]) for x, y in pts)
     else:
         schema.check_keys(platform, {"P1", "P2", "P3"}, {"P1", "P2", "P3"}, source, "platform.")
-        pts = tuple(point(platform[f"P{i}"], source, f"platform.P{i}") for i in (1, 2, 3))
-    _distinct(pts, source, "platform", "P")
+        pts = tuple(schema.point(platform[f"P{i}"], source, f"platform.P{i}") for i in (1, 2, 3))
+    schema.distinct_points(pts, source, "platform", "P")
     return pts
 
 
@@ -453,25 +436,6 @@ def _leg_values(value, source: str, field: str, **checks) -> Legs:
         return tuple(schema.number(v, source, f"{field}[{i}]", **checks) for i, v in enumerate(value))
     v = schema.number(value, source, field, **checks)
     return (v, v, v)
-
-
-def _orientations(data: Mapping, source: str) -> tuple[tuple[float, float], str]:
-    if ("phi" in data) == ("phi_range" in data):
-        raise schema.ConfigError(source, "phi", "give exactly one of 'phi' (degrees) or 'phi_range: [phi1, phi2]'")
-    if "phi" in data:
-        phi = schema.number(data["phi"], source, "phi")
-        phi_range, field = (phi, phi), "phi"
-    else:
-        raw = data["phi_range"]
-        if not isinstance(raw, list) or len(raw) != 2:
-            raise schema.ConfigError(source, "phi_range", f"expected a list [phi1, phi2], got {raw!r}")
-        phi_range = (schema.number(raw[0], source, "phi_range[0]"), schema.number(raw[1], source, "phi_range[1]"))
-        field = "phi_range"
-        if phi_range[0] > phi_range[1]:
-            raise schema.ConfigError(source, field, f"phi1 must not exceed phi2, got {list(phi_range)}")
-    if max(abs(p) for p in phi_range) > PHI_LIMIT:
-        raise schema.ConfigError(source, field, f"orientations must be within +-{PHI_LIMIT:g} degrees")
-    return phi_range, field
 
 
 # ---------------------------------------------------------------- description words
