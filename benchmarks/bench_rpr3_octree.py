@@ -52,7 +52,7 @@ def best_of(fn, repeat: int):
 
 def job_verify() -> dict:
     from fivebar_cli.mechanisms.registry import load_config
-    from fivebar_cli.mechanisms.rpr3.verify import verify
+    from fivebar_cli.analyses.pose_verify import verify
 
     m = load_config(PAPER_DESIGN)
     seconds, peak, r = best_of(lambda: verify(m, 14), REPEAT)

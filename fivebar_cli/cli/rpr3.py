@@ -424,7 +424,7 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
       fivebar rpr3 verify configs/rpr3-verify/obtuse-phi1-rule.yaml --depth 14
     """
-    from fivebar_cli.mechanisms.rpr3.verify import SINGULAR, UNDECIDED, verify
+    from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify
 
     mech = load_octree(config)
     folder = prepare_out(out, mech.name)
@@ -438,15 +438,17 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     paths = []
     if result.status == SINGULAR:
         pose = result.pose
-        report(quiet, f"  singular pose: x = {pose.x:.12g}, y = {pose.y:.12g}, phi = {pose.phi:.12g} deg, legs "
-                      f"{', '.join(f'{v:.12g}' for v in pose.legs)}, det J = {pose.det_j:.3g}")
+        x, y, phi = (*pose.pose, mech.phi_range[0])[:3]  # one orientation: the pose is (x, y)
+        report(quiet, f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
+                      f"{', '.join(f'{v:.12g}' for v in pose.joints)}, det J = {pose.value:.3g}")
         paths.append(write_csv(counterexample, ["x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j"],
-                               [(pose.x, pose.y, pose.phi, *pose.legs, pose.det_j)]))
+                               [(x, y, phi, *pose.joints, pose.value)]))
         if not no_plot:
             from fivebar_cli.plotting.rpr3 import figure_pose
 
-            title = f"{mech.name}: a reachable singular pose (det J = {pose.det_j:.2g})"
-            paths.append(figure(lambda: figure_pose(mech, pose, title), folder / "counterexample.png"))
+            title = f"{mech.name}: a reachable singular pose (det J = {pose.value:.2g})"
+            paths.append(figure(lambda: figure_pose(mech, (x, y, phi), pose.joints, title),
+                                folder / "counterexample.png"))
     else:
         for stale in (counterexample, folder / "counterexample.png"):
             if stale.is_file():
