@@ -68,16 +68,17 @@ def _draw_base(ax, sketch: dict) -> None:
     ax.fill(base[:, 0], base[:, 1], facecolor="0.85", edgecolor="k", lw=1.2)
 
 
-def figure_assembly_modes(model, poses: np.ndarray, labels: list[str], title: str):
-    """The mechanism in each of its assembly modes, one panel each."""
+def figure_assembly_modes(model, poses: np.ndarray, labels: list[str], title: str, classes=0):
+    """The mechanism in each of its assembly modes (in its class: one, or one per pose), one panel each."""
     plt = pyplot()
     n = max(len(poses), 1)
     columns = min(n, 3)
     rows = (n + columns - 1) // columns
     fig, panels = plt.subplots(rows, columns, figsize=(3.4 * columns, 3.4 * rows + 0.5), dpi=110, squeeze=False)
-    sketch = model.sketch(np.asarray(poses, float).reshape(len(poses), -1)) if len(poses) else None
+    sketch = model.sketch(np.asarray(poses, float).reshape(len(poses), -1), classes) if len(poses) else None
     if sketch is not None:
-        points = np.concatenate([sketch["base"].reshape(-1, 2), sketch["platform"].reshape(-1, 2)])
+        points = np.concatenate([sketch["base"].reshape(-1, 2), sketch["platform"].reshape(-1, 2),
+                                 sketch["links"].reshape(-1, 2)])
         lo, hi = points.min(0), points.max(0)
         pad = 0.08 * float(np.max(hi - lo))
     for k, ax in enumerate(panels.ravel()):
@@ -121,7 +122,7 @@ def figure_motion(model, space, unwrapped: np.ndarray, cls: int, title: str, sta
     samples = dense(unwrapped)
     scales = axis_scales(space.axes)
     s = path_parameter(samples, scales)
-    sketch = model.sketch(samples)
+    sketch = model.sketch(samples, cls)
     _draw_base(left, sketch)
     import matplotlib
 
