@@ -22,7 +22,7 @@ from fivebar_cli.analyses.pose_aspects import (
     DEFAULT_BUDGET, analyse_pose_aspects, aspect_at, sheet_classes, sheet_of,
 )
 from fivebar_cli.analyses.pose_paths import check_pose, find_motion, wrap_pose
-from fivebar_cli.cli.options import NUMBER, common_options, figure, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import MAX_ASPECT_DEPTH, NUMBER, common_options, figure, prepare_out, progress, report, wrote
 from fivebar_cli.io.files import csv_text, write_csv, write_text
 from fivebar_cli.io.layout import DKP_CSV, DKP_PNG, PATH_CSV, PATH_PNG, output_dir
 from fivebar_cli.io.schema import ConfigError
@@ -30,13 +30,15 @@ from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import load_config
 
 MAX_POSE_DEPTH = 9  # octree aspects: about 4x the time and memory per level (depth 8: 40 s, 0.7 GiB; 9: ~3 GiB)
+MAX_PLANE_DEPTH = MAX_ASPECT_DEPTH  # quadtree aspects (a single orientation): as the five-bar's
 DEFAULT_POSE_DEPTH = 7
 CONFIG = click.Path(path_type=Path, dir_okay=False)
 
 
-def load_pose_kind(config_path, poses: bool = False) -> Mechanism:
+def load_pose_kind(config_path, poses: bool = False, depth: int | None = None) -> Mechanism:
     """A mechanism with a pose-space aspect model; with `poses`, one whose space of poses has the
-    three axes (x, y, phi) that --pose and --legs need. One line naming the field otherwise."""
+    three axes (x, y, phi) that --pose and --legs need; with `depth`, one its trees can be paved to
+    (at most MAX_POSE_DEPTH for an octree). One line naming the field otherwise."""
     m = load_config(config_path)
     source = str(config_path)
     model = m.pose_aspect_model()
@@ -51,6 +53,10 @@ def load_pose_kind(config_path, poses: bool = False) -> Mechanism:
     if poses and space.dim != 3:
         raise ConfigError(source, "phi", f"a single orientation: the poses (x, y, phi) of locate, path and dkp "
                           f"need an orientation range (phi_range), the space here has {space.dim} axes")
+    if depth is not None and space.dim > 2 and depth > MAX_POSE_DEPTH:
+        raise click.BadParameter(f"{depth} is too deep for an octree of poses (at most {MAX_POSE_DEPTH}: about 4x the "
+                                 f"time and memory per level; up to {MAX_PLANE_DEPTH} for a single orientation)",
+                                 param_hint="'--depth' / '-d'")
     return m
 
 
@@ -62,8 +68,9 @@ def _budget_option(func):
 
 
 def _depth_option(func):
-    return click.option("--depth", "-d", type=click.IntRange(0, MAX_POSE_DEPTH), default=DEFAULT_POSE_DEPTH,
-                        show_default=True, help=f"Depth of the trees (cells are root/2^d wide; 0..{MAX_POSE_DEPTH}).")(func)
+    return click.option("--depth", "-d", type=click.IntRange(0, MAX_PLANE_DEPTH), default=DEFAULT_POSE_DEPTH,
+                        show_default=True, help=f"Depth of the trees (cells are root/2^d wide; 0..{MAX_POSE_DEPTH} for "
+                                                f"an octree, 0..{MAX_PLANE_DEPTH} for a single orientation).")(func)
 
 
 def _numbers(values) -> str:
@@ -148,7 +155,7 @@ def pose_aspects(config_path, depth, budget, out, no_plot, quiet):
       fivebar aspects configs/rpr3-caro.yaml --depth 6 -o out/caro
       fivebar aspects configs/rrr3-symmetric-phi0.yaml --depth 8 -o out/rrr3-phi0
     """
-    m = load_pose_kind(config_path)
+    m = load_pose_kind(config_path, depth=depth)
     model = m.pose_aspect_model()
     folder = prepare_out(out, m.name)
     with progress(quiet, len(model.classes) + 1, f"aspects depth {depth}") as advance:
@@ -171,7 +178,7 @@ def pose_aspects(config_path, depth, budget, out, no_plot, quiet):
                + ("" if a.certified else " (not certified)"))
     if not analysis.aspects:
         report(quiet, f"  no aspect has certified cells at depth {depth}: a deeper paving finds thin ones "
-                      f"(try --depth {min(depth + 1, MAX_POSE_DEPTH)})")
+                      f"(try --depth {depth + 1})")
     wrote(quiet, paths)
 
 
@@ -228,7 +235,7 @@ def dkp_header(m: Mechanism) -> tuple[str, ...]:
 
 def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_plot: bool, quiet: bool) -> None:
     """What `fivebar dkp` and `fivebar rpr3 dkp` do (`option`: how the joints were given)."""
-    m = load_pose_kind(config_path, poses=True)
+    m = load_pose_kind(config_path, poses=True, depth=depth)
     model = m.pose_aspect_model()
     result = solve_joints(m, joints, str(config_path), option)
     folder = prepare_out(out, m.name)
@@ -350,7 +357,7 @@ def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, o
     joint_sets = [("legs", tuple(r)) for r in legs] + [("joints", tuple(j)) for j in joints]
     if not poses and not joint_sets:
         raise click.UsageError("give at least one --pose X Y PHI or --joints J1 J2 J3 (--legs R1 R2 R3)")
-    m = load_pose_kind(config_path, poses=True)
+    m = load_pose_kind(config_path, poses=True, depth=depth)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]
     sheets = sheets_chosen(m, working_mode)
@@ -468,7 +475,7 @@ def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out,
         raise click.UsageError(f"give {option} with --modes I J, or two --pose X Y PHI")
     if legs is None and len(poses) != 2:
         raise click.UsageError("give exactly two endpoints: --pose X Y PHI twice (or --joints with --modes)")
-    m = load_pose_kind(config_path, poses=True)
+    m = load_pose_kind(config_path, poses=True, depth=depth)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]
     if legs is not None:

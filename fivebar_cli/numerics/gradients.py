@@ -108,16 +108,22 @@ def variables(lo: np.ndarray, hi: np.ndarray) -> list[Dual]:
     return [Dual(Interval(lo[:, k], hi[:, k]), tuple(one if j == k else None for j in range(d))) for k in range(d)]
 
 
-def mean_value(f, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Certified bounds of f over boxes (m, d): its natural enclosure intersected with the
-    mean-value form at the centre. `f` takes d coordinates (Duals or Intervals) and returns one."""
+def mean_value(f, lo: np.ndarray, hi: np.ndarray, *fixed):
+    """Certified bounds (lo, hi) of f over boxes (m, d): its natural enclosure intersected with the
+    mean-value form at the centre. `f` takes the d coordinates (Duals or Intervals), then `fixed`
+    (arguments passed as they are), and returns one value, or a tuple of values (then a list of
+    bounds). The caller makes sure f is differentiable on every box."""
     mid = 0.5 * (lo + hi)
-    over = f(*variables(lo, hi))
-    at = f(*(Interval.point(mid[:, k]) for k in range(lo.shape[1])))
-    total = at
-    for k, g in enumerate(over.g):
-        if g is not None:
-            total = total + g * (Interval(lo[:, k], hi[:, k]) - Interval.point(mid[:, k]))
-    with np.errstate(invalid="ignore"):
-        low, high = np.maximum(over.v.lo, total.lo), np.minimum(over.v.hi, total.hi)
-    return np.where(np.isnan(low), over.v.lo, low), np.where(np.isnan(high), over.v.hi, high)
+    over = f(*variables(lo, hi), *fixed)
+    at = f(*(Interval.point(mid[:, k]) for k in range(lo.shape[1])), *fixed)
+    single = isinstance(over, Dual)
+    out = []
+    for value, centre in zip((over,) if single else over, (at,) if single else at):
+        total = centre
+        for k, g in enumerate(value.g):
+            if g is not None:
+                total = total + g * (Interval(lo[:, k], hi[:, k]) - Interval.point(mid[:, k]))
+        with np.errstate(invalid="ignore"):
+            low, high = np.maximum(value.v.lo, total.lo), np.minimum(value.v.hi, total.hi)
+        out.append((np.where(np.isnan(low), value.v.lo, low), np.where(np.isnan(high), value.v.hi, high)))
+    return out[0] if single else out

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.mechanisms.base import Axis, SignClass
+from fivebar_cli.mechanisms.base import SignClass
 from fivebar_cli.mechanisms.rrr3 import boxtests
 from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R
-from fivebar_cli.mechanisms.rrr3.model import signs_of
+from fivebar_cli.mechanisms.rrr3.model import JOINT_AXES, signs_of
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 
@@ -34,7 +34,7 @@ class Rrr3PoseAspects:
         self.modes = m.working_modes
         self.sheets = tuple(SignClass((("working_mode", w),)) for w in self.modes)
         self.classes = tuple(SignClass((("working_mode", w), ("det_sign", s))) for w in self.modes for s in "+-")
-        self.joint_axes = m.spaces()["jointspace"].axes
+        self.joint_axes = JOINT_AXES
         self.length_scale = self.g.eta / boxtests.ETA_REL
 
     def _signs(self, k: int) -> tuple[int, int, int]:

@@ -36,6 +36,8 @@ REACHABLE = "reachable"  # the workspace's own region: every pose of a black cel
 ASSEMBLABLE = "assemblable"  # the joint space's: every joint triple of a black cell assembles
 WORKING_MODES = tuple("".join(s) for s in itertools.product("+-", repeat=3))  # +++, ++-, ..., ---
 
+JOINT_AXES = tuple(Axis(f"theta{i}", -180.0, 180.0, "deg", periodic=True, label=rf"$\theta_{i}$") for i in (1, 2, 3))
+
 Point = tuple[float, float]
 Legs = tuple[float, float, float]
 
@@ -105,15 +107,16 @@ class Rrr3(Mechanism):
 
     def spaces(self) -> dict[str, Space]:
         """The workspace (x, y, phi[deg]; (x, y) for one orientation) on a root box holding every
-        reachable pose, and the joint space, the 3-torus of the actuated angles in degrees."""
+        reachable pose, and, over an orientation range, the joint space: the 3-torus of the
+        actuated angles in degrees (at one orientation the angles that assemble form a surface)."""
         (xlo, xhi), (ylo, yhi) = workspace_root(self)
         axes = (Axis("x", xlo, xhi), Axis("y", ylo, yhi))
         phi1, phi2 = self.phi_range
+        spaces = {}
         if phi1 < phi2:
             axes += (Axis("phi", phi1, phi2, "deg", periodic=self.full_turn, label=r"$\varphi$"),)
-        joints = tuple(Axis(f"theta{i}", -180.0, 180.0, "deg", periodic=True, label=rf"$\theta_{i}$")
-                       for i in (1, 2, 3))
-        return {"workspace": Space("workspace", REACHABLE, axes), "jointspace": Space("jointspace", ASSEMBLABLE, joints)}
+            spaces["jointspace"] = Space("jointspace", ASSEMBLABLE, JOINT_AXES)
+        return {"workspace": Space("workspace", REACHABLE, axes), **spaces}
 
     def regions(self, space: str) -> tuple[str, ...]:
         """The workspace: reachable, and per working mode and sign of det A the valid poses of that
