@@ -148,6 +148,38 @@ def description_numbers(fields: Mapping[str, str], keys, source: str) -> dict[st
     return out
 
 
+def pair_word(point) -> str:
+    """A point as a description word's value: 'x,y' (repr floats)."""
+    return f"{float(point[0])!r},{float(point[1])!r}"
+
+
+def values_word(values) -> str:
+    """Per-leg values as a description word's value: one number when all are equal, else 'a,b,c'."""
+    if len(set(values)) == 1:
+        return repr(float(values[0]))
+    return ",".join(repr(float(v)) for v in values)
+
+
+def word_values(word: str | None, counts: tuple[int, ...], key: str, source: str) -> list[float]:
+    """The comma-separated numbers of a description word's value (as many as one of `counts`)."""
+    if word is None:
+        raise ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
+    try:
+        values = [float(v) for v in word.split(",")]
+    except ValueError:
+        raise ConfigError(source, "mechanism", f"bad value {key}={word!r}") from None
+    if len(values) not in counts:
+        raise ConfigError(source, "mechanism", f"{key}= needs {' or '.join(map(str, counts))} comma-separated "
+                          f"numbers, got {word!r}")
+    return values
+
+
+def legs_word_value(word: str | None, key: str, source: str):
+    """A per-leg description value: one number (every leg) or a list of three, as the YAML has it."""
+    values = word_values(word, (1, 3), key, source)
+    return values[0] if len(values) == 1 else values
+
+
 class AspectModel(Protocol):
     """What the generalized-aspect analysis (`analyses/aspects.py`) needs from a 2-DOF mechanism.
 

@@ -26,7 +26,9 @@ from typing import Mapping
 import numpy as np
 
 from fivebar_cli.io import schema
-from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields, description_numbers
+from fivebar_cli.mechanisms.base import (
+    Axis, Mechanism, Space, describe_fields, description_numbers, legs_word_value, pair_word, values_word, word_values,
+)
 from fivebar_cli.mechanisms.rpr3 import boxtests, closed_form
 from fivebar_cli.mechanisms.rpr3.boxtests import MINUS, PLUS, REACHABLE
 from fivebar_cli.numerics import platform as platform_geometry
@@ -115,13 +117,13 @@ class Rpr3(Mechanism):
         v = description_numbers(fields, keys, source)
         data: dict = {"name": name, "type": cls.kind}
         if general:
-            data["base"] = {f"B{i}": _numbers(words[f"B{i}"], 2, f"B{i}", source) for i in (1, 2, 3)}
-            data["platform"] = {f"P{i}": _numbers(words[f"P{i}"], 2, f"P{i}", source) for i in (1, 2, 3)}
+            data["base"] = {f"B{i}": word_values(words[f"B{i}"], (2,), f"B{i}", source) for i in (1, 2, 3)}
+            data["platform"] = {f"P{i}": word_values(words[f"P{i}"], (2,), f"P{i}", source) for i in (1, 2, 3)}
         else:
             data["base"] = {k: v[k] for k in ("t1", "t2", "t3")}
             data["k"] = v["k"]
-        legs = {"rho_min": _legs_word(words["rho_min"], "rho_min", source)}
-        legs["rho_max"] = "auto" if words["rho_max"] == "auto" else _legs_word(words["rho_max"], "rho_max", source)
+        legs = {"rho_min": legs_word_value(words["rho_min"], "rho_min", source)}
+        legs["rho_max"] = "auto" if words["rho_max"] == "auto" else legs_word_value(words["rho_max"], "rho_max", source)
         data["legs"] = legs
         data.update({"phi": v["phi1"]} if v["phi1"] == v["phi2"] else {"phi_range": [v["phi1"], v["phi2"]]})
         return cls.parse(data, source)
@@ -131,10 +133,10 @@ class Rpr3(Mechanism):
             t1, t2, t3, k = self.similar
             text = describe_fields(self.kind, {"t1": t1, "t2": t2, "t3": t3, "k": k})
         else:
-            text = self.kind + "".join(f" B{i + 1}={_pair(p)}" for i, p in enumerate(self.base))
-            text += "".join(f" P{i + 1}={_pair(p)}" for i, p in enumerate(self.platform))
-        text += f" rho_min={_legs_text(self.rho_min)}"
-        text += " rho_max=auto" if self.rho_max is None else f" rho_max={_legs_text(self.rho_max)}"
+            text = self.kind + "".join(f" B{i + 1}={pair_word(p)}" for i, p in enumerate(self.base))
+            text += "".join(f" P{i + 1}={pair_word(p)}" for i, p in enumerate(self.platform))
+        text += f" rho_min={values_word(self.rho_min)}"
+        text += " rho_max=auto" if self.rho_max is None else f" rho_max={values_word(self.rho_max)}"
         return text + f" phi1={float(self.phi_range[0])!r} phi2={float(self.phi_range[1])!r}"
 
     def spaces(self) -> dict[str, Space]:
@@ -436,39 +438,3 @@ def _leg_values(value, source: str, field: str, **checks) -> Legs:
         return tuple(schema.number(v, source, f"{field}[{i}]", **checks) for i, v in enumerate(value))
     v = schema.number(value, source, field, **checks)
     return (v, v, v)
-
-
-# ---------------------------------------------------------------- description words
-
-
-def _pair(p: Point) -> str:
-    return f"{float(p[0])!r},{float(p[1])!r}"
-
-
-def _legs_text(values: Legs) -> str:
-    if len(set(values)) == 1:
-        return repr(float(values[0]))
-    return ",".join(repr(float(v)) for v in values)
-
-
-def _numbers(word: str | None, count: int, key: str, source: str) -> list[float]:
-    if word is None:
-        raise schema.ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
-    try:
-        values = [float(v) for v in word.split(",")]
-    except ValueError:
-        raise schema.ConfigError(source, "mechanism", f"bad value {key}={word!r}") from None
-    if len(values) != count:
-        raise schema.ConfigError(source, "mechanism", f"{key}= needs {count} comma-separated numbers, got {word!r}")
-    return values
-
-
-def _legs_word(word: str | None, key: str, source: str):
-    if word is None:
-        raise schema.ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
-    values = _numbers(word, len(word.split(",")), key, source)
-    if len(values) == 1:
-        return values[0]
-    if len(values) != 3:
-        raise schema.ConfigError(source, "mechanism", f"{key}= needs 1 or 3 numbers, got {word!r}")
-    return values

@@ -28,7 +28,9 @@ from typing import Mapping
 import numpy as np
 
 from fivebar_cli.io import schema
-from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, description_numbers
+from fivebar_cli.mechanisms.base import (
+    Axis, Mechanism, Space, description_numbers, legs_word_value, pair_word, values_word, word_values,
+)
 from fivebar_cli.mechanisms.rrr3 import boxtests
 from fivebar_cli.numerics import platform as platform_geometry
 
@@ -90,18 +92,18 @@ class Rrr3(Mechanism):
         mode = fields.pop("working_mode", None)
         v = description_numbers(fields, ("phi1", "phi2"), source)
         data: dict = {"name": name, "type": cls.kind,
-                      "base": {f"A{i}": _numbers(words[f"A{i}"], (2,), f"A{i}", source) for i in (1, 2, 3)},
-                      "platform": {f"C{i}": _numbers(words[f"C{i}"], (2,), f"C{i}", source) for i in (1, 2, 3)},
-                      "legs": {k: _legs_word(words[k], k, source) for k in ("proximal", "distal")}}
+                      "base": {f"A{i}": word_values(words[f"A{i}"], (2,), f"A{i}", source) for i in (1, 2, 3)},
+                      "platform": {f"C{i}": word_values(words[f"C{i}"], (2,), f"C{i}", source) for i in (1, 2, 3)},
+                      "legs": {k: legs_word_value(words[k], k, source) for k in ("proximal", "distal")}}
         data.update({"phi": v["phi1"]} if v["phi1"] == v["phi2"] else {"phi_range": [v["phi1"], v["phi2"]]})
         if mode is not None:
             data["working_mode"] = mode
         return cls.parse(data, source)
 
     def describe(self) -> str:
-        text = self.kind + "".join(f" A{i + 1}={_pair(p)}" for i, p in enumerate(self.base))
-        text += "".join(f" C{i + 1}={_pair(p)}" for i, p in enumerate(self.platform))
-        text += f" proximal={_legs_text(self.proximal)} distal={_legs_text(self.distal)}"
+        text = self.kind + "".join(f" A{i + 1}={pair_word(p)}" for i, p in enumerate(self.base))
+        text += "".join(f" C{i + 1}={pair_word(p)}" for i, p in enumerate(self.platform))
+        text += f" proximal={values_word(self.proximal)} distal={values_word(self.distal)}"
         text += f" phi1={float(self.phi_range[0])!r} phi2={float(self.phi_range[1])!r}"
         return text + (f" working_mode={self.working_mode}" if self.working_mode else "")
 
@@ -223,35 +225,3 @@ def _leg_values(value, source: str, field: str) -> Legs:
         return tuple(schema.number(v, source, f"{field}[{i}]", positive=True) for i, v in enumerate(value))
     v = schema.number(value, source, field, positive=True)
     return (v, v, v)
-
-
-# ---------------------------------------------------------------- description words
-
-
-def _pair(p: Point) -> str:
-    return f"{float(p[0])!r},{float(p[1])!r}"
-
-
-def _legs_text(values: Legs) -> str:
-    if len(set(values)) == 1:
-        return repr(float(values[0]))
-    return ",".join(repr(float(v)) for v in values)
-
-
-def _numbers(word: str | None, counts: tuple[int, ...], key: str, source: str) -> list[float]:
-    """The comma-separated numbers of a description word (as many as one of `counts`)."""
-    if word is None:
-        raise schema.ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
-    try:
-        values = [float(v) for v in word.split(",")]
-    except ValueError:
-        raise schema.ConfigError(source, "mechanism", f"bad value {key}={word!r}") from None
-    if len(values) not in counts:
-        raise schema.ConfigError(source, "mechanism", f"{key}= needs {' or '.join(map(str, counts))} "
-                                 f"comma-separated numbers, got {word!r}")
-    return values
-
-
-def _legs_word(word: str | None, key: str, source: str):
-    values = _numbers(word, (1, 3), key, source)
-    return values[0] if len(values) == 1 else values
