@@ -11,12 +11,66 @@ the arcs' bounding boxes widened by each leg's longest reach.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from fivebar_cli.numerics.ranges import angle_inside
 
 _HALF_PI = 0.5 * math.pi
+ETA_REL = 1e-9  # distances: margin relative to the scale of the mechanism
+ANGLE_TOL = 1e-9  # radians added to each end of an arc (covers the rounding of degrees -> radians)
+D2R = math.pi / 180.0
+
+
+@dataclass(frozen=True)
+class Platform:
+    """The numbers of a platform on three legs, as arrays: base points A (3, 2), platform points c
+    (3, 2) in the platform frame, |c_i| and the angle of c_i, the multiple of 360 degrees
+    subtracted from phi before taking radians, the fixed phi of a single-orientation space, and
+    the margin `eta` (ETA_REL x the scale: |A| + |c| + the longest reach)."""
+
+    base: np.ndarray
+    platform: np.ndarray
+    radius: np.ndarray
+    angle: np.ndarray
+    shift: float
+    phi: float
+    eta: float
+
+    @staticmethod
+    def fields(base, platform, phi_range, reach: float) -> dict:
+        """The field values of a platform whose legs reach at most `reach`."""
+        base, platform = np.array(base, float), np.array(platform, float)
+        radius = np.hypot(platform[:, 0], platform[:, 1])
+        scale = float(np.abs(base).max() + radius.max() + reach)
+        return dict(base=base, platform=platform, radius=radius, angle=np.arctan2(platform[:, 1], platform[:, 0]),
+                    shift=360.0 * math.floor(phi_range[0] / 360.0), phi=float(phi_range[0]), eta=ETA_REL * scale)
+
+    def poses(self, a: np.ndarray) -> np.ndarray:
+        """(m, 3) poses or box bounds from (m, 2) ones of a single-orientation space."""
+        a = np.asarray(a, float)
+        return a if a.shape[1] == 3 else np.column_stack([a, np.full(len(a), self.phi)])
+
+    def distance_ranges(self, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Exact (min, max) of each |C_i - A_i| over boxes of poses (m, 3), before margins."""
+        out = []
+        for i in range(3):
+            cx, cy = self.base[i]
+            r = self.radius[i]
+            start = self.angle[i] + math.pi  # A_i - C_i + (x, y) = -R(phi) c_i
+            t_lo = (lo[:, 2] - self.shift) * D2R + start - ANGLE_TOL
+            t_hi = (hi[:, 2] - self.shift) * D2R + start + ANGLE_TOL
+            out.append(rect_arc_distance(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1], cx, cy, r, t_lo, t_hi))
+        return out
+
+    def legs_and_arms(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """C_i - A_i and R(phi) c_i, each (m, 3, 2), at poses (m, 2 or 3), in floating point."""
+        poses = self.poses(poses)
+        phi = (poses[:, 2] - self.shift) * D2R
+        c, s = np.cos(phi), np.sin(phi)
+        q = np.stack([np.stack([c * px - s * py, s * px + c * py], -1) for px, py in self.platform], -2)
+        return poses[:, None, :2] + q - np.asarray(self.base, float)[None], q
 
 
 def _box_distance(px, py, xlo, xhi, ylo, yhi):

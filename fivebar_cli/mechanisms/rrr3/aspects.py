@@ -54,7 +54,7 @@ class Rrr3PoseAspects:
         return np.where(sign > 0, 2 * sheet, np.where(sign < 0, 2 * sheet + 1, -1)).astype(np.int64)
 
     def valid(self, poses: np.ndarray) -> np.ndarray:
-        d, _ = boxtests.legs_and_arms(self.g, np.atleast_2d(np.asarray(poses, float)))
+        d, _ = self.g.legs_and_arms(np.atleast_2d(np.asarray(poses, float)))
         rho = np.hypot(d[..., 0], d[..., 1])
         return np.all((rho > self.g.inner) & (rho < self.g.outer), axis=1)
 
@@ -75,7 +75,7 @@ class Rrr3PoseAspects:
         class's working mode (`classes`: one class, or one per pose)."""
         poses = self.g.poses(np.atleast_2d(np.asarray(poses, float)))
         classes = np.broadcast_to(np.asarray(classes), (len(poses),))
-        d, _ = boxtests.legs_and_arms(self.g, poses)
+        d, _ = self.g.legs_and_arms(poses)
         platform = self.g.base[None] + d
         elbows = np.empty_like(platform)
         for k in np.unique(classes):
@@ -101,7 +101,7 @@ class DistalSystem:
         self.arm = [(iv.cos(a) * float(self.g.l1[i]), iv.sin(a) * float(self.g.l1[i])) for i, a in enumerate(arm)]
 
     def _distal(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        d, q = boxtests.legs_and_arms(self.g, np.atleast_2d(poses))
+        d, q = self.g.legs_and_arms(np.atleast_2d(poses))
         return d + self.g.base[None] - self.elbows[None], q
 
     def values(self, poses: np.ndarray) -> np.ndarray:

@@ -32,47 +32,27 @@ import numpy as np
 from fivebar_cli.numerics import gradients as gr
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
-from fivebar_cli.numerics.platform import rect_arc_distance
+from fivebar_cli.numerics.platform import D2R, ETA_REL, Platform  # noqa: F401 (ETA_REL: the margin)
 
-ETA_REL = 1e-9  # distances: margin relative to the scale of the mechanism
-ANGLE_TOL = 1e-9  # radians added to each end of an arc (covers the rounding of degrees -> radians)
-D2R = math.pi / 180.0
 _D2R = Interval(D2R * (1.0 - 4e-16), D2R * (1.0 + 4e-16))  # encloses pi / 180
 
 
 @dataclass(frozen=True)
-class Geometry:
-    """The numbers the tests use: base A (3, 2), platform c (3, 2) in the platform frame, link
-    lengths l1, l2 (3,), the annuli radii |l1 - l2| and l1 + l2, |c_i| and the angle of c_i, the
-    multiple of 360 degrees subtracted from phi before taking radians, the fixed phi of a
-    single-orientation space, the margin `eta`, and outward-rounded constants for the intervals."""
+class Geometry(Platform):
+    """The numbers the tests use (`numerics.platform.Platform`: base A, platform c, |c_i| and its
+    angle, the shift of phi, the fixed phi, the margin), the link lengths l1, l2 (3,) and the
+    annuli radii |l1 - l2| and l1 + l2, and outward-rounded constants for the intervals."""
 
-    base: np.ndarray
-    platform: np.ndarray
     l1: np.ndarray
     l2: np.ndarray
     inner: np.ndarray
     outer: np.ndarray
-    radius: np.ndarray
-    angle: np.ndarray
-    shift: float
-    phi: float
-    eta: float
 
     @classmethod
     def of(cls, m) -> "Geometry":
-        base, platform = np.array(m.base, float), np.array(m.platform, float)
         l1, l2 = np.array(m.proximal, float), np.array(m.distal, float)
-        radius = np.hypot(platform[:, 0], platform[:, 1])
-        outer = l1 + l2
-        scale = float(np.abs(base).max() + radius.max() + outer.max())
-        return cls(base, platform, l1, l2, np.abs(l1 - l2), outer, radius, np.arctan2(platform[:, 1], platform[:, 0]),
-                   360.0 * math.floor(m.phi_range[0] / 360.0), float(m.phi_range[0]), ETA_REL * scale)
-
-    def poses(self, a: np.ndarray) -> np.ndarray:
-        """(m, 3) poses or box bounds from (m, 2) ones of a single-orientation space."""
-        a = np.asarray(a, float)
-        return a if a.shape[1] == 3 else np.column_stack([a, np.full(len(a), self.phi)])
+        return cls(**Platform.fields(m.base, m.platform, m.phi_range, float((l1 + l2).max())),
+                   l1=l1, l2=l2, inner=np.abs(l1 - l2), outer=l1 + l2)
 
     def constants(self, i: int) -> tuple[Interval, Interval, Interval, Interval, Interval]:
         """Leg i's |c_i| and angle of c_i, l2^2 - l1^2, (l1 - l2)^2 and (l1 + l2)^2, as intervals."""
@@ -86,23 +66,12 @@ class Geometry:
 # ---------------------------------------------------------------- validity
 
 
-def distance_ranges(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Exact (min, max) of each |C_i - A_i| over boxes (m, 3), before margins."""
-    out = []
-    for i in range(3):
-        start = g.angle[i] + math.pi  # A_i - C_i + (x, y) = -q_i
-        t_lo = (lo[:, 2] - g.shift) * D2R + start - ANGLE_TOL
-        t_hi = (hi[:, 2] - g.shift) * D2R + start + ANGLE_TOL
-        out.append(rect_arc_distance(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1], *g.base[i], g.radius[i], t_lo, t_hi))
-    return out
-
-
 def valid_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """1: every pose of each box has every leg strictly inside its annulus; -1: no pose has; 0: cannot tell."""
     lo, hi = g.poses(lo), g.poses(hi)
     inside = np.ones(len(lo), dtype=bool)
     outside = np.zeros(len(lo), dtype=bool)
-    for (near, far), a, b in zip(distance_ranges(g, lo, hi), g.inner, g.outer):
+    for (near, far), a, b in zip(g.distance_ranges(lo, hi), g.inner, g.outer):
         near, far = near - g.eta, far + g.eta
         inside &= (near > a) & (far < b)
         outside |= (far < a) | (near > b)
@@ -189,18 +158,9 @@ def class_status(g: Geometry, signs, want: int, lo: np.ndarray, hi: np.ndarray) 
 # ---------------------------------------------------------------- floating point (reports, IKP, figures)
 
 
-def legs_and_arms(g: Geometry, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """d_i = C_i - A_i and q_i = R(phi) c_i, each (m, 3, 2), at poses (m, 2 or 3)."""
-    poses = g.poses(poses)
-    phi = (poses[:, 2] - g.shift) * D2R
-    c, s = np.cos(phi), np.sin(phi)
-    q = np.stack([np.stack([c * px - s * py, s * px + c * py], -1) for px, py in g.platform], -2)
-    return poses[:, None, :2] + q - g.base[None], q
-
-
 def elbows(g: Geometry, poses: np.ndarray, signs) -> np.ndarray:
     """B_i (m, 3, 2) of poses in working mode `signs` (NaN where a leg cannot reach)."""
-    d, q = legs_and_arms(g, poses)
+    d, q = g.legs_and_arms(poses)
     rho2 = np.sum(d * d, axis=-1)
     p = rho2 - g.l1 ** 2 + g.l2 ** 2
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -219,7 +179,7 @@ def joint_angles(g: Geometry, poses: np.ndarray, signs) -> np.ndarray:
 
 def det_a(g: Geometry, poses: np.ndarray, signs) -> np.ndarray:
     """det A (unscaled rows (e_i, q_i x e_i)) at poses in working mode `signs`, in floating point."""
-    d, q = legs_and_arms(g, poses)
+    d, q = g.legs_and_arms(poses)
     e = d - (elbows(g, poses, signs) - g.base[None])
     moment = q[..., 0] * e[..., 1] - q[..., 1] * e[..., 0]
     return np.linalg.det(np.concatenate([e, moment[..., None]], -1))
