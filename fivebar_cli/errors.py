@@ -1,6 +1,12 @@
-"""Error types the CLI turns into one line on stderr and an exit status (no traceback)."""
+"""Error types the CLI turns into one line on stderr and an exit status (no traceback); and the
+interruption by a signal, with the moments when it must wait (`deferred_interrupts`)."""
 
 from __future__ import annotations
+
+import signal
+import threading
+from contextlib import contextmanager
+from typing import Iterator
 
 
 class FivebarError(Exception):
@@ -25,6 +31,44 @@ class OutputError(FivebarError, OSError):
 
 
 class Interrupted(FivebarError):
-    """Ctrl-C or SIGTERM, raised by the CLI's signal handlers (cli/main.py) so that click does not turn
-    it into its own Abort, and so that the atomic writer removes its temporary file on the way out.
-    Code that wraps errors lets it through unchanged."""
+    """Ctrl-C, SIGTERM or SIGHUP, raised by the CLI's signal handlers (cli/main.py) so that click does
+    not turn it into its own Abort, and so that the atomic writer removes its temporary file on the
+    way out. Code that wraps errors lets it through unchanged. Exit status 128 + the signal's
+    number (130 for Ctrl-C), as a shell reports a process killed by it."""
+
+    def __init__(self, message: str, signum: int = signal.SIGINT):
+        super().__init__(message)
+        self.signum = signum
+        self.exit_status = 128 + int(signum)
+
+
+@contextmanager
+def deferred_interrupts() -> Iterator[None]:
+    """Hold Ctrl-C, SIGTERM and SIGHUP during a block that must not stop half-way (closing a
+    cluster, saving a manifest): a signal that arrives meanwhile raises its Interrupted when the
+    block is done. Outside the main thread (where Python runs no handler) it does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+    previous = {}
+    for sig in INTERRUPTS:
+        handler = signal.getsignal(sig)
+        if callable(handler):  # ours (or Python's Ctrl-C handler): hold it; an ignored signal stays ignored
+            previous[sig] = handler
+            signal.signal(sig, lambda signum, frame: held.append(signum))
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+    if held and held[0] in previous:
+        previous[held[0]](held[0], None)  # the handler raises (Interrupted, or KeyboardInterrupt)
+
+
+INTERRUPTS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+
+
+class FivebarWarning(UserWarning):
+    """Something the user should know that does not stop the run (a file not read, a part
+    recomputed): the CLI prints it as one line, `fivebar: warning: <message>`."""

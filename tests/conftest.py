@@ -28,6 +28,19 @@ from fivebar_cli.mechanisms.fivebar.model import FiveBar  # noqa: E402
 from fivebar_cli.mechanisms.registry import load_config  # noqa: E402
 
 
+def unchecked_fivebar(name: str, *lengths: float, bounds=None) -> FiveBar:
+    """A five-bar built without the model's validation (Mechanism.check_model), for the tests that
+    need designs a file would refuse on purpose (a loop that never closes, or closes only flat);
+    with `bounds` ((lo, hi) per length) the lengths are their midpoints, as FiveBar.with_bounds."""
+    if bounds is not None:
+        lengths = tuple(lo if lo == hi else 0.5 * (lo + hi) for lo, hi in bounds)
+    m = object.__new__(FiveBar)
+    for key, value in zip(("name", "L0", "L1", "L2", "L3", "L4"), (name, *lengths)):
+        object.__setattr__(m, key, value)
+    object.__setattr__(m, "bounds", tuple(bounds) if bounds is not None else tuple((v, v) for v in lengths))
+    return m
+
+
 def load_fivebar(path) -> FiveBar:
     return load_config(path, kind="fivebar")
 

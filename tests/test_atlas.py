@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import shutil
 import subprocess
 import sys
@@ -13,13 +14,13 @@ import sys
 import numpy as np
 import pytest
 from cli_helpers import ENV, PNG_MAGIC, REPO, ok, one_line, run_cli
+from conftest import unchecked_fivebar
 
 from fivebar_cli.analyses.atlas.engine import batch_text, plan_atlas, run_plan
 from fivebar_cli.analyses.atlas.metrics import METRICS, assemblable, columns
 from fivebar_cli.analyses.atlas.parts import batch_span
 from fivebar_cli.analyses.atlas.spec import AtlasSpec, default_batch, parse_spec, read_spec
 from fivebar_cli.analyses.spaces import pave_space
-from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
 HEADER = "L0,L1,L2,L3,L4,assemblable,aspects,certified,workspace_area,largest_aspect_area,circle_r"
 ROBUST = ",robust_aspects,robust_certified,robust_workspace_area,robust_largest_aspect_area,robust_circle_r"  # with a tolerance
@@ -97,7 +98,7 @@ def test_assemblable_agrees_with_the_certified_joint_space_and_the_exact_workspa
             continue
         expected = assemblable(*L)
         seen[expected] += 1
-        m = FiveBar("r", *L)
+        m = unchecked_fivebar("r", *L)  # designs that cannot be assembled too (a file would refuse them)
         paving = pave_space(m, "jointspace", 7)
         assert (paving.outside.area < 4 * np.pi**2 - 1e-12) == expected, L
         assert (m.exact_measure("workspace") > 0) == expected, L
@@ -191,6 +192,27 @@ def test_rerun_computes_only_missing_or_damaged_parts(atlas_run, spec_file, tmp_
     res = ok(run_cli("atlas", spec_file, "--workers", "0", "-o", folder, "--no-plot", cwd=tmp_path))
     assert "12 done before, 0 to compute" in res.stdout and "computed" not in res.stdout
     assert (folder / "atlas.csv").read_bytes() == (out / "atlas.csv").read_bytes()
+
+
+def test_parts_edited_by_hand_fail_their_checksum_and_are_computed_again(atlas_run, spec_file, tmp_path):
+    """A part edited into another whole-looking part (a count 'banana', an area 'NaN', the row of
+    the right design) is never taken into atlas.csv: its checksum in the manifest fails, a warning
+    names it, and it is computed again."""
+    out, _ = atlas_run
+    folder = tmp_path / "o"
+    shutil.copytree(out / "atlas.parts", folder / "atlas.parts")
+    manifest = json.loads((folder / "atlas.parts" / "manifest.json").read_text())
+    assert sorted(manifest["parts"]) == [f"part-{i:08d}.csv" for i in range(12)]
+    for index, bad in ((0, lambda row: row[:6] + ["banana"] + row[7:]), (4, lambda row: row[:8] + ["NaN"] + row[9:])):
+        path = folder / "atlas.parts" / f"part-{index:08d}.csv"
+        header, row = path.read_text().splitlines()
+        path.write_text(header + "\n" + ",".join(bad(row.split(","))) + "\n")
+    res = ok(run_cli("atlas", spec_file, "--workers", "0", "-o", folder, "--no-plot", cwd=tmp_path))
+    assert "10 done before, 2 to compute" in res.stdout
+    warning = [line for line in res.stderr.splitlines() if line.startswith("fivebar: warning:")]
+    assert len(warning) == 1 and "part-00000000.csv, part-00000004.csv are not whole" in warning[0], res.stderr
+    assert (folder / "atlas.csv").read_bytes() == (out / "atlas.csv").read_bytes()
+    assert "banana" not in (folder / "atlas.csv").read_text() and "NaN" not in (folder / "atlas.csv").read_text()
 
 
 def test_parts_of_another_atlas_are_refused_then_discarded_with_restart(atlas_run, spec_file, tmp_path):

@@ -2,8 +2,9 @@
 
 The golden files were written by `make golden` (`fivebar reproduce -o tests/golden --no-plot`);
 no command writes there by default, so running the documented examples cannot change them. The
-test regenerates them in-process from another working directory, so it also checks that nothing
-depends on the working directory, the time or the run.
+test regenerates them in-process from another working directory (a copy of the repository), with
+the example of `fivebar reproduce --help` as pasted, so it also checks that nothing depends on the
+working directory, the time or the run.
 
 Trees must be byte-identical. CSV cells must be identical too, with one allowance: numbers may
 differ by a relative 1e-6 where the machine's libm differs (numpy's sin/cos take other SIMD paths
@@ -21,31 +22,28 @@ import math
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
+from examples import ELSEWHERE, Command, run, sandbox
 
 from fivebar_cli.analyses.compare import compare
-from fivebar_cli.cli import cli
 from fivebar_cli.io.qtfile import read_qt
 
 ROOT = Path(__file__).resolve().parents[1]
 GOLDEN = ROOT / "tests" / "golden"
 GOLDEN_FILES = sorted(p.relative_to(GOLDEN).as_posix() for p in GOLDEN.rglob("*") if p.suffix in (".qt", ".csv"))
 RTOL = 1e-6
+REPRODUCE = next(line for line, test in ELSEWHERE.items() if test == "tests/test_golden.py")
 
 
 @pytest.fixture(scope="module")
 def regenerated(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("reproduce")
-    elsewhere = tmp_path_factory.mktemp("another-working-directory")
-    runner = CliRunner()
-    with pytest.MonkeyPatch.context() as mp:
-        mp.chdir(elsewhere)
-        result = runner.invoke(cli, ["reproduce", "--configs", str(ROOT / "configs"), "-o", str(out), "--no-plot",
-                                     "--quiet"], catch_exceptions=False)
-    assert result.exit_code == 0, result.output
-    assert result.output == ""  # --quiet: errors only
-    assert not list(elsewhere.iterdir())  # nothing written to the working directory
-    return out
+    """The example of `fivebar reproduce --help`, run as pasted in a copy of the repository (another
+    working directory than the repository's)."""
+    copy = sandbox(tmp_path_factory.mktemp("reproduce"))
+    before = sorted(p.name for p in copy.iterdir())
+    result = run(Command("`fivebar reproduce --help`", REPRODUCE), copy)
+    assert result.status == 0 and result.stderr == "", result.stderr
+    assert sorted(p.name for p in copy.iterdir()) == sorted([*before, "out"])  # nothing written elsewhere
+    return copy / "out" / "check"
 
 
 def test_same_set_of_files(regenerated: Path):

@@ -1,5 +1,6 @@
-"""Interrupted runs (issue 5, item 3): SIGKILL and Ctrl-C leave every output either in its old
-version or complete, and Ctrl-C ends with status 1 and one line on stderr, never a traceback.
+"""Interrupted runs (issue 5, item 3; issue 20): SIGKILL and Ctrl-C leave every output either in its
+old version or complete, and Ctrl-C ends with status 130 (SIGTERM 143) and one line on stderr, never
+a traceback.
 
 A signal needs a process: these runs are `python -m fivebar_cli` subprocesses (cli_helpers.command),
 killed while they replace the outputs of an earlier run, at fixed moments or as soon as they have
@@ -13,10 +14,12 @@ run does not clean them up.
 from __future__ import annotations
 
 import os
+import random
 import shutil
 import signal
 import subprocess
 import time
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,7 +27,11 @@ from pathlib import Path
 import pytest
 from cli_helpers import ENV, TMP_NAME, check_whole, command, ok, one_line, run_cli, snapshot
 
+from fivebar_cli.analyses.aspect_files import load_aspects
+from fivebar_cli.analyses.view import gather
+from fivebar_cli.errors import InputError
 from fivebar_cli.io.qtfile import read_qt
+from fivebar_cli.mechanisms.registry import load_config
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIGS = REPO / "configs"
@@ -129,6 +136,33 @@ def test_sigkill_during_aspects_leaves_old_or_complete_files(killed_aspects, ind
         assert target.relative_to(folder).as_posix() in before or target.exists(), rel
 
 
+def read_as_one_run(folder: Path) -> set[int]:
+    """What the readers take from a folder an interrupted `aspects` run left: `view` shows aspect
+    trees of one depth only, as many as the aspects.csv it shows has rows; `load_aspects` gives,
+    at either depth, nothing or every tree at that depth. Returns the depths shown (empty or one)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            view = gather([folder])
+        except InputError as exc:  # refused as a whole, with one line: nothing of a complete run
+            assert "no .qt trees of a complete run" in str(exc)
+            view = None
+        section = next((s for s in view.sections if s["kind"] == "aspects"), None) if view else None
+        depths = set()
+        if section is not None:
+            layers = [layer["tree"] for panel in section["panels"] for layer in panel["layers"]]
+            depths = {view.trees[i].qt.tree.grid.depth for i in layers}
+            assert len(depths) == 1, f"{folder}: the view mixes aspect trees of depths {sorted(depths)}"
+            rows = {row["aspect"] for row in section["aspects"]}
+            assert rows == {view.trees[i].aspect for i in layers}, f"{folder}: aspects.csv and trees of two runs"
+            assert all(row["certified"] for row in section["aspects"]), f"{folder}: the trees without their table"
+        m = load_config(M1)
+        for depth in (OLD_DEPTH, NEW_DEPTH):
+            saved = load_aspects(folder, m, depth)
+            assert saved is None or {a.workspace.grid.depth for a in saved} == {depth}
+    return depths
+
+
 def test_sigkill_keeps_the_old_trees_until_replaced(killed_aspects):
     """Every aspect tree after a kill is the depth-6 one or the depth-10 one, never anything else; and the
     kills did hit writes in progress: their temporary files are still there (nothing removes them later)."""
@@ -138,6 +172,7 @@ def test_sigkill_keeps_the_old_trees_until_replaced(killed_aspects):
         for path in (folder / "aspects").glob("*.qt"):
             depths.add(read_qt(path).tree.grid.depth)
         leftovers += check_whole(folder, before, allow_tmp=True)
+        read_as_one_run(folder)  # a folder that mixes two runs is never read as one
     assert depths <= {OLD_DEPTH, NEW_DEPTH} and OLD_DEPTH in depths
     assert leftovers, "no kill happened while an output was being written"
 
@@ -193,20 +228,61 @@ def interrupted_by_ctrl_c(tmp_path_factory, old_aspects):
         signal.signal(signal.SIGINT, previous)
 
 
-def test_ctrl_c_exits_1_without_traceback_or_temporary_file(interrupted_by_ctrl_c):
+def test_ctrl_c_exits_130_without_traceback_or_temporary_file(interrupted_by_ctrl_c):
     before, results = interrupted_by_ctrl_c
     for folder, r in results:
         assert r.fired
-        assert r.status == 1, (r.status, r.stderr)
+        assert r.status == 130, (r.status, r.stderr)
         assert "Traceback" not in r.stderr and "Traceback" not in r.stdout
         last = r.stderr.strip().splitlines()[-1]
         assert last.startswith("fivebar: ") and ("interrupt" in last or "abort" in last), r.stderr
         check_whole(folder, before, allow_tmp=False)
 
 
+@pytest.fixture(scope="module")
+def ctrl_c_at_random_times(tmp_path_factory, old_aspects):
+    """`aspects --depth 10` (with figures) over copies of the depth-6 outputs, Ctrl-C at 3 random
+    moments of its run: one uniform in each third of the first 6 s (a run takes 3 to 6 s here),
+    so that the computation, the writing and the end are all hit (fixed seed)."""
+    root = tmp_path_factory.mktemp("ctrl-c-random")
+    rng = random.Random(20)
+    moments = [round(rng.uniform(2.0 * k, 2.0 * (k + 1)), 3) for k in range(3)]
+
+    def one(i_moment):
+        i, moment = i_moment
+        folder = root / f"run{i}"
+        shutil.copytree(old_aspects, folder)
+        return moment, folder, interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], root, folder,
+                                         ("time", moment), signal.SIGINT)
+
+    previous = signal.getsignal(signal.SIGINT)
+    if previous == signal.SIG_IGN:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with ThreadPoolExecutor(2) as pool:
+            return list(pool.map(one, enumerate(moments)))
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def test_ctrl_c_at_random_times_never_leaves_a_folder_read_as_one_run(ctrl_c_at_random_times):
+    """Whatever the moment: status 130 with one line, or 0 and nothing said when the run had done
+    its work (a signal during the interpreter's exit is ignored: the run completed); and the readers
+    (`view`, `load_aspects` for `locate` and `path`) take one run's aspects or none."""
+    shown = set()
+    for moment, folder, r in ctrl_c_at_random_times:
+        if r.status == 130:
+            one_line(r, 130, "interrupted")
+        else:
+            assert r.status == 0 and r.stderr == "", (moment, r.status, r.stderr)
+            assert read_as_one_run(folder) == {NEW_DEPTH}
+        shown |= {(moment, d) for d in read_as_one_run(folder)}
+    assert shown, "no interrupted folder showed any aspects: the moments missed every phase of the run"
+
+
 def test_ctrl_c_prints_exactly_one_line(interrupted_by_ctrl_c):
     for _, r in interrupted_by_ctrl_c[1]:
-        one_line(r, 1)
+        one_line(r, 130)
 
 
 def test_ctrl_c_while_writing_removes_the_temporary_file(tmp_path, monkeypatch):
@@ -246,7 +322,7 @@ def test_ctrl_c_right_after_the_temporary_file_is_created(tmp_path, monkeypatch)
 
 
 def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
-    """SIGTERM (a scheduler, `kill`) while `aspects` writes: status 1, one line, no temporary file,
+    """SIGTERM (a scheduler, `kill`) while `aspects` writes: status 143, one line, no temporary file,
     every output old or complete."""
     folder = tmp_path / "run"
     shutil.copytree(old_aspects, folder)
@@ -254,6 +330,6 @@ def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
     r = interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], tmp_path, folder, ("tmp", 1),
                   signal.SIGTERM)
     assert r.fired
-    line = one_line(r, 1, "terminated")
+    line = one_line(r, 143, "terminated")
     assert line.startswith("fivebar: ")
     check_whole(folder, before, allow_tmp=False)

@@ -765,7 +765,7 @@ def test_python_m_fivebar_cli_writes_what_the_in_process_run_writes(tmp_path):
     assert process.stdout == in_process.stdout and "wrote out/workspace.qt" in process.stdout
     assert process.stderr == in_process.stderr == ""
     files = snapshot(tmp_path / "process" / "out")
-    assert sorted(files) == ["workspace.complement.qt", "workspace.csv", "workspace.qt"]
+    assert sorted(files) == [".fivebar/workspace.json", "workspace.complement.qt", "workspace.csv", "workspace.qt"]
     assert files == snapshot(tmp_path / "in-process" / "out")
 
 

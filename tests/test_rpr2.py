@@ -610,6 +610,7 @@ def test_cli_writes_the_same_files_as_for_the_five_bar(out):
         "aspects.csv", "aspects-adjacency.csv",
         "aspects/aspect-01.workspace.qt", "aspects/aspect-01.jointspace.qt", "aspects/aspect-01.workspace.geojson",
         "aspects/aspect-02.workspace.qt", "aspects/aspect-02.jointspace.qt", "aspects/aspect-02.workspace.geojson",
+        ".fivebar/workspace.json", ".fivebar/jointspace.json", ".fivebar/aspects.json",  # the runs' manifests
     ])
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import valid_joint, valid_work
+from conftest import unchecked_fivebar, valid_joint, valid_work
 from reference_kinematics import ref_dkp, ref_ikp
 from fivebar_cli.mechanisms.fivebar import modes
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
@@ -44,7 +44,7 @@ def mechanisms(draw):
             l0 = draw(st.floats(0.3, 3.0))
     else:
         l0 = draw(st.floats(0.1, 3.0))
-    return FiveBar("random", l0, l1, l2, l3, l4)
+    return unchecked_fivebar("random", l0, l1, l2, l3, l4)  # also designs a file would refuse (flat, never closing)
 
 
 def special_joint_points(m: FiveBar) -> np.ndarray:

@@ -1,6 +1,7 @@
 """The files of an aspect analysis: `aspects.csv`, `aspects-adjacency.csv`, one `.qt` per aspect
-and space and one GeoJSON per aspect's workspace; written so that a folder holds exactly one run's
-set, and read back so that `locate` and `path` reuse them instead of recomputing.
+and space and one GeoJSON per aspect's workspace; written as one output set (`io.outputs`), so that
+a folder holds exactly one run's set, and read back, when they are of one complete run, so that
+`locate` and `path` reuse them instead of recomputing.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.geojson import write_geojson
-from fivebar_cli.io.layout import ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
+from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
+from fivebar_cli.io.outputs import of_complete_runs, output_set
 from fivebar_cli.io.qtfile import read_qt, write_qt
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
@@ -68,10 +70,16 @@ def _qt_fields(m: Mechanism, a: Aspect, space: str) -> dict:
             "mechanism": m.describe(), "working_mode": signs_text(a.working), "assembly_mode": signs_text(a.assembly)}
 
 
+def aspect_set(folder: Path):
+    """The output set of `fivebar aspects` (its figures are written inside it too): on success the
+    aspect files of an earlier run that this one does not have are removed, so the folder holds
+    exactly this run's set."""
+    return output_set(folder, "aspects", ASPECT_FILES, "fivebar aspects")
+
+
 def write_aspects(folder: Path, analysis: AspectAnalysis) -> list[Path]:
-    """Write the two CSV tables, every aspect tree and every aspect's workspace GeoJSON; then remove
-    the aspect files of an earlier run that this one does not have, so the folder holds exactly
-    this run's set."""
+    """Write the two CSV tables, every aspect tree and every aspect's workspace GeoJSON (inside
+    `aspect_set(folder)`)."""
     m = analysis.mechanism
     paths = [
         write_csv(folder / ASPECTS_CSV, aspect_header(m), aspect_rows(analysis)),
@@ -83,11 +91,6 @@ def write_aspects(folder: Path, analysis: AspectAnalysis) -> list[Path]:
             paths.append(write_qt(aspect_path(folder, a.number, space), tree, **_qt_fields(m, a, space)))
         paths.append(write_geojson(aspect_geojson_path(folder, a.number), a.workspace,
                                    aspect_properties(m, a, analysis.depth)))
-    keep = {p.name for p in paths}
-    for pattern in ("aspect-*.qt", "aspect-*.geojson"):
-        for old in sorted((folder / "aspects").glob(pattern)):
-            if old.name not in keep:
-                old.unlink(missing_ok=True)
     return paths
 
 
@@ -152,9 +155,13 @@ def read_aspect_tree(folder: Path, m: Mechanism, depth: int, row: SavedRow, spac
 
 def load_aspects(folder: Path, m: Mechanism, depth: int) -> list[Aspect] | None:
     """The aspects a run of `aspects` wrote into `folder` for this mechanism at this depth, or None
-    when the folder does not hold such a complete set (then the caller recomputes them)."""
+    when the folder does not hold such a complete set (then the caller recomputes them). Files that
+    are not of one complete run (`io.outputs`) are not read: a FivebarWarning says why."""
     rows = read_aspect_table(folder, m)
     if rows is None:
+        return None
+    files = [folder / ASPECTS_CSV] + [aspect_path(folder, row.number, space) for row in rows for space in SPACES]
+    if not of_complete_runs(folder, files, "the aspects are computed"):
         return None
     aspects = []
     for row in rows:

@@ -35,7 +35,7 @@ from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_s
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError
-from fivebar_cli.mechanisms.base import AspectModel, Mechanism
+from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree, union_find
@@ -139,12 +139,12 @@ class AspectAnalysis:
     def headline(self) -> str:
         """One line: the certified count, or the bounds and what is left undecided."""
         name, depth = self.mechanism.name, self.depth
-        what = "robust generalized aspects" if getattr(self.mechanism, "is_interval", False) else "generalized aspects"
+        what = "robust generalized aspect" if getattr(self.mechanism, "is_interval", False) else "generalized aspect"
         if self.certified:
-            return (f"{name}: {len(self.aspects)} {what} at depth {depth} (certified; "
+            return (f"{name}: {plural(len(self.aspects), what)} at depth {depth} (certified; "
                     f"{self.evaluations} box evaluations, {self.refinement_evaluations} in local refinement)")
-        return (f"{name}: between {self.lower} and {self.upper} {what}, not certified at depth "
-                f"{depth}: {self.undecided_pieces} pieces undecided (raise --depth or --budget)")
+        return (f"{name}: between {self.lower} and {plural(self.upper, what)}, not certified at depth "
+                f"{depth}: {plural(self.undecided_pieces, 'piece')} undecided (raise --depth or --budget)")
 
     @property
     def evaluations(self) -> int:

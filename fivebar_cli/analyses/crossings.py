@@ -12,7 +12,7 @@ import numpy as np
 
 from dataclasses import dataclass
 
-from fivebar_cli.mechanisms.base import AspectModel
+from fivebar_cli.mechanisms.base import AspectModel, plural
 from fivebar_cli.paving.tree import Tree
 
 
@@ -103,7 +103,7 @@ def paper_claim_verdict(aspects, crossings: list[Crossing], assembly: int) -> st
     or why it cannot be compared."""
     count = sum(a.assembly == assembly for a in aspects)
     if count != 5:
-        return f"not comparable ({count} aspects, the paper has 5)"
+        return f"not comparable ({plural(count, 'aspect')}, the paper has 5)"
     return "holds" if is_complete_bipartite_2_3(aspects, crossings, assembly) else "does NOT hold"
 
 
@@ -112,7 +112,7 @@ def crossing_pattern(aspects, crossings: list[Crossing], assembly: int) -> str:
     M2, for mechanisms the paper's claim is not about."""
     numbers, adj = adjacency_matrix(aspects, crossings, assembly)
     edges = int(adj.sum()) // 2
-    shape = f"{len(numbers)} aspects, {edges} crossing pair{'s' if edges != 1 else ''}"
+    shape = f"{plural(len(numbers), 'aspect')}, {plural(edges, 'crossing pair')}"
     if is_complete_bipartite_2_3(aspects, crossings, assembly):
         return f"K_{{2,3}} ({shape}), like the paper's M1 and M2"
     return f"not K_{{2,3}} ({shape})"

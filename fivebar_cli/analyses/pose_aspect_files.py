@@ -17,6 +17,7 @@ from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.layout import ASPECTS_CSV, aspect_mesh_path, aspect_path
 from fivebar_cli.io.mesh import write_ply
+from fivebar_cli.io.outputs import of_complete_runs
 from fivebar_cli.io.qtfile import read_qt, write_qt
 from fivebar_cli.mechanisms.base import Axis, Mechanism
 
@@ -89,6 +90,9 @@ def load_pose_aspects(folder: Path | None, m: Mechanism, depth: int) -> list[Pos
         if not rows or tuple(rows[0]) != header:
             return None
         nf, nd = len(model.classes[0].fields), space.dim
+        files = [folder / ASPECTS_CSV, *(aspect_path(folder, int(row[0]), space.name) for row in rows[1:])]
+        if not of_complete_runs(folder, files, "the aspects are computed"):
+            return None
         aspects = []
         for row in rows[1:]:
             number, fields = int(row[0]), tuple(row[1:1 + nf])

@@ -9,18 +9,23 @@ where a tree and its complement also show the undetermined cells between them.
 
 Sections refer to trees by their index in `View.trees`; labels are paths relative to the path
 given (never absolute), so the page does not depend on where the files are.
+
+Only files of complete runs are shown (`io.outputs`): in a folder, a tree or table of an
+interrupted run, or of a run partly replaced by another one, is left out and `View.ignored` says
+which and why (the CLI prints it), so that one section never mixes two runs.
 """
 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Sequence
 
 from fivebar_cli.analyses.view_tables import read_aspect_table, read_crossing_table, read_path_table
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.layout import ASPECTS_CSV, COMPLEMENT, CROSSINGS_CSV, sibling_paths
+from fivebar_cli.io.outputs import FolderRuns, read_runs
 from fivebar_cli.io.qtfile import QtFile, read_qt
 from fivebar_cli.mechanisms.registry import from_description
 
@@ -28,7 +33,7 @@ PATH_CSV = "path.csv"
 ASPECT_REGION = re.compile(r"^aspect (\d+)$")
 AXIS_TOKEN = re.compile(r"^([^\[\]]+)(?:\[([^\[\]]*)\])?$")
 SPACE_ORDER = ("workspace", "jointspace")
-FOLDERS = "workspace, jointspace, aspects, tolerance or rpr3 pave"
+FOLDERS = "workspace, jointspace, aspects, refine or rpr3 pave"
 
 
 @dataclass(frozen=True)
@@ -60,6 +65,16 @@ class View:
     trees: list[ViewTree]
     sections: list[dict]
     paths: list[dict]
+    ignored: list[str] = field(default_factory=list)  # one line per file left out, with the reason
+
+    def ignored_summary(self) -> list[str]:
+        """The files left out, one line per reason: the first two named, then how many more."""
+        by_reason: dict[str, list[str]] = {}
+        for line in self.ignored:
+            name, _, reason = line.partition(": ")
+            by_reason.setdefault(reason, []).append(name)
+        return [f"{', '.join(names[:2])}{f' and {len(names) - 2} more files' if len(names) > 2 else ''}: {reason}"
+                for reason, names in by_reason.items()]
 
     @property
     def leaves(self) -> int:
@@ -72,33 +87,47 @@ def gather(paths: Sequence[str | Path]) -> View:
     view = View("", [], [], [])
     seen: set[Path] = set()
     for path in map(Path, paths):
-        files = [(label, p) for label, p in _source_files(path) if p.resolve() not in seen]
+        runs = read_runs(path if path.is_dir() else path.parent)
+        files = [(label, p) for label, p in _source_files(path, runs, view.ignored) if p.resolve() not in seen]
         seen.update(p.resolve() for _, p in files)
         if files:
-            _add_source(view, path, files)
+            _add_source(view, path, files, runs)
     names = list(dict.fromkeys(t.qt.get("name") or t.label for t in view.trees))
     view.title = "fivebar view: " + " + ".join(names)
     return view
 
 
-def _source_files(path: Path) -> list[tuple[str, Path]]:
-    """(label, file) of the trees of one path given on the command line."""
+def _source_files(path: Path, runs: FolderRuns, ignored: list[str]) -> list[tuple[str, Path]]:
+    """(label, file) of the trees of one path given on the command line; files of a folder that are
+    not of a complete run are left out (a line in `ignored`)."""
     if path.is_dir():
         files = [p for p in sorted(path.glob("*.qt")) + sorted((path / "aspects").glob("*.qt"))
                  if p.is_file() and not p.name.startswith(".")]
-        if not files:
-            raise InputError(str(path), "", f"no .qt trees in this folder (expected a .qt file or an output "
+        kept = [p for p in files if runs.accepts(p)]
+        ignored += [f"{p}: not shown ({runs.why(p)})" for p in files if not runs.accepts(p)]
+        if not kept:
+            found = "no .qt trees" if not files else "no .qt trees of a complete run"
+            tables = sorted(p.name for p in path.glob("*.csv"))
+            held = f"; it holds {', '.join(tables[:4])}{', ...' if len(tables) > 4 else ''}" if tables else ""
+            raise InputError(str(path), "", f"{found} in this folder{held} (expected a .qt file or an output "
                                             f"folder of {FOLDERS})")
-        return [(p.relative_to(path).as_posix(), p) for p in files]
+        return [(p.relative_to(path).as_posix(), p) for p in kept]
     if not path.exists():
         raise InputError(str(path), "", "no such file or folder")
     if not path.name.endswith(".qt"):
         raise InputError(str(path), "", f"not a .qt file (expected a .qt file or an output folder of {FOLDERS})")
     inside, outside = sibling_paths(path)
+    if not runs.accepts(path):
+        ignored.append(f"{path}: shown as given, but {runs.why(path)}")
+    partner = outside if path == inside else inside
+    run = (runs.accepts(path), runs.set_of(path))
+    if partner.is_file() and (runs.accepts(partner), runs.set_of(partner)) != run:  # never pair two runs' files
+        ignored.append(f"{partner}: not shown with {path.name} (not of the same complete run)")
+        return [(path.name, path)]
     return [(p.name, p) for p in (inside, outside) if p == path or p.is_file()]
 
 
-def _add_source(view: View, path: Path, files: list[tuple[str, Path]]) -> None:
+def _add_source(view: View, path: Path, files: list[tuple[str, Path]], runs: FolderRuns) -> None:
     """Read one path's trees and tables and append its sections."""
     first = len(view.trees)
     for label, file in files:
@@ -106,13 +135,14 @@ def _add_source(view: View, path: Path, files: list[tuple[str, Path]]) -> None:
         view.trees.append(ViewTree(label, qt, tree_axes(qt, str(file)), tree_marks(qt, str(file))))
     indices = list(range(first, len(view.trees)))
     folder = path if path.is_dir() else None
+    tables = {name: _table(folder, name, runs, view.ignored) for name in (PATH_CSV, ASPECTS_CSV, CROSSINGS_CSV)}
     path_index = None
-    if folder is not None and (folder / PATH_CSV).is_file():
-        view.paths.append(read_path_table(folder / PATH_CSV))
+    if tables[PATH_CSV] is not None:
+        view.paths.append(read_path_table(tables[PATH_CSV]))
         path_index = len(view.paths) - 1
     aspects = [i for i in indices if view.trees[i].aspect is not None]
     if aspects:
-        view.sections.append(_aspect_section(view, aspects, folder, path_index))
+        view.sections.append(_aspect_section(view, aspects, tables[ASPECTS_CSV], tables[CROSSINGS_CSV], path_index))
     others = [i for i in indices if view.trees[i].aspect is None]
     view.sections += _paving_sections(view, others, path_index)
 
@@ -162,10 +192,21 @@ def _space_key(space: str) -> tuple:
     return (SPACE_ORDER.index(space) if space in SPACE_ORDER else len(SPACE_ORDER), space)
 
 
-def _aspect_section(view: View, indices: list[int], folder: Path | None, path_index: int | None) -> dict:
+def _table(folder: Path | None, name: str, runs: FolderRuns, ignored: list[str]) -> Path | None:
+    """A folder's table when it is there and of a complete run (else a line in `ignored`)."""
+    if folder is None or not (folder / name).is_file():
+        return None
+    if not runs.accepts(folder / name):
+        ignored.append(f"{folder / name}: not shown ({runs.why(folder / name)})")
+        return None
+    return folder / name
+
+
+def _aspect_section(view: View, indices: list[int], aspects_csv: Path | None, crossings_csv: Path | None,
+                    path_index: int | None) -> dict:
     """Panels of aspect trees (one per space), the aspect table and the crossings graph."""
     trees = view.trees
-    table = read_aspect_table(folder / ASPECTS_CSV) if folder and (folder / ASPECTS_CSV).is_file() else []
+    table = read_aspect_table(aspects_csv) if aspects_csv else []
     known = {row["aspect"] for row in table}
     for i in sorted(indices, key=lambda i: trees[i].aspect):
         t = trees[i]
@@ -178,8 +219,8 @@ def _aspect_section(view: View, indices: list[int], folder: Path | None, path_in
     numbers = {t.aspect for t in (trees[i] for i in indices)}
     table = sorted((row for row in table if row["aspect"] in numbers), key=lambda row: row["aspect"])
     crossings = []
-    if folder and (folder / CROSSINGS_CSV).is_file():
-        crossings = [c for c in read_crossing_table(folder / CROSSINGS_CSV) if c["a"] in numbers and c["b"] in numbers]
+    if crossings_csv:
+        crossings = [c for c in read_crossing_table(crossings_csv) if c["a"] in numbers and c["b"] in numbers]
     spaces = sorted({trees[i].qt.get("space") for i in indices}, key=_space_key)
     panels = []
     for space in spaces:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.analyses.aspect_files import load_aspects, write_aspects
+from fivebar_cli.analyses.aspect_files import aspect_set, load_aspects, write_aspects
 from fivebar_cli.analyses.aspect_split import cost_text, split_rows, write_split
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, analyse_aspects, region_count, signs_text
 from fivebar_cli.analyses.crossings import crossing_pattern, paper_claim_verdict
@@ -22,14 +22,14 @@ from fivebar_cli.cli.options import (
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.io.schema import ConfigError
-from fivebar_cli.mechanisms.base import Mechanism
+from fivebar_cli.mechanisms.base import Mechanism, article
 from fivebar_cli.mechanisms.registry import load_config
 
 
 def _load_with_aspects(config_path, tolerance: float = 0.0) -> Mechanism:
     m = with_tolerance(load_config(config_path), tolerance, config_path)
     if m.aspect_model() is None:
-        raise ConfigError(str(config_path), "type", f"a {m.kind} has no working and assembly modes (no aspects)")
+        raise ConfigError(str(config_path), "type", f"{article(m.kind)} has no working and assembly modes (no aspects)")
     return m
 
 
@@ -77,8 +77,8 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     \b
     Examples:
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
-      fivebar aspects configs/m1.yaml --depth 10 --tolerance 0.05 -o out/m1-tol
-      fivebar aspects configs/m1-obstacle.yaml --depth 10 -o out/m1-obstacle
+      fivebar aspects configs/m1.yaml --depth 8 --tolerance 0.05 -o out/m1-tol --no-plot
+      fivebar aspects configs/m1-obstacle.yaml --depth 9 -o out/m1-obstacle --no-plot
     """
     m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
@@ -90,14 +90,15 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
         fates = aspect_fates(nominal, analysis) if robust else []
         free = analyse_aspects(m.unconstrained(), depth, advance, budget, shapes=False) if limited else None
         split = split_rows(analysis, free) if limited else None
-    paths = write_aspects(folder, analysis) + write_split(folder, split)
-    if not no_plot:
-        from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
+    with aspect_set(folder):
+        paths = write_aspects(folder, analysis) + write_split(folder, split)
+        if not no_plot:
+            from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
 
-        paths.append(figure(lambda: figure_aspects_workspace(analysis), folder / "aspects-workspace.png"))
-        for am in analysis.model.assembly_modes:
-            paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
-                                folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
+            paths.append(figure(lambda: figure_aspects_workspace(analysis), folder / "aspects-workspace.png"))
+            for am in analysis.model.assembly_modes:
+                paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
+                                    folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
     report(quiet, analysis.headline())
     for a in analysis.aspects:
         shapes = (f", largest circle r {a.circle.r:.6g}, square side {a.square.side:.6g}"

@@ -9,10 +9,14 @@ from contextlib import nullcontext
 
 import click
 
-from fivebar_cli.analyses.atlas.engine import in_process, plan_atlas, run_plan
-from fivebar_cli.analyses.atlas.parts import read_table
+from fivebar_cli.analyses.atlas.engine import compute_plan, in_process, plan_atlas
+from fivebar_cli.analyses.atlas.parts import ATLAS_CSV, read_table
+from fivebar_cli.analyses.atlas.cluster import check_address
 from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
-from fivebar_cli.cli.options import CONFIG, MAX_ASPECT_DEPTH, common_options, figure, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import (
+    CONFIG, MAX_ASPECT_DEPTH, Number, common_options, figure, plural, prepare_out, progress, report, wrote,
+)
+from fivebar_cli.io.outputs import output_set
 
 
 def default_workers() -> int:
@@ -32,11 +36,11 @@ def default_workers() -> int:
               help="Use the existing Dask cluster whose scheduler is at ADDRESS (tcp://HOST:PORT).")
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_ASPECT_DEPTH), default=None,
               help=f"Depth of every design's analyses (0..{MAX_ASPECT_DEPTH}) [default: the spec's depth].")
-@click.option("--tolerance", metavar="T", type=click.FloatRange(0, None), default=None,
+@click.option("--tolerance", metavar="T", type=Number(lo=0), default=None,
               help="Add robust metrics of every length widened to [L - T, L + T] (as `fivebar aspects "
                    "--tolerance T`); 0: none [default: the spec's tolerance].")
 @click.option("--restart", is_flag=True, help="Discard the parts of an earlier run in OUT/atlas.parts/ and start afresh.")
-@common_options
+@common_options(default="outputs/<spec name>/")
 def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot, quiet):
     """Sweep a grid of five-bar designs and tabulate, per design: whether it can be assembled,
     its number of generalized aspects and whether that count is certified (as `fivebar aspects`
@@ -48,19 +52,24 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
     The spec (`type: fivebar-atlas`) gives each length a number (fixed) or [from, to, steps]
     (swept); designs are in grid order, L0 slowest, L4 fastest. Batches of designs run on a
     local Dask cluster (--workers N), an existing one (--scheduler), or in this process
-    (--workers 0). Each finished batch is kept in OUT/atlas.parts/: a rerun after Ctrl-C, a kill
-    or a lost worker computes only the missing batches. Writes OUT/atlas.csv (the same bytes
-    whatever the workers or scheduler) and atlas.png (heat maps over the swept lengths).
+    (--workers 0). Each finished batch is kept in OUT/atlas.parts/ with its checksum: a rerun
+    after Ctrl-C, a kill or a lost worker computes only the missing batches (and any part that
+    fails its checksum). Ctrl-C stops the run at any moment, cluster start-up included: exit 130,
+    one line, the parts written so far kept. Writes OUT/atlas.csv (the same bytes whatever the
+    workers or scheduler) and atlas.png (heat maps over the swept lengths).
 
     \b
     Examples:
-      fivebar atlas atlas.yaml --workers 2 -o out/atlas
-      fivebar atlas atlas.yaml --scheduler tcp://10.0.0.5:8786 --depth 10
-      fivebar atlas atlas.yaml --workers 0 --no-plot
-      fivebar atlas atlas.yaml --tolerance 0.01 -o out/atlas-robust
+      fivebar atlas configs/atlas-small.yaml --workers 2 -o out/atlas
+      fivebar atlas configs/atlas-small.yaml --workers 0 --no-plot
+
+    With --tolerance 0.01, the robust columns too (several times the cost). On a cluster:
+    --scheduler tcp://HOST:8786 (README, "Sweeping designs").
     """
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both")
+    if scheduler is not None:
+        scheduler = check_address(scheduler)
     spec = read_spec(spec_path)
     if depth is not None:
         spec = dataclasses.replace(spec, depth=depth)
@@ -70,20 +79,29 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
     plan = plan_atlas(spec, folder, restart)
     workers = default_workers() if workers is None and scheduler is None else workers
     robust = f", tolerance {spec.tolerance:g}" if spec.tolerance > 0 else ""
-    report(quiet, f"{spec.name}: {spec.size} designs at depth {spec.depth}{robust}, {plan.batches} batches of "
-           f"{spec.batch_size}: {plan.batches - len(plan.todo)} done before, {len(plan.todo)} to compute")
+    report(quiet, f"{spec.name}: {plural(spec.size, 'design')} at depth {spec.depth}{robust}, "
+           f"{plural(plan.batches, 'batch', 'batches')} of {spec.batch_size}: {plan.batches - len(plan.todo)} done "
+           f"before, {len(plan.todo)} to compute")
     start = time.monotonic()
     with _runner(workers, scheduler, len(plan.todo)) as runner:
         if plan.todo and runner is not in_process:
             connected = runner.workers
-            report(quiet, f"  on {runner.where} ({connected} workers connected"
+            report(quiet, f"  on {runner.where} ({plural(connected, 'worker')} connected"
                    + (": the batches wait for workers)" if connected == 0 else ")"))
         with progress(quiet, plan.designs_todo, "designs", unit="designs") as advance:
-            path = run_plan(plan, runner, advance)
+            compute_plan(plan, runner, advance)
     seconds = time.monotonic() - start
-    table = read_table(path)
+    with output_set(folder, "atlas", (ATLAS_CSV, "atlas.png"), "fivebar atlas"):
+        path = plan.parts.assemble(folder / ATLAS_CSV)
+        table = read_table(path)
+        paths = [path]
+        if not no_plot and spec.swept:
+            from fivebar_cli.plotting.atlas import figure_atlas
+
+            paths.append(figure(lambda: figure_atlas(spec, table), folder / "atlas.png"))
     if plan.todo:
-        report(quiet, f"  computed {plan.designs_todo} designs in {seconds:.1f} s ({plan.designs_todo / seconds:.3g} designs/s)")
+        report(quiet, f"  computed {plural(plan.designs_todo, 'design')} in {seconds:.1f} s "
+                      f"({plan.designs_todo / seconds:.3g} designs/s)")
     assemblable = table["assemblable"].count("true")
     certified = _certified(table, "certified")
     report(quiet, f"  {assemblable} can be assembled; the aspect count is certified for {certified} of them"
@@ -91,14 +109,8 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
     if spec.tolerance > 0:
         report(quiet, f"  the robust aspect count (tolerance {spec.tolerance:g}) is certified for "
                f"{_certified(table, 'robust_certified')} of them")
-    paths = [path]
-    if not no_plot:
-        from fivebar_cli.plotting.atlas import figure_atlas
-
-        if spec.swept:
-            paths.append(figure(lambda: figure_atlas(spec, table), folder / "atlas.png"))
-        else:
-            report(quiet, "  no figure: no length is swept")
+    if not no_plot and not spec.swept:
+        report(quiet, "  no figure: no length is swept")
     wrote(quiet, paths)
 
 

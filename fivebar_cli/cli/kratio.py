@@ -7,10 +7,12 @@ from pathlib import Path
 import click
 
 from fivebar_cli.analyses.kratio import HEADER, kratio_rows, planar_spaces, row_count
-from fivebar_cli.cli.options import CONFIG, MAX_DEPTH, figure, progress, report, wrote
-from fivebar_cli.io.files import ensure_dir, write_csv
+from fivebar_cli.cli.options import CONFIG, MAX_DEPTH, common_options, data_on_stdout, figure, progress, report, wrote
+from fivebar_cli.io.files import check_writable_dir, csv_text, write_csv
 from fivebar_cli.io.layout import DEFAULT_ROOT
+from fivebar_cli.io.outputs import output_set
 from fivebar_cli.io.schema import ConfigError
+from fivebar_cli.mechanisms.base import article
 from fivebar_cli.mechanisms.registry import load_config
 
 
@@ -37,33 +39,39 @@ def _cell(value, fmt: str) -> str:
 @click.argument("config_paths", metavar="CONFIG...", type=CONFIG, nargs=-1, required=True)
 @click.option("--depths", default="5-10", show_default=True, callback=_parse_depths,
               help="Depths: a range 5-10 or a list 5,8,10.")
-@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Output folder [default: outputs/].")
-@click.option("--no-plot", is_flag=True, help="Skip the PNG figure (faster).")
-@click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors; no progress bar.")
+@common_options(single="kratio.csv", default="outputs/")
 def kratio(config_paths, depths, out, no_plot, quiet):
     """The paper's Table 1: evaluations K = n / 4^d, ours against the paper's procedure.
 
     For each space, mechanism and depth: our tight tests, the paper's interval procedure (for a
     five-bar) and, for M1 and M2, the K printed in the paper. Writes kratio.csv and kratio.png
-    into --out.
+    into --out (default: outputs/, not outputs/<name>/: the table compares mechanisms).
 
     \b
-    Example:
+    Examples:
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10 -o out
+      fivebar kratio configs/m1.yaml --depths 5,8 -o -             # kratio.csv on standard output
     """
     mechanisms = [load_config(p) for p in config_paths]
     for path, m in zip(config_paths, mechanisms):
         if not planar_spaces(m):
-            raise ConfigError(str(path), "type", f"a {m.kind} has no 2-D space to pave (the table compares quadtrees)")
-    folder = ensure_dir(out if out is not None else DEFAULT_ROOT)
+            raise ConfigError(str(path), "type", f"{article(m.kind)} has no 2-D space to pave (the table compares "
+                              "quadtrees)")
+    stdout = data_on_stdout(out)
+    folder = None if stdout else check_writable_dir(out if out is not None else DEFAULT_ROOT)
     with progress(quiet, row_count(mechanisms, depths), "Table 1") as advance:
         rows = kratio_rows(mechanisms, depths, advance)
-    paths = [write_csv(folder / "kratio.csv", HEADER, [[r[k] for k in HEADER] for r in rows])]
-    if not no_plot:
-        from fivebar_cli.plotting.kratio import figure_kratio
+    table = [[r[k] for k in HEADER] for r in rows]
+    paths = []
+    if stdout:
+        click.echo(csv_text(HEADER, table), nl=False)
+    else:
+        with output_set(folder, "kratio", ("kratio.csv", "kratio.png"), "fivebar kratio"):
+            paths.append(write_csv(folder / "kratio.csv", HEADER, table))
+            if not no_plot:
+                from fivebar_cli.plotting.kratio import figure_kratio
 
-        paths.append(figure(lambda: figure_kratio(rows), folder / "kratio.png"))
+                paths.append(figure(lambda: figure_kratio(rows), folder / "kratio.png"))
     for r in rows:
         printed = f"{r['paper_printed_percent']}%" if r["paper_printed_percent"] != "" else "-"
         report(quiet, f"{r['space']:10s} {r['mechanism']:6s} d={r['depth']:2d}  ours {r['evaluations']:8d} "

@@ -9,7 +9,10 @@ the traceback of an unexpected failure.
 from __future__ import annotations
 
 import os
+import signal
 import sys
+import threading
+import warnings
 
 import click
 
@@ -26,7 +29,7 @@ from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
 from fivebar_cli.cli.tolerance import tolerance
 from fivebar_cli.cli.verify import verify_cmd
 from fivebar_cli.cli.view import view
-from fivebar_cli.errors import FivebarError, Interrupted
+from fivebar_cli.errors import INTERRUPTS, FivebarError, FivebarWarning, Interrupted
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
@@ -37,19 +40,18 @@ def cli() -> None:
     """Certified joint space, workspace and aspects of planar parallel robots.
 
     \b
-    Examples:
-      fivebar jointspace configs/m1.yaml --depth 10
+    Examples (each also in its command's help; -o out/...: outputs/<name>/ without it):
+      fivebar jointspace configs/m1.yaml --depth 10 -o out/m1
       fivebar workspace configs/m2.yaml --depth 12 -o out/m2
-      fivebar aspects configs/m1.yaml --depth 10
-      fivebar locate configs/m1.yaml --pose 4 5 --pose 6 -3
+      fivebar aspects configs/m1.yaml --depth 10 -o out/m1
+      fivebar locate configs/m1.yaml --pose 4 5
       fivebar path configs/m1.yaml --pose 4 5 --pose 6 8 --working-mode ++
-      fivebar atlas configs/atlas-l1-l3.yaml --workers 2
-      fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10
+      fivebar atlas configs/atlas-small.yaml --workers 2 -o out/atlas
+      fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10 -o out
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
-      fivebar dkp configs/rrr3-symmetric.yaml --joints 30 150 -90 --depth 4
-      fivebar verify configs/rrr3-symmetric.yaml --working-mode +-+ --depth 6
-      fivebar view outputs/M1
-      fivebar reproduce
+      fivebar verify configs/rrr3-symmetric.yaml --working-mode +-+ -o out/rrr3-symmetric  # exit 1: a singular pose
+      fivebar view out/m1
+      fivebar reproduce -o out/check --no-plot
     """
 
 
@@ -60,50 +62,109 @@ for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(loc
     cli.add_command(command)
 
 
-def _on_sigint(signum, frame):
-    raise Interrupted("interrupted (no output was left half-written)")
+SIGNAL_WORDS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated", signal.SIGHUP: "hung up"}
 
 
-def _on_sigterm(signum, frame):
-    raise Interrupted("terminated (no output was left half-written)")
+def _on_signal(signum, frame):
+    """Ctrl-C, SIGTERM, SIGHUP: stop the run where it is (the atomic writers clean up on the way out)."""
+    raise Interrupted(f"{SIGNAL_WORDS[signum]} (no output was left half-written)", signum)
+
+
+def install_signal_handlers() -> dict:
+    """`_on_signal` for every interruption whose handler is still the default one (a process
+    started with a signal ignored, as `nohup` does, keeps ignoring it); returns the previous handlers.
+    Done first thing, before the commands are imported, so that a Ctrl-C at start-up is one line too."""
+    previous = {}
+    for sig in INTERRUPTS:
+        handler = signal.getsignal(sig)
+        if handler is signal.default_int_handler or handler == signal.SIG_DFL:
+            previous[sig] = handler
+            signal.signal(sig, _on_signal)
+    return previous
+
+
+def _unraisable(hook):
+    """An interruption raised inside a finaliser (`__del__`, a weakref callback) is swallowed by
+    Python with an "Exception ignored ... Traceback" block: instead, say nothing and send the signal
+    again a moment later, from another thread, so that it stops the run at the next ordinary line of
+    the main thread (sent from here, its handler would raise inside this hook). Other cases go to
+    `hook`."""
+    def unraisable(info):
+        if isinstance(info.exc_value, Interrupted):
+            threading.Timer(0.01, os.kill, (os.getpid(), info.exc_value.signum)).start()
+        elif not isinstance(info.exc_value, KeyboardInterrupt):
+            hook(info)
+    return unraisable
+
+
+def _show_warning(previous):
+    """FivebarWarning as one line, `fivebar: warning: ...`; other warnings as before."""
+    def show(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, FivebarWarning):
+            click.echo(f"fivebar: warning: {' '.join(str(message).split())}", err=True)
+        else:
+            previous(message, category, filename, lineno, file, line)
+    return show
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Entry point of the console script: run the CLI and map every error to one line."""
-    import signal
-    import warnings
+    """Entry point of the console script: run the CLI and map every error to one line and an exit
+    status (docs/formats.md, "Exit statuses"). With `argv` None (the console script), signals that
+    arrive once the command has finished are ignored: the run completed, its status stands."""
+    previous = install_signal_handlers()
+    hook = sys.unraisablehook
+    sys.unraisablehook = _unraisable(hook)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # numpy noise must not break the one-line promise
+            warnings.simplefilter("always", FivebarWarning)
+            warnings.showwarning = _show_warning(warnings.showwarning)
+            status = _run(argv)
+    except Interrupted as exc:  # between the command's end and here
+        status = _fail(exc, exc.exit_status)
+    finally:
+        for sig in INTERRUPTS:
+            if argv is None and signal.getsignal(sig) is _on_signal:
+                signal.signal(sig, signal.SIG_IGN)  # the interpreter's teardown is not interrupted
+        sys.unraisablehook = hook
+    if argv is not None:
+        for sig, handler in previous.items():
+            if sig != signal.SIGINT:  # run_cli (tests) restores SIGINT itself
+                signal.signal(sig, handler)
+    sys.exit(status)
 
-    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-        signal.signal(signal.SIGINT, _on_sigint)
-    if signal.getsignal(signal.SIGTERM) == signal.SIG_DFL:
-        signal.signal(signal.SIGTERM, _on_sigterm)
-    warnings.simplefilter("ignore", RuntimeWarning)  # numpy noise must not break the one-line promise
+
+def _fail(exc: BaseException, status: int, prefix: str = "fivebar: error: ") -> int:
+    click.echo(f"{prefix}{' '.join(str(exc).split())}", err=True)
+    return status
+
+
+def _run(argv) -> int:
+    """The command's exit status; every failure printed as one line."""
     try:
         status = cli.main(args=argv, prog_name="fivebar", standalone_mode=False)
     except click.exceptions.NoArgsIsHelpError as exc:  # `fivebar rpr3` alone: show the help
         click.echo(exc.ctx.get_help() if exc.ctx else str(exc))
-        sys.exit(0)
+        return 0
     except click.exceptions.UsageError as exc:
         prefix = exc.ctx.command_path if exc.ctx else "fivebar"
-        click.echo(f"{prefix}: error: {' '.join(exc.format_message().split())}", err=True)
-        sys.exit(2)
+        return _fail(exc.format_message(), 2, f"{prefix}: error: ")
     except click.exceptions.Exit as exc:
-        sys.exit(exc.exit_code)
+        return exc.exit_code
     except click.exceptions.Abort:
-        click.echo("fivebar: aborted", err=True)
-        sys.exit(1)
-    except FivebarError as exc:
-        click.echo(f"fivebar: error: {' '.join(str(exc).split())}", err=True)
-        sys.exit(exc.exit_status)
+        return _fail("aborted", 1, "fivebar: ")
+    except FivebarError as exc:  # Interrupted too: 130 for Ctrl-C, 143 for SIGTERM, 129 for SIGHUP
+        return _fail(exc, exc.exit_status)
     except KeyboardInterrupt:
-        click.echo("fivebar: interrupted (no output was left half-written)", err=True)
-        sys.exit(1)
+        return _fail("interrupted (no output was left half-written)", 130)
+    except BrokenPipeError:  # `fivebar view DIR -o - | head`: the reader went away
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # so that flushing stdout at exit does not fail again
+        return 141  # 128 + SIGPIPE, silently, as a process killed by SIGPIPE
     except MemoryError:
-        click.echo("fivebar: error: out of memory (try a smaller --depth)", err=True)
-        sys.exit(1)
+        return _fail("out of memory (try a smaller --depth)", 1)
     except Exception as exc:  # noqa: BLE001 - the promise is: no traceback, one line, status 1
         if os.environ.get("FIVEBAR_DEBUG"):
             raise
-        click.echo(f"fivebar: internal error: {type(exc).__name__}: {' '.join(str(exc).split())}", err=True)
-        sys.exit(1)
-    sys.exit(status if isinstance(status, int) else 0)
+        return _fail(f"{type(exc).__name__}: {exc}", 1, "fivebar: internal error: ")
+    return status if isinstance(status, int) else 0

@@ -11,24 +11,50 @@ from typing import Iterator
 
 import click
 
-from fivebar_cli.io.files import ensure_dir, save_figure
+from fivebar_cli.io.files import check_writable_dir, save_figure
 from fivebar_cli.io.layout import output_dir
+from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
 
 MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need several GiB
 MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
 
 CONFIG = click.Path(path_type=Path, dir_okay=False)
+STDOUT = "-"  # `-o -`: a single-file output written to standard output
+STDOUT_META = "fivebar.data_on_stdout"  # click context meta: the report then goes to standard error
 
 
-def common_options(func):
-    """`-o/--out DIR`, `--no-plot`, `--quiet`: the options every analysis command takes."""
+
+
+def common_options(func=None, *, single: str | None = None, default: str = "outputs/<config name>/"):
+    """`-o/--out DIR`, `--no-plot`, `--quiet`: the options every analysis command takes. `single`
+    names the one file a command writes without figures; `-o -` then writes it to standard output
+    (`data_on_stdout`). `default` is the folder written without -o, as the help shows it."""
+    if func is None:
+        return lambda f: common_options(f, single=single, default=default)
+    dash = (f" `-o -` writes {single} to standard output (no figure)." if single else "")
     func = click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors; no progress bar.")(func)
     func = click.option("--no-plot", is_flag=True, help="Skip the PNG figures (faster).")(func)
     func = click.option(
         "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-        help="Output folder [default: outputs/<config name>/].",
+        help=f"Output folder [default: {default}]." + dash,
     )(func)
     return func
+
+
+def data_on_stdout(out: Path | None) -> bool:
+    """Whether `-o -` asks for the single-file output on standard output; the report lines then go
+    to standard error, so that standard output holds the data only."""
+    if out is None or str(out) != STDOUT:
+        return False
+    click.get_current_context().find_root().meta[STDOUT_META] = True
+    return True
+
+
+def refuse_stdout(out: Path | None, what: str) -> None:
+    """UsageError for `-o -` on a command whose output is several files."""
+    if out is not None and str(out) == STDOUT:
+        raise click.UsageError(f"-o -: this command writes {what}, not one file: give a folder "
+                               "(./- for a folder named '-')")
 
 
 def depth_option(default: int = 10, limit: int = MAX_DEPTH):
@@ -39,7 +65,7 @@ def depth_option(default: int = 10, limit: int = MAX_DEPTH):
 def tolerance_option(func):
     """`--tolerance T`: every link length widened to [L - T, L + T] (manufacturing tolerances)."""
     return click.option(
-        "--tolerance", type=click.FloatRange(0, None), default=0.0, show_default=True,
+        "--tolerance", type=Number(lo=0), default=0.0, show_default=True,
         help="Widen every link length to [L - T, L + T]: black then means valid for every length in "
              "the box (robust), the complement valid for none (impossible).",
     )(func)
@@ -51,20 +77,25 @@ def with_tolerance(m, tolerance: float, source):
         return m
     if not hasattr(m, "widened"):
         from fivebar_cli.io.schema import ConfigError
+        from fivebar_cli.mechanisms.base import article
 
-        raise ConfigError(str(source), "--tolerance", f"a {m.kind} has no interval lengths")
+        raise ConfigError(str(source), "--tolerance", f"{article(m.kind)} has no interval lengths")
     return m.widened(tolerance, str(source))
 
 
-def prepare_out(out: Path | None, name: str) -> Path:
-    """Resolve and create the output folder (outputs/<name>/ unless --out is given)."""
-    return ensure_dir(output_dir(out, name))
+def prepare_out(out: Path | None, name: str, what: str = "several files") -> Path:
+    """The output folder (outputs/<name>/ unless --out is given), checked before any computation:
+    it is created only when the command writes its first file, so a failed run leaves no folder.
+    `-o -` is refused (`what` the command writes instead)."""
+    refuse_stdout(out, what)
+    return check_writable_dir(output_dir(out, name))
 
 
 def report(quiet: bool, message: str) -> None:
-    """A line of the run summary on stdout (silent with --quiet)."""
+    """A line of the run summary on stdout (silent with --quiet; on stderr when stdout holds data)."""
     if not quiet:
-        click.echo(message)
+        ctx = click.get_current_context(silent=True)
+        click.echo(message, err=bool(ctx and ctx.find_root().meta.get(STDOUT_META)))
 
 
 def wrote(quiet: bool, paths) -> None:
@@ -74,14 +105,52 @@ def wrote(quiet: bool, paths) -> None:
 
 
 def figure(make, path: Path) -> Path:
-    """Draw a figure with `make()`, save it atomically as PNG, free it."""
+    """Draw a figure with `make()`, save it atomically as PNG, free it. Names from the user's files
+    (in titles and legends) are drawn as written (`literal_texts`); a name whose `$...$` is not even
+    valid mathtext makes the figure be drawn again with every text literal but the axis labels."""
     from fivebar_cli.plotting import pyplot
 
-    fig = make()
+    before = set(pyplot().get_fignums())
     try:
+        return _save(make(), path)
+    except ValueError as exc:  # matplotlib's mathtext parser, on a `$` of a name
+        if "Parse" not in type(exc).__name__ + str(exc):
+            raise
+        for number in set(pyplot().get_fignums()) - before:
+            pyplot().close(number)  # the figure that failed to draw
+    import matplotlib
+
+    with matplotlib.rc_context({"text.parse_math": False}):
+        fig = make()
+    for ax in fig.axes:
+        for label in (ax.xaxis.label, ax.yaxis.label):
+            label.set_parse_math(True)  # the axis labels are ours (theta_1, rho_1, ...)
+    return _save(fig, path)
+
+
+def _save(fig, path: Path) -> Path:
+    from fivebar_cli.plotting import pyplot
+
+    try:
+        literal_texts(fig)
         return save_figure(fig, path)
     finally:
         pyplot().close(fig)
+
+
+def literal_texts(fig) -> None:
+    """Titles, legends and notes are drawn as written, not as mathtext: they hold names from the
+    user's files, where `$` is a character (`$\\foo$` would otherwise fail to draw). Axis labels
+    and tick labels keep their mathtext (theta_1, 10^2)."""
+    texts = [fig._suptitle, *fig.texts]
+    for legend in [*fig.legends, *(ax.get_legend() for ax in fig.axes)]:
+        if legend is not None:
+            texts += [*legend.get_texts(), legend.get_title()]
+    for ax in fig.axes:
+        texts += [ax.title, ax._left_title, ax._right_title, *ax.texts]
+    for text in texts:
+        if text is not None:
+            text.set_parse_math(False)
 
 
 @contextmanager
@@ -116,9 +185,13 @@ ANGLE_LIMIT = 1e6  # radians: a motion's exact check counts whole turns with 2 p
 
 
 class Number(click.ParamType):
-    """A finite number of magnitude at most NUMBER_LIMIT (`nan`, `inf`, `1e300` are refused)."""
+    """A finite number of magnitude at most NUMBER_LIMIT (`nan`, `inf`, `1e300` are refused), at
+    least `lo` when given: every number of the command line."""
 
     name = "number"
+
+    def __init__(self, lo: float | None = None):
+        self.lo = lo
 
     def convert(self, value, param, ctx):
         try:
@@ -127,6 +200,8 @@ class Number(click.ParamType):
             self.fail(f"{value!r} is not a number", param, ctx)
         if not math.isfinite(number) or abs(number) > NUMBER_LIMIT:
             self.fail(f"{value!r} is not a finite number of magnitude at most {NUMBER_LIMIT:g}", param, ctx)
+        if self.lo is not None and number < self.lo:
+            self.fail(f"{value!r} is not >= {self.lo:g}", param, ctx)
         return number
 
 

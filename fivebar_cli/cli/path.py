@@ -12,7 +12,8 @@ from fivebar_cli.cli.options import (
 )
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import csv_text, write_text
-from fivebar_cli.io.layout import PATH_CSV, PATH_PNG
+from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG
+from fivebar_cli.io.outputs import output_set
 
 WORKING_MODES = ["++", "+-", "-+", "--"]
 
@@ -97,13 +98,14 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     folder = prepare_out(out, m.name)
     start, end = resolve(m, endpoints, assembly_mode, str(config_path))
     result = find_path(m, depth, start, end, allow_serial, folder, max_depth=MAX_ASPECT_DEPTH)
-    paths = [write_text(folder / PATH_CSV, path_csv(result))]
-    if not no_plot:
-        from fivebar_cli.analyses.paths import component_of, workspace_backdrop
-        from fivebar_cli.plotting.paths import figure_path
+    with output_set(folder, "path", PATH_FILES, "fivebar path"):  # one run's path.csv and path.png
+        paths = [write_text(folder / PATH_CSV, path_csv(result))]
+        if not no_plot:
+            from fivebar_cli.analyses.paths import component_of, workspace_backdrop
+            from fivebar_cli.plotting.paths import figure_path
 
-        backdrop = workspace_backdrop(result, folder)
-        paths.append(figure(lambda: figure_path(result, component_of(result), backdrop), folder / PATH_PNG))
+            backdrop = workspace_backdrop(result, folder)
+            paths.append(figure(lambda: figure_path(result, component_of(result), backdrop), folder / PATH_PNG))
     if allow_serial:
         what = (f"motion free of parallel singularities, det A {start.assembly}, working mode {start.working} to "
                 f"{end.working} (serial singularities may be crossed)")

@@ -14,6 +14,7 @@ from pathlib import Path
 import click
 import numpy as np
 
+from fivebar_cli.analyses.aspect_files import aspect_set
 from fivebar_cli.analyses.dkp import DkpResult, solve
 from fivebar_cli.analyses.pose_aspect_files import (
     joint_columns, load_pose_aspects, pose_columns, write_pose_aspects,
@@ -24,7 +25,8 @@ from fivebar_cli.analyses.pose_aspects import (
 from fivebar_cli.analyses.pose_paths import check_pose, find_motion, wrap_pose
 from fivebar_cli.cli.options import MAX_ASPECT_DEPTH, NUMBER, common_options, figure, prepare_out, progress, report, wrote
 from fivebar_cli.io.files import csv_text, write_csv, write_text
-from fivebar_cli.io.layout import DKP_CSV, DKP_PNG, PATH_CSV, PATH_PNG, output_dir
+from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG, PATH_CSV, PATH_FILES, PATH_PNG, output_dir
+from fivebar_cli.io.outputs import output_set
 from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import load_config
@@ -153,21 +155,20 @@ def pose_aspects(config_path, depth, budget, out, no_plot, quiet):
     \b
     Examples:
       fivebar aspects configs/rpr3-caro.yaml --depth 6 -o out/caro
-      fivebar aspects configs/rrr3-symmetric-phi0.yaml --depth 8 -o out/rrr3-phi0
+      fivebar aspects configs/rrr3-symmetric-phi0.yaml --depth 7 -o out/rrr3-phi0
     """
     m = load_pose_kind(config_path, depth=depth)
     model = m.pose_aspect_model()
     folder = prepare_out(out, m.name)
     with progress(quiet, len(model.classes) + 1, f"aspects depth {depth}") as advance:
         analysis = analyse_pose_aspects(m, depth, advance, budget)
-    paths = write_pose_aspects(folder, analysis)
-    if not no_plot:
-        from fivebar_cli.plotting.pose_aspects import figure_aspect_slices
+    with aspect_set(folder):
+        paths = write_pose_aspects(folder, analysis)
+        if not no_plot:
+            from fivebar_cli.plotting.pose_aspects import figure_aspect_map, figure_aspect_slices
 
-        from fivebar_cli.plotting.pose_aspects import figure_aspect_map
-
-        paths.append(figure(lambda: figure_aspect_slices(analysis), folder / "aspects-slices.png"))
-        paths.append(figure(lambda: figure_aspect_map(analysis), folder / "aspects-map.png"))
+            paths.append(figure(lambda: figure_aspect_slices(analysis), folder / "aspects-slices.png"))
+            paths.append(figure(lambda: figure_aspect_map(analysis), folder / "aspects-map.png"))
     space = m.spaces()[model.space]
     unit = ("area" if space.dim == 2 else "volume") + " (" + " x ".join(a.unit or "length" for a in space.axes) + ")"
     report(quiet, analysis.headline())
@@ -241,7 +242,6 @@ def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_p
     folder = prepare_out(out, m.name)
     aspects, source = _aspects_for(m, folder, depth, budget)
     rows = dkp_rows(m, result, aspects)
-    paths = [write_csv(folder / DKP_CSV, dkp_header(m), rows)]
     n = len(result.solutions)
     what = "legs" if option == "--legs" else "joints"
     if result.certified:
@@ -258,15 +258,17 @@ def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_p
         report(quiet, f"  mode {k}: " + ", ".join(f"{a} = {v:.10g}" for a, v in zip(names, s.pose))
                + f", {label}, {where}")
     report(quiet, f"  aspects at depth {depth} {source}")
-    if not no_plot and n:
-        from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
+    with output_set(folder, "dkp", DKP_FILES, "fivebar rpr3 dkp" if option == "--legs" else "fivebar dkp"):
+        paths = [write_csv(folder / DKP_CSV, dkp_header(m), rows)]
+        if not no_plot and n:
+            from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
 
-        labels = [f"mode {k}: {model.classes[s.cls].label if s.cls >= 0 else '?'}" for k, s in
-                  enumerate(result.solutions, start=1)]
-        title = f"{m.name}: the {n} assembly modes of {what} ({_numbers(joints)})"
-        poses = np.array([s.pose for s in result.solutions])
-        classes = np.array([max(s.cls, 0) for s in result.solutions])
-        paths.append(figure(lambda: figure_assembly_modes(model, poses, labels, title, classes), folder / DKP_PNG))
+            labels = [f"mode {k}: {model.classes[s.cls].label if s.cls >= 0 else '?'}" for k, s in
+                      enumerate(result.solutions, start=1)]
+            title = f"{m.name}: the {n} assembly modes of {what} ({_numbers(joints)})"
+            poses = np.array([s.pose for s in result.solutions])
+            classes = np.array([max(s.cls, 0) for s in result.solutions])
+            paths.append(figure(lambda: figure_assembly_modes(model, poses, labels, title, classes), folder / DKP_PNG))
     wrote(quiet, paths)
 
 
@@ -290,7 +292,7 @@ def dkp(config_path, legs, depth, budget, out, no_plot, quiet):
 
     \b
     Example:
-      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 -o out/caro
+      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6 -o out/caro
     """
     run_dkp(config_path, legs, "--legs", depth, budget, out, no_plot, quiet)
 
@@ -320,7 +322,7 @@ def joints_dkp(config_path, joints, depth, budget, out, no_plot, quiet):
 
     \b
     Examples:
-      fivebar dkp configs/rrr3-symmetric.yaml --joints 30 150 -90 --depth 4 -o out/rrr3-symmetric
+      fivebar dkp configs/rrr3-symmetric.yaml --joints -35 -150 -155 --depth 2 --budget 0 -o out/rrr3-symmetric
       fivebar dkp configs/rpr3-caro.yaml --joints 14.98 15.38 12 --depth 6 -o out/caro
     """
     run_dkp(config_path, joints, "--joints", depth, budget, out, no_plot, quiet)
@@ -350,9 +352,9 @@ def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, o
 
     \b
     Examples:
-      fivebar locate configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --depth 6
-      fivebar locate configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6
-      fivebar locate configs/rrr3-symmetric-phi0.yaml --pose 5 3 0 --working-mode +-+ --depth 7
+      fivebar locate configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --depth 6 -o out/caro
+      fivebar locate configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6 -o out/caro
+      fivebar locate configs/rrr3-symmetric.yaml --pose 5 2.887 10 --working-mode +-+ --depth 2 --budget 0 -o out/rrr3-symmetric
     """
     joint_sets = [("legs", tuple(r)) for r in legs] + [("joints", tuple(j)) for j in joints]
     if not poses and not joint_sets:
@@ -462,8 +464,8 @@ def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out,
 
     \b
     Examples:
-      fivebar path configs/rpr3-caro.yaml --legs 14.98 15.38 12 --modes 1 2 --depth 6
-      fivebar path configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --pose 8 -9 -5.6 --depth 6
+      fivebar path configs/rpr3-caro.yaml --legs 14.98 15.38 12 --modes 1 2 --depth 6 -o out/caro
+      fivebar path configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --pose 8 -9 -5.6 --depth 6 -o out/caro
     """
     if legs is not None and joints is not None:
         raise click.UsageError("give --joints or --legs, not both")
@@ -505,14 +507,15 @@ def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out,
     folder = prepare_out(out, m.name)
     names = [*pose_columns(m), *joint_columns(m)]
     rows = [[_exact(v) for v in row] for row in path_rows(motion)]
-    paths = [write_text(folder / PATH_CSV, csv_text(names, rows))]
-    if not no_plot:
-        from fivebar_cli.plotting.pose_aspects import figure_motion
+    with output_set(folder, "path", PATH_FILES, "fivebar path"):
+        paths = [write_text(folder / PATH_CSV, csv_text(names, rows))]
+        if not no_plot:
+            from fivebar_cli.plotting.pose_aspects import figure_motion
 
-        title = (f"{m.name}: a certified singularity-free motion, {model.classes[motion.cls].label}, "
-                 f"{labels[0]} to {labels[1]}, depth {depth}")
-        paths.append(figure(lambda: figure_motion(model, space, motion.motion.unwrapped(), motion.cls, title,
-                                                  labels[0], labels[1]), folder / PATH_PNG))
+            title = (f"{m.name}: a certified singularity-free motion, {model.classes[motion.cls].label}, "
+                     f"{labels[0]} to {labels[1]}, depth {depth}")
+            paths.append(figure(lambda: figure_motion(model, space, motion.motion.unwrapped(), motion.cls, title,
+                                                      labels[0], labels[1]), folder / PATH_PNG))
     where = (f"aspect {motion.aspect.number}, {'certified' if motion.aspect.certified else 'not certified'}"
              if motion.aspect is not None else "one generalized aspect")
     report(quiet, f"{m.name}: singularity-free motion in {where}: {model.classes[motion.cls].label}, depth {depth}")

@@ -69,12 +69,12 @@ def reproduce(configs, out, no_plot, quiet):
     of a general 3-RPR (and its page) and the `rpr3 verify` checks of the paper's designs (one of
     them must find a singular pose: exit 1 is its expected result). The .qt and CSV files are
     deterministic: the tests diff them against tests/golden/ (make golden). --no-plot skips the
-    figures and the pages.
+    figures and the pages. `fivebar reproduce` alone writes everything into outputs/ (under a
+    minute; what `make reproduce` runs).
 
     \b
     Example:
-      fivebar reproduce                  # into outputs/
-      fivebar reproduce -o /tmp/check --no-plot
+      fivebar reproduce -o out/check --no-plot
     """
     root = click.get_current_context().find_root().command
     flags = (["--no-plot"] if no_plot else []) + (["--quiet"] if quiet else [])

@@ -9,8 +9,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from fivebar_cli.cli.options import common_options, figure, prepare_out, progress, report, wrote
-from fivebar_cli.io.files import write_csv
+from fivebar_cli.cli.options import NUMBER, common_options, data_on_stdout, figure, prepare_out, progress, report, wrote
+from fivebar_cli.io.files import csv_text, write_csv
+from fivebar_cli.io.outputs import output_set
 from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.mechanisms.registry import load_config
 from fivebar_cli.mechanisms.rpr3 import closed_form as geo
@@ -45,13 +46,13 @@ def rpr3() -> None:
     certified octrees of any 3-RPR in (x, y, phi) (pave, verify) and its assembly modes (dkp).
 
     \b
-    Examples:
-      fivebar rpr3 area configs/rpr3-equilateral.yaml
+    Examples (each also in its command's help):
+      fivebar rpr3 area configs/rpr3-equilateral.yaml -o out/equilateral
       fivebar rpr3 sweep configs/rpr3-acute.yaml configs/rpr3-equilateral.yaml configs/rpr3-obtuse.yaml --over phi
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
-      fivebar rpr3 pave configs/rpr3-general.yaml --depth 7
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
-      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6
+      fivebar rpr3 dkp configs/rpr3-caro.yaml --legs 14.98 15.38 12 --depth 6 -o out/caro
     """
 
 
@@ -60,7 +61,7 @@ def rpr3() -> None:
 
 @rpr3.command("area", short_help="Exact area of the singularity-free workspace (figures 2, 9).")
 @click.argument("config", type=CONFIG)
-@common_options
+@common_options(single="area.csv")
 def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Exact area of the singularity-free workspace W at phi (or at both ends of phi_range).
 
@@ -69,14 +70,16 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
     singularity-free-workspace.png (the construction of the paper's figures 2 and 9).
 
     \b
-    Example:
+    Examples:
       fivebar rpr3 area configs/rpr3-equilateral.yaml -o out/equilateral
+      fivebar rpr3 area configs/rpr3-equilateral.yaml -o -          # area.csv on standard output
     """
     mech = load_rpr3(config)
     t = mech.design
     _, rho_max, auto = mech.leg_range()
     phis = sorted(set(mech.phi_range))
-    folder = prepare_out(out, mech.name)
+    stdout = data_on_stdout(out)
+    folder = None if stdout else prepare_out(out, mech.name)
     report(quiet, f"{mech.name}: base t = ({mech.t1:g}, {mech.t2:g}, {mech.t3:g}), k = {mech.k:g}")
     if auto:
         if math.isinf(rho_max):
@@ -98,14 +101,19 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
         rows.append((phi_deg, mech.rho_min, rho_max, a))
         report(quiet, f"  phi = {phi_deg:g} deg: singularity circle centre ({cx:.6f}, {cy:.6f}), radius {radius:.6f}")
         report(quiet, f"    area of W = {a:.9f}, boundary: {len(arcs_)} arcs on {', '.join(on) if on else '-'}")
-    paths = [write_csv(folder / "area.csv", ["phi_deg", "rho_min", "rho_max", "area"], rows)]
-    if not no_plot:
-        from fivebar_cli.plotting.rpr3 import construction
+    header = ["phi_deg", "rho_min", "rho_max", "area"]
+    if stdout:
+        click.echo(csv_text(header, rows), nl=False)
+        return
+    with output_set(folder, "rpr3-area", ("area.csv", "singularity-free-workspace.png"), "fivebar rpr3 area"):
+        paths = [write_csv(folder / "area.csv", header, rows)]
+        if not no_plot:
+            from fivebar_cli.plotting.rpr3 import construction
 
-        title = (f"{mech.name}: singularity-free workspace, k = {mech.k:g}, "
-                 f"phi = {', '.join(f'{p:g}' for p in phis)} deg")
-        _figure(lambda: construction(mech, phis, mech.rho_min, rho_max, title),
-                folder / "singularity-free-workspace.png", paths)
+            title = (f"{mech.name}: singularity-free workspace, k = {mech.k:g}, "
+                     f"phi = {', '.join(f'{p:g}' for p in phis)} deg")
+            _figure(lambda: construction(mech, phis, mech.rho_min, rho_max, title),
+                    folder / "singularity-free-workspace.png", paths)
     wrote(quiet, paths)
 
 
@@ -116,14 +124,15 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
 @click.argument("configs", nargs=-1, required=True, type=CONFIG, metavar="CONFIG...")
 @click.option("--over", type=click.Choice(["phi", "rho_min", "t2"]), required=True,
               help="phi: figures 3, 4, 6, 7; rho_min: figure 5 (at the config's phi); t2: figure 8.")
-@click.option("--range", "span", type=(float, float), default=None, metavar="LO HI",
+@click.option("--range", "span", type=(NUMBER, NUMBER), default=None, metavar="LO HI",
               help="Swept interval [default: phi 0.5 179.5; rho_min 0 up to where rho_max auto is finite; "
                    "t2 -5 t1+5].")
 @click.option("--steps", type=click.IntRange(2, 20001), default=None,
               help="Number of samples [default: phi 359, rho_min 201, t2 233].")
 @click.option("--angles", default="30,60,90,120,150", show_default=True,
               help="Orientations (degrees) of the t2 sweep, comma separated.")
-@common_options
+@common_options(single="the table (area-vs-phi.csv, area-vs-rho-min.csv or area-vs-t2.csv)",
+                default="outputs/<config name>/, outputs/<name1>+<name2>+.../ for several")
 def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
     """Area of W swept over phi, rho_min or the base shape t2, for one or more bases on one figure.
 
@@ -135,20 +144,32 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
     Examples:
       fivebar rpr3 sweep configs/rpr3-acute.yaml configs/rpr3-equilateral.yaml configs/rpr3-obtuse.yaml --over phi
       fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over rho_min --range 0 0.7
-      fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over t2 --angles 30,90,150
+      fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over t2 --angles 30,90,150 --steps 21
+      fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over rho_min -o - > area-vs-rho-min.csv
     """
     mechs = [load_rpr3(c) for c in configs]
-    if span is not None and not all(math.isfinite(v) and abs(v) <= 1e6 for v in span):
-        raise click.BadParameter(f"LO and HI must be finite numbers, got {span[0]:g} {span[1]:g}", param_hint="--range")
+    if span is not None and not all(abs(v) <= 1e6 for v in span):
+        raise click.BadParameter(f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}",
+                                 param_hint="--range")
     if span is not None and not span[0] < span[1]:
         raise click.BadParameter(f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}", param_hint="--range")
-    folder = prepare_out(out, "+".join(dict.fromkeys(m.name for m in mechs)))
-    run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
-    paths = run(mechs, span, steps, angles, folder, no_plot, quiet)
+    stdout = data_on_stdout(out)
+    folder = None if stdout else prepare_out(out, "+".join(dict.fromkeys(m.name for m in mechs)))
+    run, table, figures = SWEEPS[over]
+    header, rows, drawings = run(mechs, span, steps, angles, quiet)
+    if stdout:
+        click.echo(csv_text(header, rows), nl=False)
+        return
+    with output_set(folder, f"rpr3-sweep-{over}", (table, *figures), f"fivebar rpr3 sweep --over {over}"):
+        paths = [write_csv(folder / table, header, rows)]
+        if not no_plot:
+            for name, make in zip(figures, drawings):
+                _figure(make, folder / name, paths)
     wrote(quiet, paths)
 
 
-def _sweep_phi(mechs, span, steps, angles, folder, no_plot, quiet):
+def _sweep_phi(mechs, span, steps, angles, quiet):
+    """(header, rows, figure makers) of the sweep over phi (figures 3, 4, 6, 7)."""
     lo, hi = span or (0.5, 179.5)
     _check_phis((lo, hi), "--range")
     phis_deg = np.linspace(lo, hi, steps or 359)
@@ -165,27 +186,27 @@ def _sweep_phi(mechs, span, steps, angles, folder, no_plot, quiet):
                           f"{phis_deg[best]:g} deg; optimal rho_min {d['rho_min_opt'].min():.6f} .. "
                           f"{d['rho_min_opt'].max():.6f}")
     header = ["config", "phi_deg", "rho_min", "rho_max", "area", "rho_min_opt", "rho_max_opt", "area_opt"]
-    paths = [write_csv(folder / "area-vs-phi.csv", header, rows)]
-    if not no_plot:
-        from fivebar_cli.plotting.rpr3 import lines
+    from fivebar_cli.plotting.rpr3 import lines
 
-        rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
-        small = phis_deg <= lo + (hi - lo) / 6.0
-        figs = [
-            ("area-vs-phi.png", "area", None, "area of W", f"Area of W vs phi (rho_min = {rho}) [fig. 3]"),
-            ("area-vs-small-phi.png", "area", small, "area of W", f"Area of W vs small phi (rho_min = {rho}) [fig. 4]"),
-            ("area-vs-phi-optimal-rho-min.png", "area_opt", None, "area of W",
-             "Area of W vs phi with the optimal rho_min [fig. 6]"),
-            ("optimal-rho-min-vs-phi.png", "rho_min_opt", None, "optimal rho_min", "Optimal rho_min vs phi [fig. 7]"),
-        ]
-        for name, key, mask, ylabel, title in figs:
-            sel = slice(None) if mask is None else mask
-            series = [(n, phis_deg[sel], d[key][sel]) for n, d in curves]
-            _figure(lambda: lines(series, "phi (degrees)", ylabel, title), folder / name, paths)
-    return paths
+    rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
+    small = phis_deg <= lo + (hi - lo) / 6.0
+    figs = [
+        ("area", None, "area of W", f"Area of W vs phi (rho_min = {rho}) [fig. 3]"),
+        ("area", small, "area of W", f"Area of W vs small phi (rho_min = {rho}) [fig. 4]"),
+        ("area_opt", None, "area of W", "Area of W vs phi with the optimal rho_min [fig. 6]"),
+        ("rho_min_opt", None, "optimal rho_min", "Optimal rho_min vs phi [fig. 7]"),
+    ]
+
+    def drawing(key, mask, ylabel, title):
+        sel = slice(None) if mask is None else mask
+        series = [(n, phis_deg[sel], d[key][sel]) for n, d in curves]
+        return lambda: lines(series, "phi (degrees)", ylabel, title)
+
+    return header, rows, [drawing(*f) for f in figs]
 
 
-def _sweep_rho_min(mechs, span, steps, angles, folder, no_plot, quiet):
+def _sweep_rho_min(mechs, span, steps, angles, quiet):
+    """(header, rows, figure makers) of the sweep over rho_min (figure 5)."""
     limits = [float(geo.rho_min_limit(*m.design, to_radians(m.phi))) for m in mechs]
     lo, hi = span or (0.0, max(limits))
     if lo < 0:
@@ -200,17 +221,16 @@ def _sweep_rho_min(mechs, span, steps, angles, folder, no_plot, quiet):
         r_opt, a_opt, _ = (float(v) for v in geo.optimal_rho_min(*m.design, phi))
         marks.append((f"{r_opt:.4f}", r_opt, a_opt))
         report(quiet, f"{m.name}: phi = {m.phi:g} deg: optimal rho_min = {r_opt:.6f}, area {a_opt:.6f}")
-    paths = [write_csv(folder / "area-vs-rho-min.csv", ["config", "phi_deg", "rho_min", "rho_max", "area"], rows)]
-    if not no_plot:
-        from fivebar_cli.plotting.rpr3 import lines
+    from fivebar_cli.plotting.rpr3 import lines
 
-        phis = ", ".join(sorted({f"{m.phi:g}" for m in mechs}))
-        _figure(lambda: lines(series, "rho_min", "area of W", f"Area of W vs rho_min (phi = {phis} deg) [fig. 5]",
-                              marks), folder / "area-vs-rho-min.png", paths)
-    return paths
+    phis = ", ".join(sorted({f"{m.phi:g}" for m in mechs}))
+    title = f"Area of W vs rho_min (phi = {phis} deg) [fig. 5]"
+    return (["config", "phi_deg", "rho_min", "rho_max", "area"], rows,
+            [lambda: lines(series, "rho_min", "area of W", title, marks)])
 
 
-def _sweep_t2(mechs, span, steps, angles, folder, no_plot, quiet):
+def _sweep_t2(mechs, span, steps, angles, quiet):
+    """(header, rows, figure makers) of the sweep over the base shape t2 (figure 8)."""
     try:
         phis_deg = [float(a) for a in angles.split(",") if a.strip()]
     except ValueError:
@@ -237,14 +257,20 @@ def _sweep_t2(mechs, span, steps, angles, folder, no_plot, quiet):
             advance(1)
     header = ["config", "phi_deg", "t1", "t2", "t3", "rho_min", "rho_max", "area", "rho_min_opt", "rho_max_opt",
               "area_opt"]
-    paths = [write_csv(folder / "area-vs-t2.csv", header, rows)]
-    if not no_plot:
-        from fivebar_cli.plotting.rpr3 import lines
+    from fivebar_cli.plotting.rpr3 import lines
 
-        rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
-        title = f"Area of W vs t2, t1 and t3 fixed (rho_min = {rho}) [fig. 8]"
-        _figure(lambda: lines(series, "t2", "area of W", title), folder / "area-vs-t2.png", paths)
-    return paths
+    rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
+    title = f"Area of W vs t2, t1 and t3 fixed (rho_min = {rho}) [fig. 8]"
+    return header, rows, [lambda: lines(series, "t2", "area of W", title)]
+
+
+# sweep -> (function, its table, its figures in the order the function draws them)
+SWEEPS = {
+    "phi": (_sweep_phi, "area-vs-phi.csv", ("area-vs-phi.png", "area-vs-small-phi.png",
+                                            "area-vs-phi-optimal-rho-min.png", "optimal-rho-min-vs-phi.png")),
+    "rho_min": (_sweep_rho_min, "area-vs-rho-min.csv", ("area-vs-rho-min.png",)),
+    "t2": (_sweep_t2, "area-vs-t2.csv", ("area-vs-t2.png",)),
+}
 
 
 # ---------------------------------------------------------------- synthesis
@@ -285,14 +311,16 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
     header = ["case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n"]
     rows = [(c.number, OBJECTIVES[c.number][0], c.rho_min, c.rho_max, c.a1, c.a2, c.diff_rounded, c.mean,
              c.fluctuation, c.n) for c in cases]
-    paths = [write_csv(folder / "synthesis.csv", header, rows)]
-
-    if paper.is_paper_table1(*t, p1, p2, mech.rho_min):
-        rows, worst = paper.table1_comparison(cases)
-        paths.append(write_csv(folder / "table1-comparison.csv", paper.COMPARISON_HEADER, rows))
-        report(quiet, f"Table 1 at the paper's rho_min: largest difference from the printed cells {worst:.2e}")
-    else:
-        report(quiet, "(not the paper's Table-1 setup: no comparison with the printed values)")
+    files = ("synthesis.csv", "table1-comparison.csv", "area-vs-phi-cases.png", "singularity-free-workspace-case2.png")
+    with output_set(folder, "rpr3-synthesize", files, "fivebar rpr3 synthesize"):
+        paths = [write_csv(folder / "synthesis.csv", header, rows)]
+        if paper.is_paper_table1(*t, p1, p2, mech.rho_min):
+            rows, worst = paper.table1_comparison(cases)
+            paths.append(write_csv(folder / "table1-comparison.csv", paper.COMPARISON_HEADER, rows))
+            report(quiet, f"Table 1 at the paper's rho_min: largest difference from the printed cells {worst:.2e}")
+        else:
+            report(quiet, "(not the paper's Table-1 setup: no comparison with the printed values)")
+        _synthesis_figures(mech, cases, folder, paths, no_plot)
 
     for c in cases:
         if c.note:
@@ -306,7 +334,13 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
     else:
         report(quiet, f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
                       f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
+    wrote(quiet, paths)
 
+
+def _synthesis_figures(mech, cases, folder: Path, paths: list, no_plot: bool) -> None:
+    """Figures 10 (area against phi, six cases) and 9 (W at both ends of the range, case 2)."""
+    t = mech.design
+    p1, p2 = mech.phi_range
     if not no_plot:
         from fivebar_cli.plotting.rpr3 import construction, lines
 
@@ -320,7 +354,6 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
                  f"({c2.rho_min:.6f}) [fig. 9]")
         _figure(lambda: construction(mech, [p1, p2], c2.rho_min, c2.rho_max, title),
                 folder / "singularity-free-workspace-case2.png", paths)
-    wrote(quiet, paths)
 
 
 # ---------------------------------------------------------------- octrees: pave and verify
@@ -358,24 +391,62 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
 
     \b
     Example:
-      fivebar rpr3 pave configs/rpr3-general.yaml --depth 7 -o out/general
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
     """
     from fivebar_cli.analyses import spaces
-    from fivebar_cli.mechanisms.rpr3 import volumes
-    from fivebar_cli.mechanisms.rpr3.model import REGION_FILES, REACHABLE
 
     mech = load_octree(config)
     folder = prepare_out(out, mech.name)
-    space = mech.spaces()["workspace"]
     regions = mech.regions("workspace")
-    paths = []
     with progress(quiet, len(regions) * (depth + 1), f"octree depth {depth}") as advance:
         pavings = spaces.pave_regions(mech, "workspace", depth, on_level=lambda level, n: advance(1))
-    for region, p in pavings.items():
-        own = None if region == REACHABLE else region
-        paths += spaces.write_paving(folder, mech, "workspace", p, "exact", p.evaluations, own, REGION_FILES[region])
+    paths = write_pave(folder, mech, pavings, {r: p.evaluations for r, p in pavings.items()}, no_plot, quiet)
+    wrote(quiet, paths)
+
+
+PAVE_SET = "rpr3-pave"  # the output set of `rpr3 pave` (and of `refine` of one of its pairs)
+
+
+def pave_files() -> tuple[str, ...]:
+    from fivebar_cli.io.layout import paving_files
+    from fivebar_cli.mechanisms.rpr3.model import REGION_FILES
+
+    return (*(f for stem in REGION_FILES.values() for f in paving_files(stem)), "volumes.csv", "singularity-free.png")
+
+
+def write_pave(folder: Path, mech, pavings: dict, evaluations: dict, no_plot: bool, quiet: bool) -> list[Path]:
+    """The files of `rpr3 pave` as one output set: the three pairs and summaries, volumes.csv and
+    the figures; `evaluations` per region counts every box tested to reach it (with a refined run's)."""
+    from fivebar_cli.analyses import spaces
+    from fivebar_cli.io.outputs import output_set
+    from fivebar_cli.mechanisms.rpr3 import volumes
+    from fivebar_cli.mechanisms.rpr3.model import REACHABLE, REGION_FILES
+
+    space = mech.spaces()["workspace"]
+    regions = mech.regions("workspace")
+    depth = pavings[REACHABLE].grid.depth
     v = volumes.volumes(mech, pavings)
-    paths.append(write_csv(folder / "volumes.csv", volumes.HEADER, [tuple(v.values())]))
+    v["evaluations"] = sum(evaluations.values())
+    paths = []
+    with output_set(folder, PAVE_SET, pave_files(), "fivebar rpr3 pave"):
+        for region, p in pavings.items():
+            own = None if region == REACHABLE else region
+            paths += spaces.write_paving(folder, mech, "workspace", p, "exact", evaluations[region], own,
+                                         REGION_FILES[region])
+        paths.append(write_csv(folder / "volumes.csv", volumes.HEADER, [tuple(v.values())]))
+        if not no_plot:
+            from fivebar_cli.plotting.rpr3 import figure_singularity_free
+            from fivebar_cli.plotting.trees import figure_paving
+
+            reach = pavings[REACHABLE]
+            paths.append(figure(lambda: figure_paving(mech.name, space, reach.inside, reach.outside,
+                                                      reach.undetermined_tree(), False), folder / "workspace.png"))
+            design = mech.closed_form_or_none()
+            plus, minus = (pavings[r].inside for r in regions[1:])
+            title = f"{mech.name}: singularity-free workspace by sign of det J, depth {depth}"
+            paths.append(figure(lambda: figure_singularity_free(title, space, plus, minus, reach.outside,
+                                                                mech.phi_range, design),
+                                folder / "singularity-free.png"))
     unit = "area" if space.dim == 2 else "volume (x y deg)"
     report(quiet, f"{mech.name}: workspace {'quadtree' if space.dim == 2 else 'octree'} depth {depth}, "
                   f"{v['evaluations']} evaluations; {unit}:")
@@ -386,20 +457,7 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
     if v["exact_reachable"] != "":
         report(quiet, f"  closed form: reachable {v['exact_reachable']:.8g}, det J > 0 {v['exact_det_positive']:.8g}, "
                       f"det J < 0 {v['exact_det_negative']:.8g}")
-    if not no_plot:
-        from fivebar_cli.plotting.rpr3 import figure_singularity_free
-        from fivebar_cli.plotting.trees import figure_paving
-
-        reach = pavings[REACHABLE]
-        paths.append(figure(lambda: figure_paving(mech.name, space, reach.inside, reach.outside,
-                                                  reach.undetermined_tree(), False), folder / "workspace.png"))
-        design = mech.closed_form_or_none()
-        plus, minus = (pavings[r].inside for r in regions[1:])
-        title = f"{mech.name}: singularity-free workspace by sign of det J, depth {depth}"
-        paths.append(figure(lambda: figure_singularity_free(title, space, plus, minus, reach.outside, mech.phi_range,
-                                                            design),
-                            folder / "singularity-free.png"))
-    wrote(quiet, paths)
+    return paths
 
 
 @rpr3.command("verify", short_help="Prove a design singularity-free, or find a reachable singular pose.")
@@ -422,7 +480,7 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     \b
     Examples:
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
-      fivebar rpr3 verify configs/rpr3-verify/obtuse-phi1-rule.yaml --depth 14
+      fivebar rpr3 verify configs/rpr3-verify/obtuse-phi1-rule.yaml     # exit 1: a singular pose is found
     """
     from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify
 
@@ -434,25 +492,11 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     p1, p2 = mech.phi_range
     report(quiet, f"{mech.name}: legs {legs}, phi in [{p1:g}, {p2:g}] deg")
     report(quiet, f"  {result.status} (depth {result.depth} of {result.max_depth}, {result.evaluations} boxes tested)")
-    counterexample = folder / "counterexample.csv"
-    paths = []
     if result.status == SINGULAR:
         pose = result.pose
         x, y, phi = (*pose.pose, mech.phi_range[0])[:3]  # one orientation: the pose is (x, y)
         report(quiet, f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
                       f"{', '.join(f'{v:.12g}' for v in pose.joints)}, det J = {pose.value:.3g}")
-        paths.append(write_csv(counterexample, ["x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j"],
-                               [(x, y, phi, *pose.joints, pose.value)]))
-        if not no_plot:
-            from fivebar_cli.plotting.rpr3 import figure_pose
-
-            title = f"{mech.name}: a reachable singular pose (det J = {pose.value:.2g})"
-            paths.append(figure(lambda: figure_pose(mech, (x, y, phi), pose.joints, title),
-                                folder / "counterexample.png"))
-    else:
-        for stale in (counterexample, folder / "counterexample.png"):
-            if stale.is_file():
-                stale.unlink()
     if result.status == UNDECIDED:
         advice = result.note or "raise --depth"
         report(quiet, f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
@@ -460,7 +504,19 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     header = ["name", "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume"]
     row = (mech.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
            result.undecided_volume, result.root_volume)
-    paths.insert(0, write_csv(folder / "verify.csv", header, [row]))
+    # a counterexample of an earlier run is removed when none is found (the set owns it)
+    with output_set(folder, "rpr3-verify", ("verify.csv", "counterexample.csv", "counterexample.png"),
+                    "fivebar rpr3 verify"):
+        paths = [write_csv(folder / "verify.csv", header, [row])]
+        if result.status == SINGULAR:
+            paths.append(write_csv(folder / "counterexample.csv", ["x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j"],
+                                   [(x, y, phi, *pose.joints, pose.value)]))
+            if not no_plot:
+                from fivebar_cli.plotting.rpr3 import figure_pose
+
+                title = f"{mech.name}: a reachable singular pose (det J = {pose.value:.2g})"
+                paths.append(figure(lambda: figure_pose(mech, (x, y, phi), pose.joints, title),
+                                    folder / "counterexample.png"))
     wrote(quiet, paths)
     if result.exit_code:
         raise click.exceptions.Exit(result.exit_code)

@@ -7,8 +7,12 @@ from __future__ import annotations
 import click
 
 from fivebar_cli.analyses.tolerance import HEADER, fate_text, tolerance_study
-from fivebar_cli.cli.options import CONFIG, common_options, depth_option, figure, prepare_out, progress, report, wrote
-from fivebar_cli.io.files import write_csv
+from fivebar_cli.cli.options import (
+    CONFIG, common_options, data_on_stdout, depth_option, figure, plural, prepare_out, progress, report, wrote,
+)
+from fivebar_cli.io.files import csv_text, write_csv
+from fivebar_cli.io.layout import TOLERANCE_FILES
+from fivebar_cli.io.outputs import output_set
 from fivebar_cli.mechanisms.registry import load_config
 
 MAX_TOLERANCES = 50
@@ -32,7 +36,7 @@ def _parse_tolerances(ctx, param, text: str) -> list[float]:
 @click.option("--tolerances", default="0,0.01,0.02,0.05,0.1", show_default=True, callback=_parse_tolerances,
               help="Tolerances T: every link length becomes [L - T, L + T].")
 @depth_option()
-@common_options
+@common_options(single="tolerance.csv")
 def tolerance(config_path, tolerances, depth, out, no_plot, quiet):
     """How manufacturing tolerances shrink a five-bar's workspace, joint space and aspects.
 
@@ -44,23 +48,38 @@ def tolerance(config_path, tolerances, depth, out, no_plot, quiet):
     bands over the nominal workspace and joint space) and tolerance-aspects.png (robust area
     against tolerance per aspect), and reports which aspects shrink, split or vanish.
 
+    The folder holds tables and figures, no trees (`fivebar view` shows the trees of `workspace
+    --tolerance T`, `jointspace --tolerance T` and `aspects --tolerance T` runs).
+
     \b
-    Example:
-      fivebar tolerance configs/m1.yaml --tolerances 0,0.01,0.05,0.1 --depth 10 -o out/m1
+    Examples:
+      fivebar tolerance configs/m1.yaml --tolerances 0,0.02,0.05 --depth 7 -o out/m1
+      fivebar tolerance configs/m2.yaml --tolerances 0,0.01 --depth 6 -o - > m2-tolerance.csv
     """
     m = load_config(config_path, kind="fivebar")
     for t in tolerances:
         m.nominal().widened(t, str(config_path))  # every tolerance keeps the lengths positive
-    folder = prepare_out(out, m.name)
+    stdout = data_on_stdout(out)
+    folder = None if stdout else prepare_out(out, m.name)
     with progress(quiet, 3 * len(tolerances), f"tolerances, depth {depth}") as advance:
         study = tolerance_study(m, tolerances, depth, advance)
-    paths = [write_csv(folder / "tolerance.csv", HEADER, [r.cells() for r in study.rows])]
-    if not no_plot:
-        from fivebar_cli.plotting.tolerance import figure_aspect_areas, figure_bands
+    rows = [r.cells() for r in study.rows]
+    if stdout:
+        click.echo(csv_text(HEADER, rows), nl=False)
+        paths = []
+    else:
+        with output_set(folder, "tolerance", TOLERANCE_FILES, "fivebar tolerance"):
+            paths = [write_csv(folder / "tolerance.csv", HEADER, rows)]
+            if not no_plot:
+                from fivebar_cli.plotting.tolerance import figure_aspect_areas, figure_bands
 
-        paths.append(figure(lambda: figure_bands(study), folder / "tolerance-bands.png"))
-        paths.append(figure(lambda: figure_aspect_areas(study), folder / "tolerance-aspects.png"))
-    report(quiet, f"{m.name}: tolerance study at depth {depth} ({len(study.nominal.aspects)} nominal aspects)")
+                paths.append(figure(lambda: figure_bands(study), folder / "tolerance-bands.png"))
+                paths.append(figure(lambda: figure_aspect_areas(study), folder / "tolerance-aspects.png"))
+    nominal = study.nominal
+    count = (f"{plural(len(nominal.aspects), 'nominal generalized aspect')}, certified" if nominal.certified else
+             f"between {nominal.lower} and {plural(nominal.upper, 'nominal generalized aspect')}, not certified at "
+             f"this depth: the aspect rows cover only those with certified cells")
+    report(quiet, f"{m.name}: tolerance study at depth {depth} ({count})")
     report(quiet, f"  {'T':>8s} {'space':10s} {'robust':>12s} {'possible':>12s} {'nominal':>12s}")
     for r in study.rows:
         if not r.region.startswith("aspect"):

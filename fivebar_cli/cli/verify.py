@@ -10,6 +10,7 @@ from fivebar_cli.analyses.pose_verify import EXIT, SINGULAR, UNDECIDED, verify
 from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
 from fivebar_cli.cli.pose_aspects import CONFIG, load_pose_kind, sheets_chosen
 from fivebar_cli.io.files import write_csv
+from fivebar_cli.io.outputs import output_set
 
 MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
 
@@ -38,7 +39,7 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
 
     \b
     Examples:
-      fivebar verify configs/rrr3-symmetric.yaml --working-mode +-+ --depth 6 -o out/rrr3-verify
+      fivebar verify configs/rrr3-symmetric.yaml --working-mode +-+ -o out/rrr3-verify     # exit 1: a singular pose is found
       fivebar verify configs/rpr3-verify/table1-legs-1-1.5.yaml -o out/rpr3-verify
     """
     m = load_pose_kind(config_path)
@@ -66,27 +67,27 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
             report(quiet, f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
                           f"{result.depth}: {result.note or 'raise --depth'}")
     header = ["name", *fields, "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume"]
-    paths = [write_csv(folder / "verify.csv", header, rows)]
-    counterexample = folder / "counterexample.csv"
-    if singular:
-        paths.append(write_csv(counterexample, [*fields, *pose_columns(m), *joint_columns(m), model.singularity_name],
-                               [(*(v for _, v in model.sheets[s].fields), *p.pose, *p.joints, p.value)
-                                for s, p in singular]))
-        if not no_plot:
-            import numpy as np
+    # a counterexample of an earlier run is removed when none is found (the set owns it)
+    with output_set(folder, f"{m.kind}-verify", ("verify.csv", "counterexample.csv", "counterexample.png"), "fivebar verify"):
+        paths = [write_csv(folder / "verify.csv", header, rows)]
+        if singular:
+            paths.append(write_csv(folder / "counterexample.csv",
+                                   [*fields, *pose_columns(m), *joint_columns(m), model.singularity_name],
+                                   [(*(v for _, v in model.sheets[s].fields), *p.pose, *p.joints, p.value)
+                                    for s, p in singular]))
+            if not no_plot:
+                import numpy as np
 
-            from fivebar_cli.analyses.pose_aspects import sheet_classes
-            from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
+                from fivebar_cli.analyses.pose_aspects import sheet_classes
+                from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
 
-            poses = np.array([p.pose for _, p in singular])
-            classes = np.array([sheet_classes(model, s)[0] for s, _ in singular])
-            labels = [f"{model.sheets[s].label or m.name}: {model.singularity_name} = {p.value:.2g}" for s, p in singular]
-            title = f"{m.name}: valid singular poses"
-            paths.append(figure(lambda: figure_assembly_modes(model, poses, labels, title, classes),
-                                folder / "counterexample.png"))
-    else:
-        for stale in (counterexample, folder / "counterexample.png"):
-            stale.unlink(missing_ok=True)
+                poses = np.array([p.pose for _, p in singular])
+                classes = np.array([sheet_classes(model, s)[0] for s, _ in singular])
+                labels = [f"{model.sheets[s].label or m.name}: {model.singularity_name} = {p.value:.2g}"
+                          for s, p in singular]
+                title = f"{m.name}: valid singular poses"
+                paths.append(figure(lambda: figure_assembly_modes(model, poses, labels, title, classes),
+                                    folder / "counterexample.png"))
     wrote(quiet, paths)
     status = 1 if SINGULAR in statuses else 3 if UNDECIDED in statuses else 0
     if status:

@@ -3,7 +3,9 @@
 One place for the layout that users' scripts rely on (docs/formats.md, "Output layout"):
 `outputs/<name>/<space>.qt` and `<space>.complement.qt`, `<space>.csv`, `aspects.csv`,
 `aspects-adjacency.csv`, `aspects/aspect-NN.<space>.qt` and `aspect-NN.workspace.geojson`,
-`aspect-NN.<space>.ply` (3-D aspects), `<space>.geojson`, `path.csv` and `path.png`, `dkp.csv`.
+`aspect-NN.<space>.ply` (3-D aspects), `<space>.geojson`, `path.csv` and `path.png`, `dkp.csv`; and
+the files each output set owns (`io.outputs`): the glob patterns of every file a command may write
+in one of its runs.
 """
 
 from __future__ import annotations
@@ -72,3 +74,17 @@ PATH_CSV = "path.csv"
 PATH_PNG = "path.png"
 DKP_CSV = "dkp.csv"
 DKP_PNG = "dkp.png"
+
+
+def paving_files(stem: str) -> tuple[str, ...]:
+    """The files of a paving written under `stem`: the trees, the summary, GeoJSON and figures."""
+    return (f"{stem}.qt", f"{stem}{COMPLEMENT}", f"{stem}{BAND}", f"{stem}.csv", f"{stem}.geojson", f"{stem}.png",
+            f"{stem}.complement.png")
+
+
+# The output sets of the commands writing into a mechanism's folder (io.outputs): name -> owned files.
+ASPECT_FILES = (ASPECTS_CSV, CROSSINGS_CSV, SPLIT_CSV, "aspects/aspect-*.qt", "aspects/aspect-*.geojson",
+                "aspects/aspect-*.ply", "aspects-*.png")
+PATH_FILES = (PATH_CSV, PATH_PNG)
+DKP_FILES = (DKP_CSV, DKP_PNG)
+TOLERANCE_FILES = ("tolerance.csv", "tolerance-*.png")

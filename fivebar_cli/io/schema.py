@@ -2,13 +2,19 @@
 
 Every problem is reported as a `ConfigError` naming the file, the field and what is wrong, so the
 CLI can print one line and exit with status 2. Unknown keys are errors, not ignored: a typo such
-as `lenghts:` must not silently fall back to defaults. The schemas themselves belong to the
-mechanism kinds (`fivebar_cli/mechanisms/*/model.py`); docs/formats.md lists them.
+as `lenghts:` must not silently fall back to defaults. A plain scalar that YAML 1.1 (PyYAML) and
+YAML 1.2 read differently (`1:2` is 62 in 1.1, `yes` is true, `017` is 15, `1e-3` is text; in 1.2
+they are text, text, 17 and 0.001) is refused with its field named: a file means one thing, whatever
+YAML library reads it. The schemas themselves belong to the mechanism kinds
+(`fivebar_cli/mechanisms/*/model.py`); docs/formats.md lists them.
 """
 
 from __future__ import annotations
 
 import math
+import numbers
+import re
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -41,19 +47,118 @@ def read_yaml(path: str | Path, source: str | None = None) -> dict:
         raise ConfigError(source, "", "empty file (expected a mapping with 'name' and 'type')")
     if not isinstance(data, dict):
         raise ConfigError(source, "", f"expected a mapping at the top level, got {kind_of(data)}")
+    _refuse_ambiguous(data, source, "")
     return data
 
 
+@dataclass(frozen=True)
+class Ambiguous:
+    """A plain scalar that YAML 1.1 and YAML 1.2 read differently (`read_yaml` refuses it)."""
+
+    text: str
+    yaml11: Any
+    yaml12: Any
+
+    def message(self) -> str:
+        return (f"{self.text} is {_reading(self.yaml11)} in YAML 1.1 but {_reading(self.yaml12)} in YAML 1.2: write "
+                "it so that both read the same (a plain decimal number such as 62 or 0.001, true or false, or "
+                "quoted text)")
+
+
+def _reading(value: Any) -> str:
+    if value is None:
+        return "null"
+    if isinstance(value, bool):
+        return "the boolean " + ("true" if value else "false")
+    if isinstance(value, (int, float)):
+        return f"the number {value!r}"
+    if isinstance(value, str):
+        return f"the text {value!r}"
+    return f"a {type(value).__name__}"
+
+
+# YAML 1.2 core schema (https://yaml.org/spec/1.2.2/#1032-tag-resolution)
+_CORE = (
+    (re.compile(r"(?:~|null|Null|NULL|)\Z"), lambda t: None),
+    (re.compile(r"(?:true|True|TRUE)\Z"), lambda t: True),
+    (re.compile(r"(?:false|False|FALSE)\Z"), lambda t: False),
+    (re.compile(r"[-+]?[0-9]+\Z"), int),
+    (re.compile(r"0o[0-7]+\Z"), lambda t: int(t[2:], 8)),
+    (re.compile(r"0x[0-9a-fA-F]+\Z"), lambda t: int(t[2:], 16)),
+    (re.compile(r"[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?\Z"), float),
+    (re.compile(r"[-+]?\.(?:inf|Inf|INF)\Z"), lambda t: -math.inf if t.startswith("-") else math.inf),
+    (re.compile(r"\.(?:nan|NaN|NAN)\Z"), lambda t: math.nan),
+)
+
+
+def yaml12(text: str) -> Any:
+    """What YAML 1.2's core schema reads a plain scalar as."""
+    for pattern, value in _CORE:
+        if pattern.match(text):
+            try:
+                return value(text)
+            except (ValueError, OverflowError):  # beyond Python's digit limit: as good as infinite
+                return math.inf
+    return text
+
+
+def _same(a: Any, b: Any) -> bool:
+    if type(a) is not type(b) and not (isinstance(a, float) and isinstance(b, float)):
+        return False
+    if isinstance(a, float) and math.isnan(a):
+        return math.isnan(b)
+    return a == b
+
+
+def _refuse_ambiguous(value: Any, source: str, field: str) -> None:
+    """ConfigError at the first Ambiguous scalar (key or value), naming its field."""
+    if isinstance(value, Ambiguous):
+        raise ConfigError(source, field or "YAML", value.message())
+    if isinstance(value, dict):
+        for key, item in value.items():
+            prefix = f"{field}." if field else ""
+            if isinstance(key, Ambiguous):
+                raise ConfigError(source, prefix + key.text, f"the key {key.message()}")
+            name = field_name(prefix, key)
+            _refuse_ambiguous(item, source, name)
+    elif isinstance(value, list):
+        for i, item in enumerate(value):
+            _refuse_ambiguous(item, source, f"{field}[{i}]")
+
+
 def _strict_loader():
-    """PyYAML's safe loader, refusing duplicate keys (the last one would silently win)."""
+    """PyYAML's safe loader (YAML 1.1), refusing duplicate keys (the last one would silently win),
+    and marking the plain scalars that YAML 1.2 reads differently (`Ambiguous`)."""
     import yaml
 
     class StrictLoader(yaml.SafeLoader):
+        def _checked(self, node, value):
+            if node.style is not None or not isinstance(node, yaml.ScalarNode):
+                return value  # quoted or block scalars are text in both
+            other = yaml12(node.value)
+            return value if _same(value, other) else Ambiguous(node.value, value, other)
+
         def construct_yaml_int(self, node):  # beyond Python's digit limit: as good as infinite
             try:
-                return super().construct_yaml_int(node)
+                value = super().construct_yaml_int(node)
             except ValueError:
-                return math.inf
+                value = math.inf
+            return value if value == math.inf and yaml12(node.value) == math.inf else self._checked(node, value)
+
+        def construct_yaml_float(self, node):
+            return self._checked(node, super().construct_yaml_float(node))
+
+        def construct_yaml_bool(self, node):
+            return self._checked(node, super().construct_yaml_bool(node))
+
+        def construct_yaml_null(self, node):
+            return self._checked(node, super().construct_yaml_null(node))
+
+        def construct_yaml_timestamp(self, node):
+            return self._checked(node, super().construct_yaml_timestamp(node))
+
+        def construct_yaml_str(self, node):
+            return self._checked(node, super().construct_yaml_str(node))
 
         def construct_mapping(self, node, deep=False):
             keys = [k.value for k, _ in node.value if isinstance(k, yaml.ScalarNode)]
@@ -63,13 +168,15 @@ def _strict_loader():
                         None, None, f"duplicate key {key_node.value!r}", key_node.start_mark)
             return super().construct_mapping(node, deep=deep)
 
-    StrictLoader.add_constructor("tag:yaml.org,2002:int", StrictLoader.construct_yaml_int)
+    for tag in ("int", "float", "bool", "null", "timestamp", "str"):
+        StrictLoader.add_constructor(f"tag:yaml.org,2002:{tag}", getattr(StrictLoader, f"construct_yaml_{tag}"))
     return StrictLoader
 
 
 # ---------------------------------------------------------------- field helpers
 
 LIMIT = 1e50  # magnitude bound on every number: products of a few lengths (and their squares) stay finite
+MAX_NAME_BYTES = 255  # a folder name's limit on Linux and macOS file systems
 
 
 def field_name(prefix: str, key: object) -> str:
@@ -79,6 +186,8 @@ def field_name(prefix: str, key: object) -> str:
 
 
 def kind_of(value: Any) -> str:
+    if value is None:
+        return "an empty value"
     return {list: "a list", dict: "a mapping", str: "a string", bool: "a boolean"}.get(
         type(value), type(value).__name__
     )
@@ -101,8 +210,11 @@ def mapping(data: Mapping, key: str, source: str) -> Mapping:
 
 
 def number(value: Any, source: str, field: str, *, positive: bool = False, nonnegative: bool = False) -> float:
-    """A finite float of magnitude at most LIMIT (and at least 1/LIMIT when positive)."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    """A finite float of magnitude at most LIMIT (and at least 1/LIMIT when positive); any real
+    number of Python or numpy (built from Python, a model takes numpy floats too), not a boolean."""
+    if value is None:
+        raise ConfigError(source, field, "expected a number, got an empty value")
+    if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
         hint = ""
         if isinstance(value, str):
             try:
@@ -155,6 +267,9 @@ def name_field(data: Mapping, source: str) -> str:
     if (not name or name.strip() != name or not name.isprintable() or any(c in name for c in '/\\:*?"<>|')
             or name in (".", "..") or len(name) > 100):
         raise ConfigError(source, "name", f"{short(name)} is not usable as a folder name")
+    if len(name.encode("utf-8")) > MAX_NAME_BYTES:
+        raise ConfigError(source, "name", f"{short(name)} is too long for a folder name ({len(name.encode())} bytes "
+                          f"in UTF-8, at most {MAX_NAME_BYTES})")
     return name
 
 

@@ -22,6 +22,7 @@ belongs to the set, -1 when none does, 0 when it cannot tell. It must be sound (
 
 from __future__ import annotations
 
+from contextvars import ContextVar
 from dataclasses import dataclass
 from typing import Callable, ClassVar, Mapping, Protocol
 
@@ -75,12 +76,41 @@ class Space:
         return " ".join(f"{a.name}[{a.unit}]" if a.unit else a.name for a in self.axes)
 
 
+def article(kind: str) -> str:
+    """A kind's name with its article, as it is read aloud: 'a fivebar', 'an rpr3', 'an rpr2'."""
+    return f"{'an' if kind[:1].lower() in 'aeiour' else 'a'} {kind}"
+
+
+def plural(n: int, word: str, words: str | None = None) -> str:
+    """'1 aspect', '2 aspects' (`words`: an irregular plural): counts in messages."""
+    return f"{n} {word if n == 1 else (words or word + 's')}"
+
+
+_PARSING: ContextVar[bool] = ContextVar("fivebar_parsing_a_mechanism", default=False)
+
+
 class Mechanism:
-    """Base of every mechanism kind: subclasses are frozen dataclasses with a `name` field."""
+    """Base of every mechanism kind: subclasses are frozen dataclasses with a `name` field.
+
+    A model built from Python (`FiveBar("M1", 9, 8, 5, 5, 8)`) is validated exactly as a YAML file
+    is: by the kind's own `parse`, through `describe` and `from_description` (`check_model`), so a
+    NaN, a negative length or a loop that never closes is the same ConfigError (a ValueError) either
+    way. Inside `parse` the check is skipped: parse is the check.
+    """
 
     kind: ClassVar[str] = ""  # the YAML `type`
     procedures: ClassVar[tuple[str, ...]] = ("exact",)  # box-test families; "exact" comes first
     name: str
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        parse = cls.__dict__.get("parse")
+        if isinstance(parse, classmethod):  # models built inside parse are checked by parse itself
+            cls.parse = classmethod(_while_parsing(parse.__func__))
+
+    def __post_init__(self) -> None:
+        if not _PARSING.get():
+            check_model(self)
 
     @classmethod
     def parse(cls, data: Mapping, source: str) -> "Mechanism":
@@ -125,6 +155,40 @@ class Mechanism:
         """What the one-space aspect analysis (aspects, dkp, locate, path over a space of poses)
         needs, or None when the kind has none."""
         return None
+
+
+def _while_parsing(parse):
+    def parse_checked(cls, data, source="<config>", *args, **kwargs):
+        token = _PARSING.set(True)
+        try:
+            return parse(cls, data, source, *args, **kwargs)
+        finally:
+            _PARSING.reset(token)
+
+    parse_checked.__doc__, parse_checked.__name__ = parse.__doc__, parse.__name__
+    return parse_checked
+
+
+def check_model(m: Mechanism) -> None:
+    """ConfigError (a ValueError) unless `m` is a model its kind's YAML would give: `m.describe()`
+    read back by `from_description` (which calls `parse`) must succeed and give `m` again. Kinds of
+    plugins without a description are not checked."""
+    source = f"{type(m).__name__}(...)"
+    try:
+        text = m.describe()
+    except NotImplementedError:
+        return
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(source, "", f"not a valid {m.kind or type(m).__name__}: {exc}") from None
+    fields = dict(word.partition("=")[::2] for word in text.split()[1:])
+    name = m.name if isinstance(m.name, str) else repr(m.name)
+    token = _PARSING.set(True)
+    try:
+        parsed = type(m).from_description(fields, name, source)
+    finally:
+        _PARSING.reset(token)
+    if parsed != m:
+        raise ConfigError(source, "", f"its fields do not describe one {m.kind}: they read back as {parsed!r}")
 
 
 def describe_fields(kind: str, fields: Mapping[str, float]) -> str:

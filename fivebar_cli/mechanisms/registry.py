@@ -12,7 +12,7 @@ from importlib import import_module
 from pathlib import Path
 
 from fivebar_cli.io.schema import ConfigError, read_yaml
-from fivebar_cli.mechanisms.base import Mechanism
+from fivebar_cli.mechanisms.base import Mechanism, article
 
 BUILTIN = {  # type -> "module:Class", imported on first use
     "fivebar": "fivebar_cli.mechanisms.fivebar.model:FiveBar",
@@ -59,10 +59,10 @@ def load_config(path: str | Path, kind: str | None = None, space: str | None = N
     source = str(path)
     mech = parse(read_yaml(path, source), source)
     if kind is not None and mech.kind != kind:
-        raise ConfigError(source, "type", f"this command needs a {kind} ('type: {kind}'), got {mech.kind!r}")
+        raise ConfigError(source, "type", f"this command needs {article(kind)} ('type: {kind}'), got {mech.kind!r}")
     if space is not None and space not in mech.spaces():
         known = ", ".join(mech.spaces()) or "none"
-        raise ConfigError(source, "type", f"a {mech.kind} has no {space} to pave (its spaces: {known})")
+        raise ConfigError(source, "type", f"{article(mech.kind)} has no {space} to pave (its spaces: {known})")
     return mech
 
 

@@ -10,18 +10,22 @@ reach the user as one line, through the exception raised here.
 from __future__ import annotations
 
 import logging
-import signal
-import threading
+import shlex
+import shutil
+import sys
+import tempfile
 import warnings
 from contextlib import contextmanager
 from functools import partial
+from pathlib import Path
 from typing import Iterator
 
 from fivebar_cli.analyses.atlas.parts import manifest
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
-from fivebar_cli.errors import FivebarError, InputError
+from fivebar_cli.errors import FivebarError, InputError, deferred_interrupts
 
 CONNECT_TIMEOUT = "10s"
+SCHEMES = ("tcp", "tls", "ws", "wss", "ucx", "inproc")  # dask.distributed's communication protocols
 # Dask starts worker processes with MALLOC_TRIM_THRESHOLD_=65536, which makes glibc return memory to
 # the system on nearly every free: the analyses (many short-lived numpy arrays) then run 2-3x slower.
 # None unsets it for the workers of a local cluster (README, "Sweeping designs", for other clusters).
@@ -76,22 +80,74 @@ def _raise(future, index: int) -> None:
 @contextmanager
 def local_cluster(workers: int) -> Iterator[DaskRunner]:
     """A `LocalCluster` of `workers` single-threaded worker processes (glibc's default memory
-    trimming: `MALLOC_TRIM`), closed on the way out.
+    trimming: `MALLOC_TRIM`), closed on the way out (a second Ctrl-C then waits until it is closed).
 
-    Its worker processes ignore SIGINT (`_sigint_ignored`).
+    Its worker processes ignore Ctrl-C from birth (`_workers_ignore_ctrl_c`); this process keeps
+    its handler all along, so a Ctrl-C during start-up stops the run too.
     """
     import dask
     from dask.distributed import Client, LocalCluster
 
-    with _quiet_dask():
-        with _sigint_ignored(), dask.config.set({MALLOC_TRIM: None}):
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.CRITICAL)
+    cluster = None
+    with _quiet_dask(), _workers_ignore_ctrl_c():
         try:
+            with dask.config.set({MALLOC_TRIM: None}):
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                       dashboard_address=None, silence_logs=logging.CRITICAL)
             with Client(cluster) as client:
                 yield DaskRunner(client, f"a local cluster of {workers} worker processes")
         finally:
-            cluster.close()
+            if cluster is not None:
+                with deferred_interrupts():
+                    cluster.close()
+
+
+@contextmanager
+def _workers_ignore_ctrl_c():
+    """The worker processes a local cluster spawns start through a two-line /bin/sh wrapper that
+    ignores SIGINT and execs this Python, which then ignores it from its first instruction: a
+    Ctrl-C in the terminal (sent to the whole process group) reaches only this process, which stops
+    the run and closes the cluster; no worker prints a traceback. (Workers started by `fork` or
+    `forkserver`, if Dask is configured so, are left as they are.)"""
+    import multiprocessing.spawn as spawn  # the executable of every `spawn` start (Dask's default method)
+
+    folder = Path(tempfile.mkdtemp(prefix="fivebar-atlas-"))
+    wrapper = folder / "python"
+    wrapper.write_text(f"#!/bin/sh\ntrap '' INT\nexec {shlex.quote(sys.executable)} \"$@\"\n")
+    wrapper.chmod(0o700)
+    previous = spawn.get_executable()
+    spawn.set_executable(str(wrapper))
+    try:
+        yield
+    finally:
+        spawn.set_executable(previous)
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def check_address(address: str) -> str:
+    """`address` when it is a scheduler address, `[PROTOCOL://]HOST[:PORT]` (PORT 1 to 65535), checked
+    before connecting (a bad one would otherwise wait for the connection timeout); else InputError."""
+    def bad(why: str) -> InputError:
+        return InputError("--scheduler", "", f"bad address {address!r}: {why} (expected tcp://HOST:PORT)")
+
+    scheme, sep, rest = address.partition("://")
+    if not sep:
+        scheme, rest = "tcp", address
+    if scheme not in SCHEMES:
+        raise bad(f"unknown address scheme {scheme!r} (one of {', '.join(SCHEMES)})")
+    if scheme == "inproc":
+        return address
+    host, port = rest, ""
+    if rest.startswith("["):  # [IPv6]:PORT
+        host, _, tail = rest[1:].partition("]")
+        port = tail[1:] if tail.startswith(":") else tail
+    elif rest.count(":") == 1:
+        host, _, port = rest.partition(":")
+    if not host or any(c.isspace() or c in "/@?#" for c in host):
+        raise bad("no host name")
+    if port and not (port.isascii() and port.isdigit() and 1 <= int(port) <= 65535):
+        raise bad(f"port {port!r} is not a number from 1 to 65535")
+    return address
 
 
 @contextmanager
@@ -109,7 +165,8 @@ def existing_cluster(address: str) -> Iterator[DaskRunner]:
         try:
             yield DaskRunner(client, f"the cluster at {address}")
         finally:
-            client.close()
+            with deferred_interrupts():
+                client.close()
 
 
 def _one_line(exc: BaseException) -> str:
@@ -129,19 +186,3 @@ def _quiet_dask():
             yield
     finally:
         logger.setLevel(level)
-
-
-@contextmanager
-def _sigint_ignored():
-    """SIGINT ignored while the cluster starts its worker processes, which inherit that: a Ctrl-C in
-    the terminal (sent to the whole process group) then reaches only this process, which stops the
-    run and closes the cluster. A Ctrl-C during these seconds of start-up is lost."""
-    previous = signal.getsignal(signal.SIGINT)
-    if threading.current_thread() is not threading.main_thread() or previous is None:  # None: set outside Python
-        yield
-        return
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)

@@ -70,9 +70,18 @@ def plan_atlas(spec: AtlasSpec, folder: Path, restart: bool = False) -> Plan:
     return Plan(spec, Path(folder), parts, [i for i in range(batch_count(spec)) if i not in done])
 
 
+def compute_plan(plan: Plan, runner: Runner = in_process, advance=lambda n=1: None) -> None:
+    """Compute the missing batches, persisting each as it finishes (and, whatever stops the run,
+    the manifest with the checksums of the parts written)."""
+    try:
+        for index, text in runner(batch_text, plan.spec, plan.todo):
+            plan.parts.write(index, text)
+            advance(len(batch_span(plan.spec, index)))
+    finally:
+        plan.parts.save()
+
+
 def run_plan(plan: Plan, runner: Runner = in_process, advance=lambda n=1: None) -> Path:
-    """Compute the missing batches, persisting each as it finishes; then write `atlas.csv`."""
-    for index, text in runner(batch_text, plan.spec, plan.todo):
-        plan.parts.write(index, text)
-        advance(len(batch_span(plan.spec, index)))
+    """Compute the missing batches, then write `atlas.csv`."""
+    compute_plan(plan, runner, advance)
     return plan.parts.assemble(plan.folder / ATLAS_CSV)

@@ -78,6 +78,7 @@ class FiveBar(Mechanism):
     def __post_init__(self) -> None:
         if self.bounds is None:
             object.__setattr__(self, "bounds", tuple((v, v) for v in self.lengths.values()))
+        super().__post_init__()  # validated as a YAML file is (Mechanism.check_model)
 
     @property
     def lengths(self) -> dict[str, float]:
