@@ -237,6 +237,25 @@ def test_locate_gives_the_working_mode_and_det_sign_of_the_reference(symmetric_o
     assert rows and rows[0]["working_mode"] == "+--" and rows[0]["det_sign"] == ("+" if det > 0 else "-")
 
 
+def test_path_is_a_motion_of_valid_poses_of_one_class_and_refuses_two_classes(symmetric_one_mode, tmp_path):
+    m = load_config(symmetric_one_mode)
+    ok(run_cli("path", symmetric_one_mode, "--pose", 5, 2.7, 8, "--pose", 5.5, 3, 12, "--working-mode", "+--",
+               "--depth", "5", "-o", tmp_path, "--no-plot"))
+    rows = list(csv.DictReader((tmp_path / "path.csv").open()))
+    way = np.array([[float(r[k]) for k in ("x", "y", "phi_deg")] for r in rows])
+    assert np.allclose(way[0], (5, 2.7, 8)) and np.allclose(way[-1], (5.5, 3, 12))
+    t = np.linspace(0, 1, 200)[:, None]
+    along = np.vstack([a + t * (b - a) for a, b in zip(way[:-1], way[1:])])
+    assert np.all(ref.valid(*args(m), along)) and np.all(ref.det_a(*args(m), along, (1, -1, -1)) < 0)
+    joints = np.array([[float(r[f"theta{i}_deg"]) for i in (1, 2, 3)] for r in rows])
+    back = np.degrees(ref.joint_angles(*args(m), way, (1, -1, -1)))
+    assert np.allclose((back - joints + 180) % 360 - 180, 0, atol=1e-6)
+    # a pose with det A > 0 in the same working mode: no singularity-free motion exists (exit 1)
+    result = run_cli("path", symmetric_one_mode, "--pose", 5, 2.7, 8, "--pose", 6.37, 0.22, 17.17,
+                     "--working-mode", "+--", "--depth", "5", "-o", tmp_path / "two", "--no-plot")
+    assert result.status == 1 and "det_sign" in result.stderr, result.stderr
+
+
 def test_verify_finds_a_valid_singular_pose_of_the_symmetric_robot(tmp_path):
     result = run_cli("verify", SYMMETRIC, "--working-mode", "+-+", "-o", tmp_path, "--no-plot")
     assert result.status == 1, result.stderr
