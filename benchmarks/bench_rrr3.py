@@ -21,10 +21,11 @@ from __future__ import annotations
 
 import json
 import os
-import subprocess
 import sys
 import time
 from pathlib import Path
+
+from bench_rpr3_octree import child as fresh_child
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -123,13 +124,8 @@ JOBS = {"reachable": job_reachable, "codac": job_codac, **{f"aspects{d}": (lambd
 
 
 def child(name: str) -> tuple[dict, float]:
-    """Run one job in a fresh interpreter: its result and max RSS (MiB)."""
-    proc = subprocess.Popen([sys.executable, __file__, "--job", name], stdout=subprocess.PIPE, text=True, cwd=ROOT)
-    out = proc.stdout.read()
-    _, status, usage = os.wait4(proc.pid, 0)
-    if os.waitstatus_to_exitcode(status):
-        raise SystemExit(f"job {name} failed")
-    return json.loads(out), usage.ru_maxrss / 1024
+    """One job in a fresh interpreter: its result and max RSS (MiB)."""
+    return fresh_child(name, __file__)
 
 
 def main() -> None:

@@ -14,8 +14,8 @@ import numpy as np
 
 from fivebar_cli.mechanisms.base import SignClass
 from fivebar_cli.mechanisms.rrr3 import boxtests
-from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R
-from fivebar_cli.mechanisms.rrr3.model import JOINT_AXES, signs_of
+from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
+from fivebar_cli.mechanisms.rrr3.jointspace import JOINT_AXES
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 

@@ -24,6 +24,7 @@ d_i = C_i - A_i and rho_i = |d_i|:
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -35,6 +36,12 @@ from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.platform import D2R, ETA_REL, Platform  # noqa: F401 (ETA_REL: the margin)
 
 _D2R = Interval(D2R * (1.0 - 4e-16), D2R * (1.0 + 4e-16))  # encloses pi / 180
+WORKING_MODES = tuple("".join(s) for s in itertools.product("+-", repeat=3))  # +++, ++-, ..., ---
+
+
+def signs_of(mode: str) -> tuple[int, int, int]:
+    """'+-+' -> (1, -1, 1)."""
+    return tuple(1 if c == "+" else -1 for c in mode)
 
 
 @dataclass(frozen=True)

@@ -32,6 +32,7 @@ import math
 
 import numpy as np
 
+from fivebar_cli.mechanisms.base import Axis
 from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry
 from fivebar_cli.numerics import gradients as gr
 from fivebar_cli.numerics import interval as iv
@@ -43,6 +44,7 @@ MAX_PIECES = 1 << 18  # pieces alive in one call: beyond, the boxes left are und
 MAX_PER_BOX = 24  # pieces alive for one box (a few per assembly mode): beyond, it is left undetermined
 
 
+JOINT_AXES = tuple(Axis(f"theta{i}", -180.0, 180.0, "deg", periodic=True, label=rf"$\theta_{i}$") for i in (1, 2, 3))
 ORDERS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))  # (first circle, second circle, third leg): each pairing
 
 

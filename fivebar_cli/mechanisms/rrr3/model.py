@@ -20,7 +20,6 @@ actuated angles (theta1, theta2, theta3) in degrees. Conventions and box tests: 
 
 from __future__ import annotations
 
-import itertools
 import math
 from dataclasses import dataclass
 from typing import Mapping
@@ -32,21 +31,16 @@ from fivebar_cli.mechanisms.base import (
     Axis, Mechanism, Space, description_numbers, legs_word_value, pair_word, values_word, word_values,
 )
 from fivebar_cli.mechanisms.rrr3 import boxtests
+from fivebar_cli.mechanisms.rrr3.boxtests import WORKING_MODES, signs_of  # noqa: F401 (the model's names too)
+from fivebar_cli.mechanisms.rrr3 import jointspace
+from fivebar_cli.mechanisms.rrr3.jointspace import JOINT_AXES
 from fivebar_cli.numerics import platform as platform_geometry
 
 REACHABLE = "reachable"  # the workspace's own region: every pose of a black cell is reachable
 ASSEMBLABLE = "assemblable"  # the joint space's: every joint triple of a black cell assembles
-WORKING_MODES = tuple("".join(s) for s in itertools.product("+-", repeat=3))  # +++, ++-, ..., ---
-
-JOINT_AXES = tuple(Axis(f"theta{i}", -180.0, 180.0, "deg", periodic=True, label=rf"$\theta_{i}$") for i in (1, 2, 3))
 
 Point = tuple[float, float]
 Legs = tuple[float, float, float]
-
-
-def signs_of(mode: str) -> tuple[int, int, int]:
-    """'+-+' -> (1, -1, 1)."""
-    return tuple(1 if c == "+" else -1 for c in mode)
 
 
 def sign_region(mode: str, det_sign: str) -> str:
@@ -133,9 +127,7 @@ class Rrr3(Mechanism):
         if space == "jointspace":
             if region not in (None, ASSEMBLABLE):
                 raise KeyError(region)
-            from fivebar_cli.mechanisms.rrr3.jointspace import assembly_test
-
-            return assembly_test(self)
+            return jointspace.assembly_test(self)
         g = boxtests.Geometry.of(self)
         if region in (None, REACHABLE):
             return lambda lo, hi: boxtests.valid_status(g, lo, hi)
