@@ -155,7 +155,7 @@ def pose_aspects(config_path, depth, budget, out, no_plot, quiet):
     \b
     Examples:
       fivebar aspects configs/rpr3-caro.yaml --depth 6 -o out/caro
-      fivebar aspects configs/rrr3-symmetric-phi0.yaml --depth 7 -o out/rrr3-phi0
+      fivebar aspects configs/rrr3-symmetric-phi0.yaml --depth 6 --no-plot -o out/rrr3-phi0
     """
     m = load_pose_kind(config_path, depth=depth)
     model = m.pose_aspect_model()
