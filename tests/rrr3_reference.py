@@ -154,6 +154,23 @@ def aspect_count_2d(base, platform, l1, l2, phi: float, signs, root, n: int, min
     return total
 
 
+def aspect_count_3d(base, platform, l1, l2, signs, root, n: int, min_fraction: float = 1e-4) -> int:
+    """Aspects of working mode `signs` over (x, y, phi) seen on an n^3 grid of cell centres of root
+    ((xlo, xhi), (ylo, yhi), (phi1, phi2)), phi not periodic: 26-connected components of the valid
+    centres of each sign of det A, of at least min_fraction of the grid's centres."""
+    axes = [lo + (np.arange(n) + 0.5) / n * (hi - lo) for lo, hi in root]
+    poses = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, 3)
+    ok = valid(base, platform, l1, l2, poses)
+    d = np.where(ok, det_a(base, platform, l1, l2, poses, signs), 0.0)
+    scale = float(np.max(np.abs(d))) or 1.0
+    total = 0
+    for sign in (1, -1):
+        labels, _ = ndimage.label((ok & (sign * d > 1e-9 * scale)).reshape(n, n, n), structure=np.ones((3, 3, 3), bool))
+        sizes = np.bincount(labels.ravel())[1:]
+        total += int(np.count_nonzero(sizes >= min_fraction * n ** 3))
+    return total
+
+
 def disc(cx: float, cy: float, r: float, n: int):
     """A regular n-gon about (cx, cy) with the disc's area (its radius r (2 pi / (n sin(2 pi / n)))^(1/2)):
     its boundary stays within r (2 pi / n)^2 / 4 of the circle, crossing it twice per side."""

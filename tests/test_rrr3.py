@@ -190,6 +190,18 @@ def test_certified_fixed_orientation_counts_match_a_dense_grid(seed, mode):
     assert analysis.certified and len(analysis.aspects) == count
 
 
+def test_certified_count_over_an_orientation_range_matches_a_dense_grid():
+    """A robot no config names, one working mode over 20 degrees of phi: the certified count of the
+    octrees (depth 4) equals a 26-connected dense-grid count, stable over two resolutions."""
+    r = random_robot(31, fixed=False)
+    m = robot(r.base, r.platform, r.proximal, r.distal, (r.phi_range[0], r.phi_range[0] + 20.0), "+-+")
+    root = m.spaces()["workspace"].root
+    reference = {ref.aspect_count_3d(*args(m), (1, -1, 1), root, n) for n in (48, 72)}
+    assert len(reference) == 1, reference
+    analysis = analyse_pose_aspects(m, 4, budget=1 << 15)
+    assert analysis.certified and {len(analysis.aspects)} == reference
+
+
 # ---------------------------------------------------------------- the commands
 
 
