@@ -22,11 +22,12 @@ from fivebar_cli.cli.atlas import atlas
 from fivebar_cli.cli.dispatch import ByKind
 from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.path import path
-from fivebar_cli.cli.pose_aspects import dkp, pose_aspects, pose_locate, pose_path
+from fivebar_cli.cli.pose_aspects import dkp, joints_dkp, pose_aspects, pose_locate, pose_path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
 from fivebar_cli.cli.tolerance import tolerance
+from fivebar_cli.cli.verify import verify_cmd
 from fivebar_cli.cli.view import view
 from fivebar_cli.errors import INTERRUPTS, FivebarError, FivebarWarning, Interrupted
 
@@ -48,14 +49,16 @@ def cli() -> None:
       fivebar atlas configs/atlas-small.yaml --workers 2 -o out/atlas
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10 -o out
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
+      fivebar verify configs/rrr3-symmetric.yaml --working-mode +-+ -o out/rrr3-symmetric  # exit 1: a singular pose
       fivebar view out/m1
       fivebar reproduce -o out/check --no-plot
     """
 
 
-rpr3.add_command(dkp)  # any kind with a pose-space aspect model; the 3-RPR's --legs
+rpr3.add_command(dkp)  # `fivebar dkp` under its 3-RPR name, with --legs
 for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(locate, pose_locate),
-                ByKind(path, pose_path), atlas, kratio, refine, diff, tolerance, view, rpr3, reproduce):
+                ByKind(path, pose_path), joints_dkp, verify_cmd, atlas, kratio, refine, diff, tolerance, view, rpr3,
+                reproduce):
     cli.add_command(command)
 
 

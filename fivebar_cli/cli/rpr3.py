@@ -482,7 +482,7 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
       fivebar rpr3 verify configs/rpr3-verify/table1-legs-1-1.5.yaml
       fivebar rpr3 verify configs/rpr3-verify/obtuse-phi1-rule.yaml     # exit 1: a singular pose is found
     """
-    from fivebar_cli.mechanisms.rpr3.verify import SINGULAR, UNDECIDED, verify
+    from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify
 
     mech = load_octree(config)
     folder = prepare_out(out, mech.name)
@@ -494,8 +494,9 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     report(quiet, f"  {result.status} (depth {result.depth} of {result.max_depth}, {result.evaluations} boxes tested)")
     if result.status == SINGULAR:
         pose = result.pose
-        report(quiet, f"  singular pose: x = {pose.x:.12g}, y = {pose.y:.12g}, phi = {pose.phi:.12g} deg, legs "
-                      f"{', '.join(f'{v:.12g}' for v in pose.legs)}, det J = {pose.det_j:.3g}")
+        x, y, phi = (*pose.pose, mech.phi_range[0])[:3]  # one orientation: the pose is (x, y)
+        report(quiet, f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
+                      f"{', '.join(f'{v:.12g}' for v in pose.joints)}, det J = {pose.value:.3g}")
     if result.status == UNDECIDED:
         advice = result.note or "raise --depth"
         report(quiet, f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
@@ -509,12 +510,13 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
         paths = [write_csv(folder / "verify.csv", header, [row])]
         if result.status == SINGULAR:
             paths.append(write_csv(folder / "counterexample.csv", ["x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j"],
-                                   [(pose.x, pose.y, pose.phi, *pose.legs, pose.det_j)]))
+                                   [(x, y, phi, *pose.joints, pose.value)]))
             if not no_plot:
                 from fivebar_cli.plotting.rpr3 import figure_pose
 
-                title = f"{mech.name}: a reachable singular pose (det J = {pose.det_j:.2g})"
-                paths.append(figure(lambda: figure_pose(mech, pose, title), folder / "counterexample.png"))
+                title = f"{mech.name}: a reachable singular pose (det J = {pose.value:.2g})"
+                paths.append(figure(lambda: figure_pose(mech, (x, y, phi), pose.joints, title),
+                                    folder / "counterexample.png"))
     wrote(quiet, paths)
     if result.exit_code:
         raise click.exceptions.Exit(result.exit_code)
