@@ -425,11 +425,20 @@ def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
     marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape)
                                        for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic)]))
     lo_blk, hi_blk = _block_span(b_lo, b_hi, k, n)
-    single = np.all(lo_blk == hi_blk, axis=1)
-    keep[single] = np.isin(np.ravel_multi_index(tuple(lo_blk[single].T), shape), marked)
-    for i in np.flatnonzero(~single):  # cells spanning several blocks (large leaves): few
-        region = np.meshgrid(*(np.arange(a, b + 1) for a, b in zip(lo_blk[i], hi_blk[i])), indexing="ij")
-        keep[i] = np.isin(np.ravel_multi_index(tuple(r.ravel() for r in region), shape), marked).any()
+    # every run of blocks along the last axis a box b overlaps (one per index of the other axes):
+    # a marked flat index between the run's ends makes b near (flat indices are in C order)
+    head_lo, head_hi = lo_blk[:, :-1], hi_blk[:, :-1]
+    runs = np.prod(head_hi - head_lo + 1, axis=1)
+    owner = np.repeat(np.arange(len(b_lo)), runs)
+    offset = np.arange(int(runs.sum())) - np.repeat(np.cumsum(runs) - runs, runs)
+    base = np.zeros(len(owner), np.int64)
+    for axis in range(grid.dim - 1):
+        width = head_hi[owner, axis] - head_lo[owner, axis] + 1
+        base = base * n + head_lo[owner, axis] + offset % width
+        offset = offset // width
+    first = np.searchsorted(marked, base * n + lo_blk[owner, -1])
+    last = np.searchsorted(marked, base * n + hi_blk[owner, -1], side="right")
+    keep[owner[first < last]] = True
     return keep
 
 
