@@ -32,6 +32,7 @@ import numpy as np
 
 from fivebar_cli.analyses.crossings import Crossing, find_crossings
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_square
+from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError
@@ -167,21 +168,23 @@ def region_count(m: Mechanism) -> int:
 
 
 def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: int = DEFAULT_BUDGET,
-                    shapes: bool = True) -> AspectAnalysis:
+                    shapes: bool = True, jobs: int | None = 1) -> AspectAnalysis:
     """Pave the mode regions, find the mode sets' anchors and outer components, link and join the
     anchors into generalized aspects, certify the count, find the crossings; with `shapes`, the
-    largest disc and square of each aspect's workspace (what `aspects.csv` reports)."""
+    largest disc and square of each aspect's workspace (what `aspects.csv` reports). The mode
+    pavings and the shapes are independent tasks, run on `jobs` processes (`analyses.jobs`)."""
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
     timings = {"paving": 0.0}
+    tasks = ([(m, "workspace", wm, None, depth) for wm in model.working_modes]
+             + [(m, "jointspace", None, am, depth) for am in model.assembly_modes])
     regions = []
-    for wm in model.working_modes:
-        regions.append(_region(m, model, "workspace", wm, None, depth, timings))
-        advance(1)
-    for am in model.assembly_modes:
-        regions.append(_region(m, model, "jointspace", None, am, depth, timings))
-        advance(1)
+    for region, seconds in run_tasks(_region_task, tasks, jobs, advance):
+        region.model = model
+        region.test = _mode_test(model, region.space, region.working, region.assembly)
+        timings["paving"] += seconds
+        regions.append(region)
     t0 = time.perf_counter()
     sets = [ModeSet(region, free) for region in regions for free in _free_modes(model, region)]
     timings["outer"] = time.perf_counter() - t0
@@ -194,7 +197,7 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     timings["crossings"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     if shapes:
-        aspects = [with_inscribed(a) for a in aspects]
+        aspects = run_tasks(with_inscribed, aspects, jobs)
     timings["inscribed"] = time.perf_counter() - t0
     advance(1)
     return AspectAnalysis(m, model, depth, regions, aspects, crossings, count.lower, count.upper, count.undecided,
@@ -213,9 +216,23 @@ def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:
     return [tuple(wm) for wm in model.working_modes]
 
 
+def _mode_test(model: AspectModel, space: str, working, assembly):
+    return model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
+
+
+def _region_task(task: tuple) -> tuple[Region, float]:
+    """One mode paving and its region data, in a worker: (region without its model and test,
+    which do not travel between processes, seconds paving)."""
+    m, space, working, assembly, depth = task
+    timings = {"paving": 0.0}
+    region = _region(m, m.aspect_model(), space, working, assembly, depth, timings)
+    region.model = region.test = None
+    return region, timings["paving"]
+
+
 def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, depth: int, timings: dict) -> Region:
     t0 = time.perf_counter()
-    test = model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
+    test = _mode_test(model, space, working, assembly)
     paving = pave(m.spaces()[space].grid(depth), test)
     timings["paving"] += time.perf_counter() - t0
     region = Region(space, working, assembly, paving, test, model, np.zeros((0, 0), np.int8))

@@ -41,16 +41,12 @@ def tree_geometry(tree: Tree):
     return shapely.transform(kept, lambda xy: lattice_to_space(tree, xy))
 
 
-def _number(v: float) -> float:
-    return float(v) + 0.0  # no -0.0
-
-
 def geometry_json(geometry) -> dict:
     """GeoJSON geometry of a shapely (Multi)Polygon: a Polygon when it has one part."""
     import shapely
 
     def ring(r) -> list:
-        return [[_number(x), _number(y)] for x, y in shapely.get_coordinates(r)]
+        return (shapely.get_coordinates(r) + 0.0).tolist()  # + 0.0: no -0.0
 
     def polygon(p) -> list:
         return [ring(p.exterior)] + [ring(h) for h in p.interiors]
