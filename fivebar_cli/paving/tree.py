@@ -135,7 +135,12 @@ class Tree:
         return self._combine(other, lambda a, b: a ^ b)
 
     def complement(self) -> "Tree":
-        return Tree.full(self.grid).difference(self)
+        """The other cells of the root box: the gaps between the leaves' index intervals (no sweep)."""
+        start, end = _merge_touching(self.start, self.end)
+        gap_start = np.concatenate([np.zeros(1, np.int64), end])
+        gap_end = np.concatenate([start, np.full(1, np.int64(1) << (self.grid.dim * self.grid.depth))])
+        keep = gap_start < gap_end
+        return Tree.from_intervals(self.grid, gap_start[keep], gap_end[keep])
 
     __or__, __and__, __sub__, __xor__ = union, intersection, difference, symmetric_difference
 
