@@ -5,6 +5,11 @@ set appears twice and is interior, an edge that appears once is on the boundary.
 edges on one lattice line are then merged into maximal straight segments, except through a vertex
 where four boundary edges meet (two cells of the set touching at a corner only), so that segments
 meet only at their ends (what a polygonizer needs). Integer lattice coordinates keep it exact.
+
+`boundary_rings` traces the same boundary as closed rings: every boundary unit edge directed with
+the set on its left, each edge followed by the one leaving its end point (the left turn at a pinch
+point), the cycles of that permutation found by pointer doubling, rings passing a pinch point twice
+cut there; a ring keeps its corners and pinch points.
 """
 
 from __future__ import annotations
@@ -74,3 +79,120 @@ def lattice_to_space(tree: Tree, points: np.ndarray) -> np.ndarray:
     value always gives the same float."""
     grid = tree.grid
     return grid.lo + np.asarray(points, float) * (grid.size / float(1 << grid.depth))
+
+
+# directions of directed unit edges: +x, +y, -x, -y (a left turn adds 1)
+_STEP = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]], np.int64)
+
+
+def _directed_edges(tree: Tree):
+    """Boundary unit edges directed with the set on their left: start points (n, 2), directions
+    (0..3, `_STEP`) and the leaf each borders, in depth-D lattice units."""
+    depth = tree.grid.depth
+    span = np.int64(1) << (depth - tree.level)
+    corner = tree.coords * span[:, None]
+    leaf = np.repeat(np.arange(len(tree)), span)
+    offset = np.arange(int(span.sum()), dtype=np.int64) - np.repeat(np.cumsum(span) - span, span)
+    x0, y0, s = corner[leaf, 0], corner[leaf, 1], span[leaf]
+    x, y = x0 + offset, y0 + offset
+    # bottom (+x), top (-x), left (-y), right (+y) sides; each unit edge keyed by its lower-left point
+    lower = [np.column_stack(p) for p in ((x, y0), (x, y0 + s), (x0, y), (x0 + s, y))]
+    direction = np.repeat(np.array([0, 2, 3, 1], np.int64), len(x))
+    n = np.int64(1) << (depth + 1)
+    points = np.concatenate(lower)
+    key = (points[:, 0] * n + points[:, 1]) * 2 + (direction % 2)  # the undirected edge: point and axis
+    _, first, counts = np.unique(key, return_index=True, return_counts=True)
+    once = first[counts == 1]  # an edge of two cells of the set is inside the set
+    d = direction[once]
+    start = points[once] + (d == 2)[:, None] * [1, 0] + (d == 3)[:, None] * [0, 1]
+    return start, d, np.tile(leaf, 4)[once]
+
+
+def boundary_rings(tree: Tree):
+    """The boundary of the union of a 2-D tree's cells as closed rings of lattice points, each
+    running with the set on its left (exteriors counter-clockwise, holes clockwise), minimal: no
+    ring passes a point twice, so two cells of the set touching at a corner only lie in separate
+    faces, as do two holes touching at a corner. Points are the corners of the boundary and the
+    pinch points. Returns (points (m, 2), ring of each point (sorted), leaf bordering each ring):
+    the rings a polygonizer would find from `boundary_segments`."""
+    if tree.grid.dim != 2:
+        raise ValueError("outlines are for quadtrees")
+    if not len(tree):
+        return np.zeros((0, 2), np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64)
+    start, d, leaf = _directed_edges(tree)
+    n_edges = len(d)
+    m = np.int64(1) << (tree.grid.depth + 2)
+    start_key = start[:, 0] * m + start[:, 1]
+    end = start + _STEP[d]
+    end_key = end[:, 0] * m + end[:, 1]
+    order = np.argsort(start_key, kind="stable")
+    sorted_keys = start_key[order]
+    lo = np.searchsorted(sorted_keys, end_key, side="left")
+    hi = np.searchsorted(sorted_keys, end_key, side="right")
+    succ = order[lo]
+    pinch_next = hi - lo == 2  # four boundary edges at the end point: take the left turn
+    second = order[np.minimum(lo + 1, n_edges - 1)]
+    left = (d + 1) % 4
+    succ = np.where(pinch_next & (d[second] == left), second, succ)
+    pinch = np.zeros(n_edges, bool)  # the edge starts at a pinch point
+    pinch[succ[pinch_next]] = True
+    ring, position = _cycles(succ)
+    pred = np.empty_like(succ)
+    pred[succ] = np.arange(n_edges)
+    corner = pinch | (d != d[pred])
+    keep = np.flatnonzero(corner)
+    keep = keep[np.lexsort((position[keep], ring[keep]))]
+    points, point_ring, point_pinch = start[keep], ring[keep], pinch[keep]
+    _, ring_index = np.unique(point_ring, return_inverse=True)
+    first_edge = np.zeros(ring_index.max() + 1, np.int64)
+    first_edge[ring_index[::-1]] = keep[::-1]
+    return _split_at_repeats(points, ring_index, point_pinch, leaf[first_edge], m)
+
+
+def _cycles(succ: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cycles of a permutation: each element's cycle (named by its smallest element) and its
+    position along the cycle from there, by pointer doubling (no loop over elements)."""
+    n = len(succ)
+    low, jump = np.minimum(np.arange(n), succ), succ[succ]
+    while True:  # low: the minimum over 2^k steps; once no window lowers it, it is the cycle's minimum
+        new_low = np.minimum(low, low[jump])
+        if np.array_equal(new_low, low):
+            break
+        low, jump = new_low, jump[jump]
+    # distance to the cycle's last element (the root's predecessor), on the cycle cut there
+    last = succ == low
+    nxt = np.where(last, np.arange(n), succ)
+    dist = (~last).astype(np.int64)
+    while not np.array_equal(nxt[nxt], nxt):
+        dist = dist + dist[nxt]
+        nxt = nxt[nxt]
+    length = np.bincount(low, minlength=n)[low]
+    return low, length - 1 - dist
+
+
+def _split_at_repeats(points, ring, pinch, ring_leaf, m):
+    """Rings that pass a pinch point twice (two holes touching at a corner, or a hole touching
+    its exterior) cut there into minimal rings; the others as they are."""
+    key = points[:, 0] * m + points[:, 1]
+    at_pinch = np.flatnonzero(pinch)
+    pair = ring[at_pinch] * (m * m) + key[at_pinch]
+    _, counts = np.unique(pair, return_counts=True)
+    if not np.any(counts > 1):
+        return points, ring, ring_leaf
+    bounds = np.searchsorted(ring, np.arange(ring.max() + 2))
+    pieces, leaves = [], []
+    for r in range(len(bounds) - 1):  # rings are few; those to cut fewer still
+        todo = [points[bounds[r]:bounds[r + 1]]]
+        while todo:
+            loop = todo.pop()
+            k = loop[:, 0] * m + loop[:, 1]
+            _, first, seen = np.unique(k, return_index=True, return_counts=True)
+            if not np.any(seen > 1):
+                pieces.append(loop)
+                leaves.append(ring_leaf[r])
+                continue
+            i = int(first[np.argmax(seen > 1)])
+            j = i + 1 + int(np.flatnonzero(k[i + 1:] == k[i])[0])
+            todo += [loop[i:j], np.concatenate([loop[j:], loop[:i]])]
+    ring_out = np.repeat(np.arange(len(pieces)), [len(p) for p in pieces])
+    return np.concatenate(pieces), ring_out, np.array(leaves, np.int64)
