@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.tree import Tree
+from fivebar_cli.paving.morton import interleave
+from fivebar_cli.paving.tree import Tree, _sweep
 
 
 def _unit_edges(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
@@ -86,26 +87,31 @@ _STEP = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]], np.int64)
 
 
 def _directed_edges(tree: Tree):
-    """Boundary unit edges directed with the set on their left: start points (n, 2), directions
-    (0..3, `_STEP`) and the leaf each borders, in depth-D lattice units."""
+    """The boundary as maximal straight segments directed with the set on their left: start and
+    end points (n, 2) and directions (0..3, `_STEP`), in depth-D lattice units.
+
+    On each lattice line, the leaves' sides facing one way minus those facing the other way (an
+    interval sweep over the leaves' sides, not their unit edges): memory follows the leaves."""
     depth = tree.grid.depth
     span = np.int64(1) << (depth - tree.level)
-    corner = tree.coords * span[:, None]
-    leaf = np.repeat(np.arange(len(tree)), span)
-    offset = np.arange(int(span.sum()), dtype=np.int64) - np.repeat(np.cumsum(span) - span, span)
-    x0, y0, s = corner[leaf, 0], corner[leaf, 1], span[leaf]
-    x, y = x0 + offset, y0 + offset
-    # bottom (+x), top (-x), left (-y), right (+y) sides; each unit edge keyed by its lower-left point
-    lower = [np.column_stack(p) for p in ((x, y0), (x, y0 + s), (x0, y), (x0 + s, y))]
-    direction = np.repeat(np.array([0, 2, 3, 1], np.int64), len(x))
-    n = np.int64(1) << (depth + 1)
-    points = np.concatenate(lower)
-    key = (points[:, 0] * n + points[:, 1]) * 2 + (direction % 2)  # the undirected edge: point and axis
-    _, first, counts = np.unique(key, return_index=True, return_counts=True)
-    once = first[counts == 1]  # an edge of two cells of the set is inside the set
-    d = direction[once]
-    start = points[once] + (d == 2)[:, None] * [1, 0] + (d == 3)[:, None] * [0, 1]
-    return start, d, np.tile(leaf, 4)[once]
+    lo = tree.coords * span[:, None]
+    hi = lo + span[:, None]
+    width = (np.int64(1) << depth) + 1  # positions along a line run 0..2^depth
+    out = []
+    for axis in (0, 1):  # sides along x (horizontal lines y = const), then along y
+        other = 1 - axis
+        low_side = (lo[:, other] * width + lo[:, axis], lo[:, other] * width + hi[:, axis])  # set beyond it
+        high_side = (hi[:, other] * width + lo[:, axis], hi[:, other] * width + hi[:, axis])  # set before it
+        sides = [tuple(np.sort(v) for v in s) for s in (low_side, high_side)]
+        for keep, forward in ((lambda a, b: a & ~b, axis == 0), (lambda a, b: ~a & b, axis == 1)):
+            start, end = _sweep(sides, keep)
+            line, a, b = start // width, start % width, end - (start // width) * width
+            first, last = (a, b) if forward else (b, a)
+            p, q = np.empty((len(a), 2), np.int64), np.empty((len(a), 2), np.int64)
+            p[:, axis], p[:, other], q[:, axis], q[:, other] = first, line, last, line
+            d = (0 if axis == 0 else 1) if forward else (2 if axis == 0 else 3)
+            out.append((p, q, np.full(len(a), d, np.int64)))
+    return tuple(np.concatenate(parts) for parts in zip(*out))
 
 
 def boundary_rings(tree: Tree):
@@ -119,11 +125,10 @@ def boundary_rings(tree: Tree):
         raise ValueError("outlines are for quadtrees")
     if not len(tree):
         return np.zeros((0, 2), np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64)
-    start, d, leaf = _directed_edges(tree)
+    start, end, d = _directed_edges(tree)
     n_edges = len(d)
     m = np.int64(1) << (tree.grid.depth + 2)
     start_key = start[:, 0] * m + start[:, 1]
-    end = start + _STEP[d]
     end_key = end[:, 0] * m + end[:, 1]
     order = np.argsort(start_key, kind="stable")
     sorted_keys = start_key[order]
@@ -146,7 +151,11 @@ def boundary_rings(tree: Tree):
     _, ring_index = np.unique(point_ring, return_inverse=True)
     first_edge = np.zeros(ring_index.max() + 1, np.int64)
     first_edge[ring_index[::-1]] = keep[::-1]
-    return _split_at_repeats(points, ring_index, point_pinch, leaf[first_edge], m)
+    # the cell on the left of each ring's first edge, at its start: the leaf holding it
+    e = first_edge
+    cell = start[e] - (d[e] == 1)[:, None] * [1, 0] - (d[e] == 2)[:, None] * [1, 1] - (d[e] == 3)[:, None] * [0, 1]
+    ring_leaf = np.searchsorted(tree.start, interleave(cell, tree.grid.depth), side="right") - 1
+    return _split_at_repeats(points, ring_index, point_pinch, ring_leaf, m)
 
 
 def _cycles(succ: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
