@@ -37,7 +37,7 @@ from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
-from fivebar_cli.paving.engine import Paving, pave
+from fivebar_cli.paving.engine import Paving, chunked, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree, union_find
 
@@ -243,7 +243,7 @@ def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, dep
     # the components of all black leaves are the anchors of every mode set at once
     region.black_labels, _ = paving.inside.components(corners=True)
     grid = paving.grid
-    region.und_possible, region.und_signs = region.signs(*grid.boxes(grid.depth, paving.undetermined))
+    region.und_possible, region.und_signs = chunked(region.signs, *grid.boxes(grid.depth, paving.undetermined))
     region.und_pairs = _undetermined_pairs(paving)
     return region
 

@@ -362,9 +362,11 @@ class ModeSet:
 
 
 def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
-    """Every (undetermined cell u, neighbour n) touching at a point; n < len(black leaves) is a
-    black leaf, else the undetermined cell n - len(black leaves). Undetermined cells are the
-    smallest cells, so looking up their neighbours finds every pair."""
+    """Every (undetermined cell u, neighbour n) touching at a point, a pair of undetermined cells
+    once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
+    n - len(black leaves). Undetermined cells are the smallest cells, so looking up their
+    neighbours finds every pair. int32 when the indices fit: these pairs are most of a region's
+    memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
     level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
     code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
@@ -373,9 +375,15 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     mine = rank[len(inside):]
-    i, j = everything.subset(np.sort(mine)).adjacency(everything, corners=True)
     und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
-    return und_of_sorted[i], order[j]
+    small = np.int32 if len(order) < np.iinfo(np.int32).max else np.int64
+    us, ns = [], []
+    for i, j in everything.subset(np.sort(mine)).neighbour_pairs(everything, corners=True):
+        u, n = und_of_sorted[i], order[j]
+        once = (n < len(inside)) | (n - len(inside) > u)
+        us.append(u[once].astype(small))
+        ns.append(n[once].astype(small))
+    return np.concatenate(us), np.concatenate(ns)
 
 
 def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:

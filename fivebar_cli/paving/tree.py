@@ -175,6 +175,11 @@ class Tree:
         pairs = list(self._pairs(other, corners))
         return np.concatenate([i for i, _ in pairs]), np.concatenate([j for _, j in pairs])
 
+    def neighbour_pairs(self, other: "Tree | None" = None, corners: bool = False):
+        """The pairs of `adjacency` as (i, j) arrays, one direction at a time (a generator: the
+        memory of one direction's pairs, not of all 8 or 26)."""
+        return self._pairs(other, corners)
+
     def _pairs(self, other: "Tree | None", corners: bool):
         """The pairs of `adjacency`, one direction at a time."""
         target = self if other is None else other
