@@ -98,8 +98,9 @@ def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
     aspects-slices.png (slices of each aspect at four orientations).
 
     \b
-    Example:
+    Examples:
       fivebar aspects configs/rpr3-caro.yaml --depth 6 -o out/caro
+      fivebar aspects configs/rpr3-caro.yaml --depth 5 --jobs 2 -o out/caro-jobs --no-plot
     """
     m = load_pose_kind(config_path)
     model = m.pose_aspect_model()

@@ -393,8 +393,9 @@ def pave_cmd(config: Path, depth: int, jobs: int | None, out: Path | None, no_pl
     circle for a similar platform). `fivebar refine` deepens any of the pairs.
 
     \b
-    Example:
+    Examples:
       fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 --jobs 2 -o out/general-jobs --no-plot
     """
     from fivebar_cli.analyses import spaces
 

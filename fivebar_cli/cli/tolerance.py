@@ -57,6 +57,7 @@ def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
     Examples:
       fivebar tolerance configs/m1.yaml --tolerances 0,0.02,0.05 --depth 7 -o out/m1
       fivebar tolerance configs/m2.yaml --tolerances 0,0.01 --depth 6 -o - > m2-tolerance.csv
+      fivebar tolerance configs/m1.yaml --tolerances 0,0.05 --depth 6 --jobs 2 -o out/m1-tolerance-jobs --no-plot
     """
     m = load_config(config_path, kind="fivebar")
     for t in tolerances:
