@@ -278,7 +278,7 @@ class _Count:
         self._join()
         self.partner = self._partners()
         self.undecided = self.empty_undecided = 0
-        limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // max((s.cells.grid.dim for s in sets), default=2))
+        limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // max((s.grid.dim for s in sets), default=2))
         self.split_ok = {}
         for k, s in enumerate(sets):
             local_roots = self.roots[self.offset[k]:self.offset[k + 1]]
@@ -398,9 +398,10 @@ class _Count:
                 images, ok = self._images(s, points)
                 located = np.full(len(points), -1, np.int64)
                 if ok.any():
-                    order = np.argsort(t.cells.code << (t.cells.grid.dim * (t.cells.grid.depth - t.cells.level)),
+                    cells = t.cells
+                    order = np.argsort(cells.code << (cells.grid.dim * (cells.grid.depth - cells.level)),
                                        kind="stable")
-                    leaf = t.cells.tree().locate(images[ok])
+                    leaf = cells.tree().locate(images[ok])
                     located[np.flatnonzero(ok)] = np.where(leaf >= 0, order[np.maximum(leaf, 0)], -1)
                 for g in missing:
                     outers = set(t.outer[located[(groups == g) & (located >= 0)]].tolist())

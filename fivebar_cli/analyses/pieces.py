@@ -111,11 +111,8 @@ class ModeSet:
         grid = paving.grid
         mine = np.flatnonzero(np.all(region.free == self.secondary, axis=1))
         fits = region.und_possible & np.all((region.und_signs == 0) | (region.und_signs == self.secondary), axis=1)
-        und = paving.undetermined[fits]
-        level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
-        code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
-        black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
-        self.cells = CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
+        self.grid, self._mine, self._fits = grid, mine, fits
+        black = np.concatenate([np.ones(len(mine), bool), np.zeros(int(np.count_nonzero(fits)), bool)])
         _, anchors = np.unique(region.black_labels[mine], return_inverse=True)
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
         self.outer, self.n_outer = self._outer_components(mine, fits, anchors)
@@ -124,6 +121,18 @@ class ModeSet:
         self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int64)
         self.anchor_of_leaf[mine] = anchors
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+
+    @property
+    def cells(self) -> CellSet:
+        """The set's cells: its black leaves, then its undetermined cells. Built when asked (for
+        refinement, partners): kept for every mode set through a whole analysis, they would be
+        most of its memory."""
+        paving, grid = self.region.paving, self.grid
+        mine, und = self._mine, paving.undetermined[self._fits]
+        level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
+        code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
+        black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
+        return CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
 
     def _outer_components(self, mine: np.ndarray, fits: np.ndarray, anchors: np.ndarray) -> tuple[np.ndarray, int]:
         """Components of the outer set (black leaves `mine`, undetermined cells `fits`), from the
