@@ -1,5 +1,6 @@
 """Run every benchmark (what `make bench` does): paving, aspects, tolerances, constraints, path, locate
-against path, 3-RPR, 3-RPR octrees and aspects, view pages, atlas. Prints their tables."""
+against path, 3-RPR, 3-RPR octrees and aspects, view pages, scale (depth growth, --jobs, Codac), atlas.
+Prints their tables."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_tolerance.py", "bench_constraints.py", "bench_path.py",
            "bench_locate_path.py", "bench_rpr3.py", "bench_rpr3_octree.py", "bench_pose_aspects.py", "bench_view.py",
-           "bench_atlas.py", "bench_rrr3.py")
+           "bench_scale.py", "bench_atlas.py", "bench_rrr3.py")
 
 
 def main() -> int:

@@ -9,6 +9,7 @@ point geometry.
 from __future__ import annotations
 
 import math
+import os
 import sys
 from collections import deque
 from pathlib import Path
@@ -20,6 +21,10 @@ REPO = Path(__file__).resolve().parents[1]
 CONFIGS = REPO / "configs"
 M1_YAML = CONFIGS / "m1.yaml"
 M2_YAML = CONFIGS / "m2.yaml"
+
+# the suite already runs one test per core (xdist): commands run their pavings in process unless a
+# test asks for workers (--jobs N)
+os.environ["FIVEBAR_JOBS"] = "1"
 
 if str(REPO) not in sys.path:  # the package is installed editable; this only helps a bare checkout
     sys.path.insert(0, str(REPO))

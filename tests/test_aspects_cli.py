@@ -63,11 +63,12 @@ def read_csv(path: Path):
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """The same command twice: with figures into one folder, with --no-plot into another."""
+    """The same command twice: with figures into one folder (in process), with --no-plot and two
+    worker processes into another."""
     a = tmp_path_factory.mktemp("aspects_plot")
     b = tmp_path_factory.mktemp("aspects_noplot")
-    ra = run("aspects", M1_YAML, "--depth", DEPTH, "-o", a)
-    rb = run("aspects", M1_YAML, "--depth", DEPTH, "-o", b, "--no-plot", "--quiet")
+    ra = run("aspects", M1_YAML, "--depth", DEPTH, "-o", a, "--jobs", "1")
+    rb = run("aspects", M1_YAML, "--depth", DEPTH, "-o", b, "--no-plot", "--quiet", "--jobs", "2")
     return a, ra, b, rb
 
 

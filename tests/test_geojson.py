@@ -156,3 +156,32 @@ def test_random_sets(seed, density):
     n = 1 << level
     tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < density))
     check_against_cells(tree, shape(feature(tree, {})["geometry"]))
+
+
+def _polygonized(tree: Tree):
+    """The reference: shapely's polygonizer over the boundary's lattice segments, the faces holding
+    a cell of the set kept (how the GeoJSON was made before the rings were traced directly)."""
+    from fivebar_cli.paving.outline import boundary_segments, lattice_to_space
+
+    segments = boundary_segments(tree)
+    if not len(segments):
+        return shapely.MultiPolygon()
+    faces = shapely.get_parts(shapely.polygonize(shapely.linestrings(segments.reshape(-1, 2, 2).astype(float))))
+    cells = np.floor(shapely.get_coordinates(shapely.point_on_surface(faces))) + 0.5
+    kept = shapely.normalize(shapely.MultiPolygon(list(faces[tree.locate(lattice_to_space(tree, cells)) >= 0])))
+    return shapely.transform(shapely.orient_polygons(kept, exterior_cw=False), lambda xy: lattice_to_space(tree, xy))
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), density=st.floats(0.05, 0.95), periodic=st.booleans())
+def test_traced_rings_are_the_polygonizers_bytes(seed, density, periodic):
+    """The rings traced from the cells (pinches, holes touching holes or the exterior, cells on a
+    periodic axis) give the very text shapely's polygonizer gives from the boundary segments."""
+    from fivebar_cli.io.geojson import geometry_json, tree_geometry
+
+    rng = np.random.default_rng(seed)
+    grid = Grid(((-2.0, 6.0), (1.0, 9.0)), 6, (periodic, False))
+    level = int(rng.integers(2, 7))
+    n = 1 << level
+    tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < density))
+    assert json.dumps(geometry_json(tree_geometry(tree))) == json.dumps(geometry_json(_polygonized(tree)))

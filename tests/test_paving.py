@@ -289,3 +289,20 @@ def test_every_tested_box_contains_its_exact_dyadic_cell():
                 assert Fraction(hi[i, axis]) >= exact_hi
                 checked += 1
     assert checked > 500
+
+
+def test_chunked_box_functions_equal_one_call():
+    """`engine.chunked` (box functions evaluated CHUNK boxes at a time) gives what one call gives,
+    for a single array and for a tuple of arrays, across several chunks."""
+    from fivebar_cli.paving.engine import CHUNK, chunked
+
+    rng = np.random.default_rng(3)
+    lo = rng.uniform(-1, 1, (2 * CHUNK + 17, 2))
+    hi = lo + rng.uniform(0, 1, lo.shape)
+
+    def fn(a, b):
+        return (a.sum(axis=1) > 0), np.column_stack([b[:, 0] - a[:, 1], np.sign(a[:, 0])]).astype(np.int8)
+
+    whole, parts = fn(lo, hi), chunked(fn, lo, hi)
+    assert all(np.array_equal(w, p) for w, p in zip(whole, parts))
+    assert np.array_equal(chunked(lambda a, b: fn(a, b)[0], lo, hi), whole[0])

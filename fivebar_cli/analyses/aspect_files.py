@@ -13,11 +13,12 @@ from pathlib import Path
 from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis, signs_text
 from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
-from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.geojson import write_geojson
+from fivebar_cli.analyses.jobs import run_tasks
+from fivebar_cli.io.files import write_csv, write_text
+from fivebar_cli.io.geojson import feature, geojson_text
 from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
 from fivebar_cli.io.outputs import of_complete_runs, output_set
-from fivebar_cli.io.qtfile import read_qt, write_qt
+from fivebar_cli.io.qtfile import format_qt, read_qt
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
 
@@ -77,21 +78,28 @@ def aspect_set(folder: Path):
     return output_set(folder, "aspects", ASPECT_FILES, "fivebar aspects")
 
 
-def write_aspects(folder: Path, analysis: AspectAnalysis) -> list[Path]:
+def write_aspects(folder: Path, analysis: AspectAnalysis, jobs: int | None = 1) -> list[Path]:
     """Write the two CSV tables, every aspect tree and every aspect's workspace GeoJSON (inside
-    `aspect_set(folder)`)."""
+    `aspect_set(folder)`); the texts of the aspects' files are made on `jobs` processes."""
     m = analysis.mechanism
     paths = [
         write_csv(folder / ASPECTS_CSV, aspect_header(m), aspect_rows(analysis)),
         write_csv(folder / CROSSINGS_CSV, CROSSING_HEADER, crossing_rows(analysis)),
     ]
-    for a in analysis.aspects:
-        for space in SPACES:
-            tree = a.workspace if space == "workspace" else a.jointspace
-            paths.append(write_qt(aspect_path(folder, a.number, space), tree, **_qt_fields(m, a, space)))
-        paths.append(write_geojson(aspect_geojson_path(folder, a.number), a.workspace,
-                                   aspect_properties(m, a, analysis.depth)))
+    texts = run_tasks(_aspect_texts, [(m, a, analysis.depth) for a in analysis.aspects], jobs)
+    for a, (workspace, jointspace, geojson) in zip(analysis.aspects, texts):
+        paths.append(write_text(aspect_path(folder, a.number, "workspace"), workspace))
+        paths.append(write_text(aspect_path(folder, a.number, "jointspace"), jointspace))
+        paths.append(write_text(aspect_geojson_path(folder, a.number), geojson))
     return paths
+
+
+def _aspect_texts(task: tuple) -> tuple[str, str, str]:
+    """One aspect's `.qt` texts (workspace, joint space) and workspace GeoJSON text."""
+    m, a, depth = task
+    return (format_qt(a.workspace, **_qt_fields(m, a, "workspace")),
+            format_qt(a.jointspace, **_qt_fields(m, a, "jointspace")),
+            geojson_text([feature(a.workspace, aspect_properties(m, a, depth))]))
 
 
 @dataclass(frozen=True)

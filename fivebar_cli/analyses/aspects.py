@@ -32,11 +32,12 @@ import numpy as np
 
 from fivebar_cli.analyses.crossings import Crossing, find_crossings
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_square
+from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
-from fivebar_cli.paving.engine import Paving, pave
+from fivebar_cli.paving.engine import Paving, chunked, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree, union_find
 
@@ -167,21 +168,23 @@ def region_count(m: Mechanism) -> int:
 
 
 def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: int = DEFAULT_BUDGET,
-                    shapes: bool = True) -> AspectAnalysis:
+                    shapes: bool = True, jobs: int | None = 1) -> AspectAnalysis:
     """Pave the mode regions, find the mode sets' anchors and outer components, link and join the
     anchors into generalized aspects, certify the count, find the crossings; with `shapes`, the
-    largest disc and square of each aspect's workspace (what `aspects.csv` reports)."""
+    largest disc and square of each aspect's workspace (what `aspects.csv` reports). The mode
+    pavings and the shapes are independent tasks, run on `jobs` processes (`analyses.jobs`)."""
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
     timings = {"paving": 0.0}
+    tasks = ([(m, "workspace", wm, None, depth) for wm in model.working_modes]
+             + [(m, "jointspace", None, am, depth) for am in model.assembly_modes])
     regions = []
-    for wm in model.working_modes:
-        regions.append(_region(m, model, "workspace", wm, None, depth, timings))
-        advance(1)
-    for am in model.assembly_modes:
-        regions.append(_region(m, model, "jointspace", None, am, depth, timings))
-        advance(1)
+    for region, seconds in run_tasks(_region_task, tasks, jobs, advance):
+        region.model = model
+        region.test = _mode_test(model, region.space, region.working, region.assembly)
+        timings["paving"] += seconds
+        regions.append(region)
     t0 = time.perf_counter()
     sets = [ModeSet(region, free) for region in regions for free in _free_modes(model, region)]
     timings["outer"] = time.perf_counter() - t0
@@ -194,7 +197,7 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     timings["crossings"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     if shapes:
-        aspects = [with_inscribed(a) for a in aspects]
+        aspects = run_tasks(with_inscribed, aspects, jobs)
     timings["inscribed"] = time.perf_counter() - t0
     advance(1)
     return AspectAnalysis(m, model, depth, regions, aspects, crossings, count.lower, count.upper, count.undecided,
@@ -213,9 +216,23 @@ def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:
     return [tuple(wm) for wm in model.working_modes]
 
 
+def _mode_test(model: AspectModel, space: str, working, assembly):
+    return model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
+
+
+def _region_task(task: tuple) -> tuple[Region, float]:
+    """One mode paving and its region data, in a worker: (region without its model and test,
+    which do not travel between processes, seconds paving)."""
+    m, space, working, assembly, depth = task
+    timings = {"paving": 0.0}
+    region = _region(m, m.aspect_model(), space, working, assembly, depth, timings)
+    region.model = region.test = None
+    return region, timings["paving"]
+
+
 def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, depth: int, timings: dict) -> Region:
     t0 = time.perf_counter()
-    test = model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
+    test = _mode_test(model, space, working, assembly)
     paving = pave(m.spaces()[space].grid(depth), test)
     timings["paving"] += time.perf_counter() - t0
     region = Region(space, working, assembly, paving, test, model, np.zeros((0, 0), np.int8))
@@ -226,7 +243,7 @@ def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, dep
     # the components of all black leaves are the anchors of every mode set at once
     region.black_labels, _ = paving.inside.components(corners=True)
     grid = paving.grid
-    region.und_possible, region.und_signs = region.signs(*grid.boxes(grid.depth, paving.undetermined))
+    region.und_possible, region.und_signs = chunked(region.signs, *grid.boxes(grid.depth, paving.undetermined))
     region.und_pairs = _undetermined_pairs(paving)
     return region
 
@@ -261,7 +278,7 @@ class _Count:
         self._join()
         self.partner = self._partners()
         self.undecided = self.empty_undecided = 0
-        limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // max((s.cells.grid.dim for s in sets), default=2))
+        limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // max((s.grid.dim for s in sets), default=2))
         self.split_ok = {}
         for k, s in enumerate(sets):
             local_roots = self.roots[self.offset[k]:self.offset[k + 1]]
@@ -381,9 +398,10 @@ class _Count:
                 images, ok = self._images(s, points)
                 located = np.full(len(points), -1, np.int64)
                 if ok.any():
-                    order = np.argsort(t.cells.code << (t.cells.grid.dim * (t.cells.grid.depth - t.cells.level)),
+                    cells = t.cells
+                    order = np.argsort(cells.code << (cells.grid.dim * (cells.grid.depth - cells.level)),
                                        kind="stable")
-                    leaf = t.cells.tree().locate(images[ok])
+                    leaf = cells.tree().locate(images[ok])
                     located[np.flatnonzero(ok)] = np.where(leaf >= 0, order[np.maximum(leaf, 0)], -1)
                 for g in missing:
                     outers = set(t.outer[located[(groups == g) & (located >= 0)]].tolist())

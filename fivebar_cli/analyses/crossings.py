@@ -13,6 +13,7 @@ import numpy as np
 from dataclasses import dataclass
 
 from fivebar_cli.mechanisms.base import AspectModel, plural
+from fivebar_cli.paving.engine import chunked
 from fivebar_cli.paving.tree import Tree
 
 
@@ -37,7 +38,7 @@ def find_crossings(model: AspectModel, regions, aspects, leaf_aspect: dict) -> l
             continue
         grid, cells = region.paving.grid, region.paving.undetermined
         lo, hi = grid.boxes(grid.depth, cells)
-        strict, signs = model.serial_band_signs(region.assembly, lo, hi)
+        strict, signs = chunked(lambda a, b: model.serial_band_signs(region.assembly, a, b), lo, hi)
         for changing, name in enumerate(model.serial_names):  # the one sign that changes across the band
             others = np.delete(signs, changing, axis=1)
             band = strict & (signs[:, changing] == 0) & np.all(others != 0, axis=1)

@@ -111,11 +111,8 @@ class ModeSet:
         grid = paving.grid
         mine = np.flatnonzero(np.all(region.free == self.secondary, axis=1))
         fits = region.und_possible & np.all((region.und_signs == 0) | (region.und_signs == self.secondary), axis=1)
-        und = paving.undetermined[fits]
-        level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
-        code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
-        black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
-        self.cells = CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
+        self.grid, self._mine, self._fits = grid, mine, fits
+        black = np.concatenate([np.ones(len(mine), bool), np.zeros(int(np.count_nonzero(fits)), bool)])
         _, anchors = np.unique(region.black_labels[mine], return_inverse=True)
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
         self.outer, self.n_outer = self._outer_components(mine, fits, anchors)
@@ -124,6 +121,18 @@ class ModeSet:
         self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int64)
         self.anchor_of_leaf[mine] = anchors
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+
+    @property
+    def cells(self) -> CellSet:
+        """The set's cells: its black leaves, then its undetermined cells. Built when asked (for
+        refinement, partners): kept for every mode set through a whole analysis, they would be
+        most of its memory."""
+        paving, grid = self.region.paving, self.grid
+        mine, und = self._mine, paving.undetermined[self._fits]
+        level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
+        code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
+        black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
+        return CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
 
     def _outer_components(self, mine: np.ndarray, fits: np.ndarray, anchors: np.ndarray) -> tuple[np.ndarray, int]:
         """Components of the outer set (black leaves `mine`, undetermined cells `fits`), from the
@@ -362,9 +371,11 @@ class ModeSet:
 
 
 def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
-    """Every (undetermined cell u, neighbour n) touching at a point; n < len(black leaves) is a
-    black leaf, else the undetermined cell n - len(black leaves). Undetermined cells are the
-    smallest cells, so looking up their neighbours finds every pair."""
+    """Every (undetermined cell u, neighbour n) touching at a point, a pair of undetermined cells
+    once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
+    n - len(black leaves). Undetermined cells are the smallest cells, so looking up their
+    neighbours finds every pair. int32 when the indices fit: these pairs are most of a region's
+    memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
     level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
     code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
@@ -373,9 +384,15 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     mine = rank[len(inside):]
-    i, j = everything.subset(np.sort(mine)).adjacency(everything, corners=True)
     und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
-    return und_of_sorted[i], order[j]
+    small = np.int32 if len(order) < np.iinfo(np.int32).max else np.int64
+    us, ns = [], []
+    for i, j in everything.subset(np.sort(mine)).neighbour_pairs(everything, corners=True):
+        u, n = und_of_sorted[i], order[j]
+        once = (n < len(inside)) | (n - len(inside) > u)
+        us.append(u[once].astype(small))
+        ns.append(n[once].astype(small))
+    return np.concatenate(us), np.concatenate(ns)
 
 
 def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:
@@ -425,11 +442,20 @@ def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
     marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape)
                                        for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic)]))
     lo_blk, hi_blk = _block_span(b_lo, b_hi, k, n)
-    single = np.all(lo_blk == hi_blk, axis=1)
-    keep[single] = np.isin(np.ravel_multi_index(tuple(lo_blk[single].T), shape), marked)
-    for i in np.flatnonzero(~single):  # cells spanning several blocks (large leaves): few
-        region = np.meshgrid(*(np.arange(a, b + 1) for a, b in zip(lo_blk[i], hi_blk[i])), indexing="ij")
-        keep[i] = np.isin(np.ravel_multi_index(tuple(r.ravel() for r in region), shape), marked).any()
+    # every run of blocks along the last axis a box b overlaps (one per index of the other axes):
+    # a marked flat index between the run's ends makes b near (flat indices are in C order)
+    head_lo, head_hi = lo_blk[:, :-1], hi_blk[:, :-1]
+    runs = np.prod(head_hi - head_lo + 1, axis=1)
+    owner = np.repeat(np.arange(len(b_lo)), runs)
+    offset = np.arange(int(runs.sum())) - np.repeat(np.cumsum(runs) - runs, runs)
+    base = np.zeros(len(owner), np.int64)
+    for axis in range(grid.dim - 1):
+        width = head_hi[owner, axis] - head_lo[owner, axis] + 1
+        base = base * n + head_lo[owner, axis] + offset % width
+        offset = offset // width
+    first = np.searchsorted(marked, base * n + lo_blk[owner, -1])
+    last = np.searchsorted(marked, base * n + hi_blk[owner, -1], side="right")
+    keep[owner[first < last]] = True
     return keep
 
 

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
+from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass
@@ -131,18 +132,18 @@ class PoseAspectAnalysis(AspectAnalysis):
 
 
 def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
-                         budget: int = DEFAULT_BUDGET) -> PoseAspectAnalysis:
-    """Pave every sign class, find the anchors and outer components, join and separate them
-    under the budget, number the aspects (class order, then Morton order of their first cell)."""
+                         budget: int = DEFAULT_BUDGET, jobs: int | None = 1) -> PoseAspectAnalysis:
+    """Pave every sign class (one task each, on `jobs` processes: `analyses.jobs`), find the
+    anchors and outer components, join and separate them under the budget, number the aspects
+    (class order, then Morton order of their first cell)."""
     model = pose_model(m)
     space = m.spaces()[model.space]
     timings = {"paving": 0.0}
     regions = []
-    for k in range(len(model.classes)):
-        t0 = time.perf_counter()
-        regions.append(class_region(model, space.grid(depth), k))
-        timings["paving"] += time.perf_counter() - t0
-        advance(1)
+    for region, seconds in run_tasks(_class_task, [(m, depth, k) for k in range(len(model.classes))], jobs, advance):
+        region.model, region.test = model, model.class_test(region.index)
+        timings["paving"] += seconds
+        regions.append(region)
     t0 = time.perf_counter()
     sets = [ModeSet(region, ()) for region in regions]
     count = _Count(model, sets, Budget(budget), depth)
@@ -170,6 +171,16 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
                               count.upper + found + opened, count.undecided + len(hiding),
                               count.empty_undecided + found + opened, count.merged,
                               count.budget.spent + probe.spent, timings)
+
+
+def _class_task(task: tuple) -> tuple[ClassRegion, float]:
+    """One class's region, in a worker: (region without its model and test, seconds)."""
+    m, depth, k = task
+    t0 = time.perf_counter()
+    model = pose_model(m)
+    region = class_region(model, m.spaces()[model.space].grid(depth), k)
+    region.model = region.test = None
+    return region, time.perf_counter() - t0
 
 
 def class_region(model: PoseAspectModel, grid, k: int) -> ClassRegion:

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from fivebar_cli.analyses.jobs import run_tasks, workers
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.layout import band_path, paving_paths, sibling_paths
@@ -46,9 +47,25 @@ def pave_space(m: Mechanism, space: str, depth: int, procedure: str = "exact", o
     return pave(m.spaces()[space].grid(depth), _test(m, space, procedure, region), on_level)
 
 
-def pave_regions(m: Mechanism, space: str, depth: int, procedure: str = "exact", on_level=None) -> dict[str, Paving]:
-    """Certified pavings of every region the kind declares for a space, by region name."""
-    return {region: pave_space(m, space, depth, procedure, on_level, region) for region in m.regions(space)}
+def pave_regions(m: Mechanism, space: str, depth: int, procedure: str = "exact", on_level=None,
+                 jobs: int | None = 1) -> dict[str, Paving]:
+    """Certified pavings of every region the kind declares for a space, by region name; one task
+    per region on `jobs` processes (`analyses.jobs`; `on_level` then hears of a region's levels
+    when it is done)."""
+    regions = list(m.regions(space))
+    if workers(jobs, len(regions)) == 1:
+        return {region: pave_space(m, space, depth, procedure, on_level, region) for region in regions}
+    pavings = run_tasks(_pave_task, [(m, space, depth, procedure, region) for region in regions], jobs)
+    for paving in pavings:
+        for level, n in enumerate(paving.per_level):
+            if on_level is not None:
+                on_level(level, n)
+    return dict(zip(regions, pavings))
+
+
+def _pave_task(task: tuple) -> Paving:
+    m, space, depth, procedure, region = task
+    return pave_space(m, space, depth, procedure, region=region)
 
 
 def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations: int,

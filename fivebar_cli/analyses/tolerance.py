@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.analyses.aspects import AspectAnalysis, analyse_aspects
+from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.engine import pave
 
@@ -73,6 +74,11 @@ def _meets(cells, tree) -> bool:
     return bool(len(cells) and len(tree) and np.any(tree.locate(cells.centres()) >= 0))
 
 
+def _pave_task(task: tuple):
+    m, grid, space = task
+    return pave(grid, m.box_test(space))
+
+
 def jointspace_area(m, n: int = QUADRATURE) -> float:
     """The nominal joint-space area: for each th1 the measure of {th2 : |L3 - L4| <= |B1B2| <= L3 + L4}
     in closed form (|B1B2|^2 = c + R cos(th2 - phi)), integrated over th1 by the midpoint rule on n
@@ -114,26 +120,31 @@ class Study:
     robust: dict  # tolerance -> AspectAnalysis of the robust aspects
 
 
-def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=lambda n=1: None) -> Study:
+def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=lambda n=1: None,
+                    jobs: int | None = 1) -> Study:
     """Robust and possible areas of both spaces and the robust area of every nominal aspect, for
     each tolerance (0: the nominal five-bar). Every tolerance is paved on the root box of the
-    largest one (which holds every possible point), so the trees compare cell for cell."""
+    largest one (which holds every possible point), so the trees compare cell for cell. The
+    pavings of the spaces, then those of each aspect analysis, run on `jobs` processes."""
     base = m.nominal()
     widest = base.widened(max(tolerances))
     nominal_areas = {"workspace": base.exact_measure("workspace"), "jointspace": jointspace_area(base)}
     if getattr(base, "constraints", None):  # no closed form under limits and obstacles: the certified area
         nominal_areas = {s: pave(widest.spaces()[s].grid(depth), base.box_test(s)).inside.area for s in nominal_areas}
-    nominal = analyse_aspects(base, depth)
+    spaces = ("workspace", "jointspace")
+    tasks = [(base.widened(tol), widest.spaces()[space].grid(depth), space) for tol in tolerances for space in spaces]
+    space_pavings = iter(run_tasks(_pave_task, tasks, jobs))
+    nominal = analyse_aspects(base, depth, jobs=jobs)
     rows, pavings, fates, analyses = [], {}, {}, {}
     for tol in tolerances:
         mt = base.widened(tol)
-        for space in ("workspace", "jointspace"):
-            paving = pave(widest.spaces()[space].grid(depth), mt.box_test(space))
+        for space in spaces:
+            paving = next(space_pavings)
             pavings[tol, space] = paving
             possible = float(paving.grid.size.prod()) - paving.outside.area
             rows.append(StudyRow(tol, space, paving.inside.area, possible, nominal_areas[space]))
             advance(1)
-        analyses[tol] = robust = nominal if tol == 0 else analyse_aspects(mt, depth)
+        analyses[tol] = robust = nominal if tol == 0 else analyse_aspects(mt, depth, jobs=jobs)
         fates[tol] = aspect_fates(nominal, robust)
         rows += [StudyRow(tol, f"aspect-{f.number:02d}", f.robust_area, None, f.nominal_area) for f in fates[tol]]
         advance(1)

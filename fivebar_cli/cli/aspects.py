@@ -16,8 +16,8 @@ from fivebar_cli.analyses.locate import (
 )
 from fivebar_cli.analyses.tolerance import aspect_fates, fate_text
 from fivebar_cli.cli.options import (
-    CONFIG, JOINT, MAX_ASPECT_DEPTH, NUMBER, check_joints, common_options, depth_option, figure, prepare_out, progress,
-    report, tolerance_option, with_tolerance, wrote,
+    CONFIG, JOINT, MAX_ASPECT_DEPTH, NUMBER, check_joints, common_options, depth_option, figure, jobs_option,
+    prepare_out, progress, report, tolerance_option, with_tolerance, wrote,
 )
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
@@ -46,8 +46,9 @@ def _budget_option(func):
 @depth_option(limit=MAX_ASPECT_DEPTH)
 @_budget_option
 @tolerance_option
+@jobs_option
 @common_options
-def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
+def aspects(config_path, depth, budget, tolerance, jobs, out, no_plot, quiet):
     """Generalized aspects: the singularity-free regions of each working and assembly mode.
 
     Paves the workspace once per working mode and the joint space once per assembly mode,
@@ -79,19 +80,20 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
       fivebar aspects configs/m1.yaml --depth 8 --tolerance 0.05 -o out/m1-tol --no-plot
       fivebar aspects configs/m1-obstacle.yaml --depth 9 -o out/m1-obstacle --no-plot
+      fivebar aspects configs/m1.yaml --depth 9 --jobs 2 -o out/m1-jobs --no-plot
     """
     m = _load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
     robust = getattr(m, "is_interval", False)
     limited = bool(getattr(m, "constraints", None))
     with progress(quiet, region_count(m) * (1 + robust + limited) + 1, f"aspects depth {depth}") as advance:
-        analysis = analyse_aspects(m, depth, advance, budget)
-        nominal = analyse_aspects(m.nominal(), depth, advance, budget, shapes=False) if robust else None
+        analysis = analyse_aspects(m, depth, advance, budget, jobs=jobs)
+        nominal = analyse_aspects(m.nominal(), depth, advance, budget, shapes=False, jobs=jobs) if robust else None
         fates = aspect_fates(nominal, analysis) if robust else []
-        free = analyse_aspects(m.unconstrained(), depth, advance, budget, shapes=False) if limited else None
+        free = analyse_aspects(m.unconstrained(), depth, advance, budget, shapes=False, jobs=jobs) if limited else None
         split = split_rows(analysis, free) if limited else None
     with aspect_set(folder):
-        paths = write_aspects(folder, analysis) + write_split(folder, split)
+        paths = write_aspects(folder, analysis, jobs) + write_split(folder, split)
         if not no_plot:
             from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
 

@@ -62,6 +62,15 @@ def depth_option(default: int = 10, limit: int = MAX_DEPTH):
                         help=f"Maximum depth d of the tree (cells are root/2^d wide; 0..{limit}).")
 
 
+def jobs_option(func):
+    """`--jobs N`: worker processes for the independent pavings of a command (`analyses.jobs`)."""
+    return click.option(
+        "--jobs", "-j", type=click.IntRange(1, None), default=None, envvar="FIVEBAR_JOBS", show_envvar=True,
+        help="Worker processes for the independent pavings and files [default: one per core]; "
+             "1: all in this process. The outputs are the same bytes for any N.",
+    )(func)
+
+
 def tolerance_option(func):
     """`--tolerance T`: every link length widened to [L - T, L + T] (manufacturing tolerances)."""
     return click.option(

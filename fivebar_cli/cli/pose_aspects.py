@@ -23,7 +23,9 @@ from fivebar_cli.analyses.pose_aspects import (
     DEFAULT_BUDGET, analyse_pose_aspects, aspect_at, sheet_classes, sheet_of,
 )
 from fivebar_cli.analyses.pose_paths import check_pose, find_motion, wrap_pose
-from fivebar_cli.cli.options import MAX_ASPECT_DEPTH, NUMBER, common_options, figure, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import (
+    MAX_ASPECT_DEPTH, NUMBER, common_options, figure, jobs_option, prepare_out, progress, report, wrote,
+)
 from fivebar_cli.io.files import csv_text, write_csv, write_text
 from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG, PATH_CSV, PATH_FILES, PATH_PNG, output_dir
 from fivebar_cli.io.outputs import output_set
@@ -132,8 +134,9 @@ def _aspects_for(m: Mechanism, folder: Path | None, depth: int, budget: int):
 @click.argument("config_path", metavar="CONFIG", type=CONFIG)
 @_depth_option
 @_budget_option
+@jobs_option
 @common_options
-def pose_aspects(config_path, depth, budget, out, no_plot, quiet):
+def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
     """Generalized aspects of a 3-RPR over (x, y, phi): the connected components of the poses with
     every leg in its range and det J > 0, and of those with det J < 0; of a 3-RRR, per working mode,
     of the poses with every leg strictly inside its annulus and det A > 0, resp. < 0.
@@ -156,12 +159,13 @@ def pose_aspects(config_path, depth, budget, out, no_plot, quiet):
     Examples:
       fivebar aspects configs/rpr3-caro.yaml --depth 6 -o out/caro
       fivebar aspects configs/rrr3-symmetric-phi0.yaml --depth 6 --no-plot -o out/rrr3-phi0
+      fivebar aspects configs/rpr3-caro.yaml --depth 5 --jobs 2 -o out/caro-jobs --no-plot
     """
     m = load_pose_kind(config_path, depth=depth)
     model = m.pose_aspect_model()
     folder = prepare_out(out, m.name)
     with progress(quiet, len(model.classes) + 1, f"aspects depth {depth}") as advance:
-        analysis = analyse_pose_aspects(m, depth, advance, budget)
+        analysis = analyse_pose_aspects(m, depth, advance, budget, jobs)
     with aspect_set(folder):
         paths = write_pose_aspects(folder, analysis)
         if not no_plot:

@@ -9,7 +9,9 @@ from pathlib import Path
 import click
 import numpy as np
 
-from fivebar_cli.cli.options import NUMBER, common_options, data_on_stdout, figure, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import (
+    NUMBER, common_options, data_on_stdout, figure, jobs_option, prepare_out, progress, report, wrote,
+)
 from fivebar_cli.io.files import csv_text, write_csv
 from fivebar_cli.io.outputs import output_set
 from fivebar_cli.io.schema import ConfigError
@@ -375,8 +377,9 @@ def load_octree(path):
 @click.argument("config", type=CONFIG)
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_OCTREE_DEPTH), default=7, show_default=True,
               help=f"Depth d of the octree (cells are root/2^d wide; 0..{MAX_OCTREE_DEPTH}).")
+@jobs_option
 @common_options
-def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: bool) -> None:
+def pave_cmd(config: Path, depth: int, jobs: int | None, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Certified octree over (x, y, phi) of the workspace and of its singularity-free parts.
 
     Any 3-RPR: base and platform points (or the similar form), one leg range or one per leg,
@@ -390,8 +393,9 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
     circle for a similar platform). `fivebar refine` deepens any of the pairs.
 
     \b
-    Example:
+    Examples:
       fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 -o out/general
+      fivebar rpr3 pave configs/rpr3-general.yaml --depth 5 --jobs 2 -o out/general-jobs --no-plot
     """
     from fivebar_cli.analyses import spaces
 
@@ -399,7 +403,7 @@ def pave_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: b
     folder = prepare_out(out, mech.name)
     regions = mech.regions("workspace")
     with progress(quiet, len(regions) * (depth + 1), f"octree depth {depth}") as advance:
-        pavings = spaces.pave_regions(mech, "workspace", depth, on_level=lambda level, n: advance(1))
+        pavings = spaces.pave_regions(mech, "workspace", depth, on_level=lambda level, n: advance(1), jobs=jobs)
     paths = write_pave(folder, mech, pavings, {r: p.evaluations for r, p in pavings.items()}, no_plot, quiet)
     wrote(quiet, paths)
 

@@ -8,7 +8,8 @@ import click
 
 from fivebar_cli.analyses.tolerance import HEADER, fate_text, tolerance_study
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, data_on_stdout, depth_option, figure, plural, prepare_out, progress, report, wrote,
+    CONFIG, common_options, data_on_stdout, depth_option, figure, jobs_option, plural, prepare_out, progress, report,
+    wrote,
 )
 from fivebar_cli.io.files import csv_text, write_csv
 from fivebar_cli.io.layout import TOLERANCE_FILES
@@ -36,8 +37,9 @@ def _parse_tolerances(ctx, param, text: str) -> list[float]:
 @click.option("--tolerances", default="0,0.01,0.02,0.05,0.1", show_default=True, callback=_parse_tolerances,
               help="Tolerances T: every link length becomes [L - T, L + T].")
 @depth_option()
+@jobs_option
 @common_options(single="tolerance.csv")
-def tolerance(config_path, tolerances, depth, out, no_plot, quiet):
+def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
     """How manufacturing tolerances shrink a five-bar's workspace, joint space and aspects.
 
     For each tolerance T every link length becomes [L - T, L + T] (from the nominal lengths, the
@@ -55,6 +57,7 @@ def tolerance(config_path, tolerances, depth, out, no_plot, quiet):
     Examples:
       fivebar tolerance configs/m1.yaml --tolerances 0,0.02,0.05 --depth 7 -o out/m1
       fivebar tolerance configs/m2.yaml --tolerances 0,0.01 --depth 6 -o - > m2-tolerance.csv
+      fivebar tolerance configs/m1.yaml --tolerances 0,0.05 --depth 6 --jobs 2 -o out/m1-tolerance-jobs --no-plot
     """
     m = load_config(config_path, kind="fivebar")
     for t in tolerances:
@@ -62,7 +65,7 @@ def tolerance(config_path, tolerances, depth, out, no_plot, quiet):
     stdout = data_on_stdout(out)
     folder = None if stdout else prepare_out(out, m.name)
     with progress(quiet, 3 * len(tolerances), f"tolerances, depth {depth}") as advance:
-        study = tolerance_study(m, tolerances, depth, advance)
+        study = tolerance_study(m, tolerances, depth, advance, jobs)
     rows = [r.cells() for r in study.rows]
     if stdout:
         click.echo(csv_text(HEADER, rows), nl=False)

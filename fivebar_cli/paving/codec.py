@@ -24,9 +24,12 @@ def encode(tree) -> str:
     if tree.level[0] == 0:
         return "B"
     grey_level, grey_code = [], []
+    start = tree.start
     for lev in range(depth):  # grey nodes: the proper ancestors of black leaves
-        deeper = tree.level > lev
-        anc = np.unique(tree.code[deeper] >> (dim * (tree.level[deeper] - lev)))
+        # leaves are in Morton order, so their ancestors at one level are sorted: dropping repeats
+        # of the previous value is np.unique without its sort
+        anc = start[tree.level > lev] >> (dim * (depth - lev))
+        anc = anc[np.concatenate([[True], anc[1:] != anc[:-1]])] if anc.size else anc
         grey_level.append(np.full(anc.size, lev, dtype=np.int64))
         grey_code.append(anc)
     g_level, g_code = np.concatenate(grey_level), np.concatenate(grey_code)

@@ -72,6 +72,17 @@ def children(coords: np.ndarray) -> np.ndarray:
     return (2 * coords[:, None, :] + offsets[None, :, :]).reshape(-1, dim)
 
 
+def chunked(fn, lo: np.ndarray, hi: np.ndarray):
+    """fn(lo, hi) -> an array or a tuple of arrays (one row per box), computed CHUNK boxes at a
+    time: a box function's temporaries take the memory of one chunk, not of every box."""
+    if len(lo) <= CHUNK:
+        return fn(lo, hi)
+    parts = [fn(lo[s:s + CHUNK], hi[s:s + CHUNK]) for s in range(0, len(lo), CHUNK)]
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(p) for p in zip(*parts))
+    return np.concatenate(parts)
+
+
 def classify(grid: Grid, level: int, coords: np.ndarray, test: BoxTest) -> np.ndarray:
     """Run the box test on cells of one level, in chunks; returns int8 statuses."""
     pad = box_pad(grid)

@@ -5,13 +5,19 @@ set appears twice and is interior, an edge that appears once is on the boundary.
 edges on one lattice line are then merged into maximal straight segments, except through a vertex
 where four boundary edges meet (two cells of the set touching at a corner only), so that segments
 meet only at their ends (what a polygonizer needs). Integer lattice coordinates keep it exact.
+
+`boundary_rings` traces the same boundary as closed rings: every boundary unit edge directed with
+the set on its left, each edge followed by the one leaving its end point (the left turn at a pinch
+point), the cycles of that permutation found by pointer doubling, rings passing a pinch point twice
+cut there; a ring keeps its corners and pinch points.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.tree import Tree
+from fivebar_cli.paving.morton import interleave
+from fivebar_cli.paving.tree import Tree, _sweep
 
 
 def _unit_edges(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
@@ -74,3 +80,128 @@ def lattice_to_space(tree: Tree, points: np.ndarray) -> np.ndarray:
     value always gives the same float."""
     grid = tree.grid
     return grid.lo + np.asarray(points, float) * (grid.size / float(1 << grid.depth))
+
+
+# directions of directed unit edges: +x, +y, -x, -y (a left turn adds 1)
+_STEP = np.array([[1, 0], [0, 1], [-1, 0], [0, -1]], np.int64)
+
+
+def _directed_edges(tree: Tree):
+    """The boundary as maximal straight segments directed with the set on their left: start and
+    end points (n, 2) and directions (0..3, `_STEP`), in depth-D lattice units.
+
+    On each lattice line, the leaves' sides facing one way minus those facing the other way (an
+    interval sweep over the leaves' sides, not their unit edges): memory follows the leaves."""
+    depth = tree.grid.depth
+    span = np.int64(1) << (depth - tree.level)
+    lo = tree.coords * span[:, None]
+    hi = lo + span[:, None]
+    width = (np.int64(1) << depth) + 1  # positions along a line run 0..2^depth
+    out = []
+    for axis in (0, 1):  # sides along x (horizontal lines y = const), then along y
+        other = 1 - axis
+        low_side = (lo[:, other] * width + lo[:, axis], lo[:, other] * width + hi[:, axis])  # set beyond it
+        high_side = (hi[:, other] * width + lo[:, axis], hi[:, other] * width + hi[:, axis])  # set before it
+        sides = [tuple(np.sort(v) for v in s) for s in (low_side, high_side)]
+        for keep, forward in ((lambda a, b: a & ~b, axis == 0), (lambda a, b: ~a & b, axis == 1)):
+            start, end = _sweep(sides, keep)
+            line, a, b = start // width, start % width, end - (start // width) * width
+            first, last = (a, b) if forward else (b, a)
+            p, q = np.empty((len(a), 2), np.int64), np.empty((len(a), 2), np.int64)
+            p[:, axis], p[:, other], q[:, axis], q[:, other] = first, line, last, line
+            d = (0 if axis == 0 else 1) if forward else (2 if axis == 0 else 3)
+            out.append((p, q, np.full(len(a), d, np.int64)))
+    return tuple(np.concatenate(parts) for parts in zip(*out))
+
+
+def boundary_rings(tree: Tree):
+    """The boundary of the union of a 2-D tree's cells as closed rings of lattice points, each
+    running with the set on its left (exteriors counter-clockwise, holes clockwise), minimal: no
+    ring passes a point twice, so two cells of the set touching at a corner only lie in separate
+    faces, as do two holes touching at a corner. Points are the corners of the boundary and the
+    pinch points. Returns (points (m, 2), ring of each point (sorted), leaf bordering each ring):
+    the rings a polygonizer would find from `boundary_segments`."""
+    if tree.grid.dim != 2:
+        raise ValueError("outlines are for quadtrees")
+    if not len(tree):
+        return np.zeros((0, 2), np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64)
+    start, end, d = _directed_edges(tree)
+    n_edges = len(d)
+    m = np.int64(1) << (tree.grid.depth + 2)
+    start_key = start[:, 0] * m + start[:, 1]
+    end_key = end[:, 0] * m + end[:, 1]
+    order = np.argsort(start_key, kind="stable")
+    sorted_keys = start_key[order]
+    lo = np.searchsorted(sorted_keys, end_key, side="left")
+    hi = np.searchsorted(sorted_keys, end_key, side="right")
+    succ = order[lo]
+    pinch_next = hi - lo == 2  # four boundary edges at the end point: take the left turn
+    second = order[np.minimum(lo + 1, n_edges - 1)]
+    left = (d + 1) % 4
+    succ = np.where(pinch_next & (d[second] == left), second, succ)
+    pinch = np.zeros(n_edges, bool)  # the edge starts at a pinch point
+    pinch[succ[pinch_next]] = True
+    ring, position = _cycles(succ)
+    pred = np.empty_like(succ)
+    pred[succ] = np.arange(n_edges)
+    corner = pinch | (d != d[pred])
+    keep = np.flatnonzero(corner)
+    keep = keep[np.lexsort((position[keep], ring[keep]))]
+    points, point_ring, point_pinch = start[keep], ring[keep], pinch[keep]
+    _, ring_index = np.unique(point_ring, return_inverse=True)
+    first_edge = np.zeros(ring_index.max() + 1, np.int64)
+    first_edge[ring_index[::-1]] = keep[::-1]
+    # the cell on the left of each ring's first edge, at its start: the leaf holding it
+    e = first_edge
+    cell = start[e] - (d[e] == 1)[:, None] * [1, 0] - (d[e] == 2)[:, None] * [1, 1] - (d[e] == 3)[:, None] * [0, 1]
+    ring_leaf = np.searchsorted(tree.start, interleave(cell, tree.grid.depth), side="right") - 1
+    return _split_at_repeats(points, ring_index, point_pinch, ring_leaf, m)
+
+
+def _cycles(succ: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The cycles of a permutation: each element's cycle (named by its smallest element) and its
+    position along the cycle from there, by pointer doubling (no loop over elements)."""
+    n = len(succ)
+    low, jump = np.minimum(np.arange(n), succ), succ[succ]
+    while True:  # low: the minimum over 2^k steps; once no window lowers it, it is the cycle's minimum
+        new_low = np.minimum(low, low[jump])
+        if np.array_equal(new_low, low):
+            break
+        low, jump = new_low, jump[jump]
+    # distance to the cycle's last element (the root's predecessor), on the cycle cut there
+    last = succ == low
+    nxt = np.where(last, np.arange(n), succ)
+    dist = (~last).astype(np.int64)
+    while not np.array_equal(nxt[nxt], nxt):
+        dist = dist + dist[nxt]
+        nxt = nxt[nxt]
+    length = np.bincount(low, minlength=n)[low]
+    return low, length - 1 - dist
+
+
+def _split_at_repeats(points, ring, pinch, ring_leaf, m):
+    """Rings that pass a pinch point twice (two holes touching at a corner, or a hole touching
+    its exterior) cut there into minimal rings; the others as they are."""
+    key = points[:, 0] * m + points[:, 1]
+    at_pinch = np.flatnonzero(pinch)
+    pair = ring[at_pinch] * (m * m) + key[at_pinch]
+    _, counts = np.unique(pair, return_counts=True)
+    if not np.any(counts > 1):
+        return points, ring, ring_leaf
+    bounds = np.searchsorted(ring, np.arange(ring.max() + 2))
+    pieces, leaves = [], []
+    for r in range(len(bounds) - 1):  # rings are few; those to cut fewer still
+        todo = [points[bounds[r]:bounds[r + 1]]]
+        while todo:
+            loop = todo.pop()
+            k = loop[:, 0] * m + loop[:, 1]
+            _, first, seen = np.unique(k, return_index=True, return_counts=True)
+            if not np.any(seen > 1):
+                pieces.append(loop)
+                leaves.append(ring_leaf[r])
+                continue
+            i = int(first[np.argmax(seen > 1)])
+            j = i + 1 + int(np.flatnonzero(k[i + 1:] == k[i])[0])
+            todo += [loop[i:j], np.concatenate([loop[j:], loop[:i]])]
+    ring_out = np.repeat(np.arange(len(pieces)), [len(p) for p in pieces])
+    return np.concatenate(pieces), ring_out, np.array(leaves, np.int64)

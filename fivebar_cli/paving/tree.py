@@ -135,7 +135,12 @@ class Tree:
         return self._combine(other, lambda a, b: a ^ b)
 
     def complement(self) -> "Tree":
-        return Tree.full(self.grid).difference(self)
+        """The other cells of the root box: the gaps between the leaves' index intervals (no sweep)."""
+        start, end = _merge_touching(self.start, self.end)
+        gap_start = np.concatenate([np.zeros(1, np.int64), end])
+        gap_end = np.concatenate([start, np.full(1, np.int64(1) << (self.grid.dim * self.grid.depth))])
+        keep = gap_start < gap_end
+        return Tree.from_intervals(self.grid, gap_start[keep], gap_end[keep])
 
     __or__, __and__, __sub__, __xor__ = union, intersection, difference, symmetric_difference
 
@@ -169,6 +174,11 @@ class Tree:
         """
         pairs = list(self._pairs(other, corners))
         return np.concatenate([i for i, _ in pairs]), np.concatenate([j for _, j in pairs])
+
+    def neighbour_pairs(self, other: "Tree | None" = None, corners: bool = False):
+        """The pairs of `adjacency` as (i, j) arrays, one direction at a time (a generator: the
+        memory of one direction's pairs, not of all 8 or 26)."""
+        return self._pairs(other, corners)
 
     def _pairs(self, other: "Tree | None", corners: bool):
         """The pairs of `adjacency`, one direction at a time."""

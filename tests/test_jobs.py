@@ -1,0 +1,66 @@
+"""`--jobs N`: the independent pavings of a command on worker processes give the same bytes as in
+process (`analyses/jobs.py`). `aspects` and `rpr3 pave` are compared in their own tests' fixtures
+(tests/test_aspects_cli.py, tests/test_rpr3_octree.py); here the task runner itself, `tolerance`
+and the 3-RPR's aspects, at small depths."""
+
+from __future__ import annotations
+
+import os
+
+import pytest
+from cli_helpers import REPO, ok, one_line, run_cli
+
+from fivebar_cli.analyses.jobs import default_jobs, run_tasks, workers
+
+CONFIGS = REPO / "configs"
+
+
+def _square_and_pid(x: int) -> tuple[int, int]:
+    return x * x, os.getpid()
+
+
+def _fails(x: int) -> int:
+    if x == 3:
+        raise ValueError(f"task {x} fails")
+    return x
+
+
+def test_results_come_back_in_task_order_from_other_processes():
+    seen = []
+    out = run_tasks(_square_and_pid, range(7), jobs=2, advance=seen.append)
+    assert [v for v, _ in out] == [x * x for x in range(7)]
+    assert seen == [1] * 7
+    assert os.getpid() not in {pid for _, pid in out}
+    assert {pid for _, pid in run_tasks(_square_and_pid, range(3), jobs=1)} == {os.getpid()}
+
+
+def test_a_failing_task_raises_in_the_caller():
+    with pytest.raises(ValueError, match="task 3 fails"):
+        run_tasks(_fails, range(5), jobs=2)
+
+
+def test_worker_count():
+    assert workers(1, 10) == 1 and workers(4, 2) == 2 and workers(3, 0) == 1
+    assert workers(None, 1000) == default_jobs() >= 1
+
+
+def _same_files(a, b):
+    names = sorted(p.relative_to(a).as_posix() for p in a.rglob("*") if p.is_file() and ".fivebar" not in p.parts)
+    assert names and names == sorted(p.relative_to(b).as_posix() for p in b.rglob("*")
+                                     if p.is_file() and ".fivebar" not in p.parts)
+    for name in names:
+        assert (a / name).read_bytes() == (b / name).read_bytes(), name
+
+
+@pytest.mark.parametrize("args", [
+    ("tolerance", CONFIGS / "m1.yaml", "--tolerances", "0,0.05", "--depth", "5"),
+    ("aspects", CONFIGS / "rpr3-caro.yaml", "--depth", "3"),
+], ids=["tolerance", "rpr3-aspects"])
+def test_same_bytes_on_one_and_two_processes(tmp_path, args):
+    for jobs in ("1", "2"):
+        ok(run_cli(*args, "--no-plot", "-q", "--jobs", jobs, "-o", tmp_path / jobs))
+    _same_files(tmp_path / "1", tmp_path / "2")
+
+
+def test_jobs_must_be_positive(tmp_path):
+    one_line(run_cli("aspects", CONFIGS / "m1.yaml", "--jobs", "0", "-o", tmp_path), 2, "--jobs")
