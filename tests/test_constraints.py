@@ -158,7 +158,8 @@ def constrained_mechanisms(draw, interval: bool = False):
         else:
             k = draw(st.integers(3, 6))
             angles = np.sort(np.array([draw(st.floats(0, 2 * np.pi)) for _ in range(k)]))
-            assume(np.all(np.diff(np.r_[angles, angles[0] + 2 * np.pi]) > 0.3))
+            gaps = np.diff(np.r_[angles, angles[0] + 2 * np.pi])
+            assume(np.all(gaps > 0.3) and np.all(gaps < 0.9 * np.pi))  # centre inside: star-shaped, so simple
             radii = [size * draw(st.floats(0.4, 1.0)) for _ in range(k)]
             points = tuple((cx + r * math.cos(a), cy + r * math.sin(a)) for r, a in zip(radii, angles))
             shapes.append(Polygon(points))
