@@ -10,7 +10,7 @@ from contextlib import nullcontext
 import click
 
 from fivebar_cli.analyses.atlas.engine import compute_plan, in_process, plan_atlas
-from fivebar_cli.analyses.atlas.parts import ATLAS_CSV, read_table
+from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
 from fivebar_cli.analyses.atlas.cluster import check_address
 from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
 from fivebar_cli.cli.options import (
@@ -92,8 +92,7 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
             compute_plan(plan, runner, advance)
     seconds = time.monotonic() - start
     with output_set(folder, "atlas", (ATLAS_CSV, "atlas.png"), "fivebar atlas"):
-        path = plan.parts.assemble(folder / ATLAS_CSV)
-        table = read_table(path)
+        path, table = plan.parts.assemble(folder / ATLAS_CSV)
         paths = [path]
         if not no_plot and spec.swept:
             from fivebar_cli.plotting.atlas import figure_atlas

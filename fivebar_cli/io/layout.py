@@ -10,6 +10,7 @@ in one of its runs.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from fivebar_cli.errors import InputError
@@ -74,6 +75,20 @@ PATH_CSV = "path.csv"
 PATH_PNG = "path.png"
 DKP_CSV = "dkp.csv"
 DKP_PNG = "dkp.png"
+
+
+# The stems of the pavings of regions other than a space's own (`rpr3 pave`): region -> stem.
+REGION_STEMS = {"singularity-free det J > 0": "singularity-free.plus",
+                "singularity-free det J < 0": "singularity-free.minus"}
+
+
+def region_stem(space: str, region: str | None) -> str:
+    """The stem of a paving's files: the space's name for its own region (None), else the region's
+    stem (`singularity-free.plus`), else the region's name with every run of other characters
+    than letters, digits, '.' and '-' made one '-'."""
+    if region is None:
+        return space
+    return REGION_STEMS.get(region) or re.sub(r"[^A-Za-z0-9.-]+", "-", region).strip("-")
 
 
 def paving_files(stem: str) -> tuple[str, ...]:
