@@ -21,7 +21,8 @@ def examples() -> dict[str, Path]:
     return {p.relative_to(root).with_suffix("").as_posix(): p for p in sorted(root.rglob("*.yaml"))}
 
 
-def load(source, *, tolerance: float = 0.0, field: str = "tolerance") -> Mechanism:
+def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None,
+         field: str = "tolerance") -> Mechanism:
     """A mechanism from a YAML file, a mapping with the same schema, or the name of a shipped example.
 
     Parameters
@@ -31,6 +32,8 @@ def load(source, *, tolerance: float = 0.0, field: str = "tolerance") -> Mechani
         example's name (`"m1"`, see `examples()`).
     tolerance : float
         Widen every link length to [L - T, L + T] (robust analyses); 0 keeps the nominal lengths.
+    kind, space : str, optional
+        Require this kind (`"rpr3"`) or this space (`"workspace"`): InputError otherwise.
 
     Examples
     --------
@@ -38,20 +41,25 @@ def load(source, *, tolerance: float = 0.0, field: str = "tolerance") -> Mechani
     >>> fb.load("m1").name
     'M1'
     """
-    from fivebar_cli.mechanisms.registry import load_config, parse
+    from fivebar_cli.mechanisms.registry import check_kind, load_config, parse
 
     if isinstance(source, Mechanism):
-        m, where = source, source.name
+        m = check_kind(source, source.name, kind, space)
     elif isinstance(source, Mapping):
-        where = "<mapping>"
-        m = parse(dict(source), where)
+        m = check_kind(parse(dict(source), "<mapping>"), "<mapping>", kind, space)
     else:
         path = Path(source)
         if not path.exists() and str(source) in examples():
             path = examples()[str(source)]
-        where = str(source)
-        m = load_config(path)
-    return widened(m, tolerance, where, field)
+        m = load_config(path, kind, space)
+    return widened(m, tolerance, source_name(source), field)
+
+
+def source_name(source) -> str:
+    """How messages name where a mechanism came from: its file, `<mapping>`, or its name."""
+    if isinstance(source, Mechanism):
+        return source.name
+    return "<mapping>" if isinstance(source, Mapping) else str(source)
 
 
 def widened(m: Mechanism, tolerance: float, source, field: str = "tolerance") -> Mechanism:
@@ -91,7 +99,7 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     """
     from fivebar_cli.analyses import spaces
 
-    m = widened(_mechanism(mech), tolerance or 0.0, getattr(mech, "name", mech))
+    m = widened(_mechanism(mech), tolerance or 0.0, source_name(mech))
     if space not in m.spaces():
         raise InputError(m.name, "space", f"{space!r} is not a space of {article(m.kind)} "
                          f"(it has: {', '.join(m.spaces())})")
@@ -149,7 +157,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     """
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 
-    m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, getattr(mech, "name", mech)), m_name(mech))
+    m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source_name(mech)), m_name(mech))
     budget = DEFAULT_BUDGET if budget is None else budget
     step = advance or (lambda n=1: None)
     if m.pose_aspect_model() is not None:

@@ -19,6 +19,7 @@ AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
 SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n")
 VERIFY_HEADER = ("name", "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume")
 COUNTEREXAMPLE_HEADER = ("x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j")
+ADVICE = "raise the depth"  # what an undecided `verify` suggests (the CLI names its option)
 DEFAULT_ANGLES = (30.0, 60.0, 90.0, 120.0, 150.0)
 
 
@@ -29,26 +30,15 @@ class Study(Table):
     drawings: tuple = field(default=(), compare=False)
 
 
-def similar(mech, source=None):
-    """The similar-form design of a 3-RPR (a path, a mapping or a `Rpr3`), for the closed forms."""
-    from fivebar_cli.api.calls import load
-    from fivebar_cli.mechanisms.registry import load_config
+def similar(mech):
+    """The similar-form design of a 3-RPR (a path, a mapping, an example's name or an `Rpr3`), for
+    the closed forms (InputError naming the field when it is not of that form)."""
+    from fivebar_cli.api.calls import load, source_name
+    from fivebar_cli.mechanisms.rpr3.model import SimilarDesign
 
-    if isinstance(mech, (str, bytes)) or hasattr(mech, "__fspath__"):
-        m = load_config(mech, kind="rpr3") if not _example(mech) else load(mech)
-    else:
-        m = load(mech)
-    if m.kind != "rpr3":
-        raise InputError(str(source or m.name), "type", f"expected 'rpr3', got {m.kind!r}")
-    return m.closed_form(str(source or mech if isinstance(mech, (str, bytes)) else m.name))
-
-
-def _example(name) -> bool:
-    from pathlib import Path
-
-    from fivebar_cli.api.calls import examples
-
-    return not Path(name).exists() and str(name) in examples()
+    if isinstance(mech, SimilarDesign):
+        return mech
+    return load(mech, kind="rpr3").closed_form(source_name(mech))
 
 
 def check_phis(values, field: str) -> None:
@@ -113,14 +103,6 @@ def area(mech) -> Study:
 # ---------------------------------------------------------------- sweeps
 
 
-SWEEP_FILES = {  # sweep -> (its table, its figures in the order it draws them)
-    "phi": ("area-vs-phi.csv", ("area-vs-phi.png", "area-vs-small-phi.png", "area-vs-phi-optimal-rho-min.png",
-                                "optimal-rho-min-vs-phi.png")),
-    "rho_min": ("area-vs-rho-min.csv", ("area-vs-rho-min.png",)),
-    "t2": ("area-vs-t2.csv", ("area-vs-t2.png",)),
-}
-
-
 def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_ANGLES, advance=None) -> Study:
     """Area of W swept over `over` ("phi", "rho_min" or "t2") for one or more bases (a design per
     sample, rho_max auto): `span` (lo, hi) and `steps` default to the paper's ranges; `angles` are
@@ -133,17 +115,24 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
     >>> len(s)
     11
     """
-    if over not in SWEEP_FILES:
-        raise InputError("", "over", f"expected one of {', '.join(SWEEP_FILES)}, got {over!r}")
+    from fivebar_cli.io.layout import sweep_files
+
+    if over not in ("phi", "rho_min", "t2"):
+        raise InputError("", "over", f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
+    check_span(span)
+    run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
+    header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
+    return Study(f"Sweep over {over}", tuple(header), tuple(rows), tuple(notes),
+                 tuple(zip(sweep_files(over)[1:], drawings)))
+
+
+def check_span(span) -> None:
+    """A swept interval (lo, hi): finite, at most 1e6 in magnitude, lo < hi (InputError on `range`)."""
     if span is not None and not all(abs(v) <= 1e6 for v in span):
         raise InputError("", "range", f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}")
     if span is not None and not span[0] < span[1]:
         raise InputError("", "range", f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}")
-    run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
-    header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
-    return Study(f"Sweep over {over}", tuple(header), tuple(rows), tuple(notes),
-                 tuple(zip(SWEEP_FILES[over][1], drawings)))
 
 
 def _sweep_phi(mechs, span, steps, angles, advance):
@@ -216,7 +205,11 @@ def _sweep_rho_min(mechs, span, steps, angles, advance):
 def _sweep_t2(mechs, span, steps, angles, advance):
     from fivebar_cli.mechanisms.rpr3 import sweeps
 
-    phis_deg = [float(a) for a in angles]
+    try:
+        phis_deg = [float(a) for a in (angles.split(",") if isinstance(angles, str) else angles)
+                    if not isinstance(a, str) or a.strip()]
+    except ValueError:
+        raise InputError("", "angles", f"expected comma-separated degrees, got {angles!r}") from None
     if not phis_deg:
         raise InputError("", "angles", "no orientation given")
     for p in phis_deg:
@@ -299,13 +292,13 @@ def synthesize(mech) -> Study:
         notes.append(f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
                      f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
     return Synthesis(f"Synthesis {m.name}", SYNTHESIS_HEADER, rows, tuple(notes),
-                     _synthesis_drawings(m, cases), comparison, len(before) + 4 + len(cases))
+                     _synthesis_drawings(m, cases), comparison, len(before))
 
 
 @dataclass(frozen=True, repr=False)
 class Synthesis(Study):
-    """The synthesis table, with the paper's comparison (None off its setup); `printed` notes come
-    before the files are written, the rest after."""
+    """The synthesis table, with the paper's comparison (None off its setup); the first `printed`
+    notes are about the config (said before anything is written)."""
 
     comparison: Table | None = None
     printed: int = 0
@@ -337,18 +330,141 @@ def _synthesis_drawings(m, cases) -> tuple:
     return (("area-vs-phi-cases.png", cases_figure), ("singularity-free-workspace-case2.png", case2_figure))
 
 
+# ---------------------------------------------------------------- octrees
+
+
+@dataclass(frozen=True, repr=False)
+class PaveSet:
+    """The three certified pavings of `rpr3 pave` by region (`reachable`, `singularity-free det J > 0`,
+    `< 0`; `Paving`s), their volumes (the row of volumes.csv) and the lines the command prints."""
+
+    mechanism: object
+    depth: int
+    pavings: dict
+    volumes: dict
+    notes: tuple[str, ...] = ()
+
+    def __repr__(self) -> str:
+        v = self.volumes
+        return (f"<PaveSet {self.mechanism.name}, depth {self.depth}: reachable {v['reachable']:.6g}, det J > 0 "
+                f"{v['det_positive']:.6g}, det J < 0 {v['det_negative']:.6g}>")
+
+    def rows(self) -> list[dict]:
+        return [dict(self.volumes)]
+
+    def save(self, folder, figures: bool = False) -> list:
+        """The files of `rpr3 pave` as one output set: the three pairs and summaries, volumes.csv and
+        (with `figures`) workspace.png and singularity-free.png."""
+        from pathlib import Path
+
+        from fivebar_cli.analyses import spaces
+        from fivebar_cli.io.files import write_csv
+        from fivebar_cli.io.layout import PAVE_SET, VOLUMES_CSV, pave_files, region_stem
+        from fivebar_cli.io.outputs import output_set
+        from fivebar_cli.mechanisms.rpr3 import volumes
+        from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+
+        folder, m = Path(folder), self.mechanism
+        paths = []
+        with output_set(folder, PAVE_SET, pave_files(), "fivebar rpr3 pave"):
+            for region, p in self.pavings.items():
+                own = None if region == REACHABLE else region
+                paths += spaces.write_paving(folder, m, "workspace", p.paving, "exact", p.evaluations, own,
+                                             region_stem("workspace", own))
+            paths.append(write_csv(folder / VOLUMES_CSV, volumes.HEADER, [tuple(self.volumes.values())]))
+            if figures:
+                paths += self._figures(folder)
+        return paths
+
+    def _figures(self, folder) -> list:
+        from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+        from fivebar_cli.plotting.rpr3 import figure_singularity_free
+        from fivebar_cli.plotting.saving import draw_and_save
+        from fivebar_cli.plotting.trees import figure_paving
+
+        m, space = self.mechanism, self.mechanism.spaces()["workspace"]
+        reach = self.pavings[REACHABLE].paving
+        plus, minus = (self.pavings[r].inside for r in m.regions("workspace")[1:])
+        title = f"{m.name}: singularity-free workspace by sign of det J, depth {self.depth}"
+        return [draw_and_save(lambda: figure_paving(m.name, space, reach.inside, reach.outside,
+                                                    reach.undetermined_tree(), False), folder / "workspace.png"),
+                draw_and_save(lambda: figure_singularity_free(title, space, plus, minus, reach.outside,
+                                                              m.phi_range, m.closed_form_or_none()),
+                              folder / "singularity-free.png")]
+
+
+def pave(mech, depth: int = 7, on_level=None) -> PaveSet:
+    """Certified octree over (x, y, phi) of a 3-RPR's workspace and of its two singularity-free
+    parts (any geometry), with their volumes (exact ones too for a similar platform).
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> s = fb.rpr3.pave("rpr3-general", 4)
+    >>> sorted(s.pavings) == sorted(s.mechanism.regions("workspace"))
+    True
+    """
+    from fivebar_cli.api.calls import pave as pave_space
+
+    m = bounded(mech)
+    pavings = {r: pave_space(m, "workspace", depth, region=r, on_level=on_level) for r in m.regions("workspace")}
+    return pave_set(m, pavings)
+
+
+def pave_set(m, pavings: dict, saved: int | None = None) -> PaveSet:
+    """The pave set of these pavings (by region), its volumes row and report lines."""
+    from fivebar_cli.mechanisms.rpr3 import volumes
+    from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+
+    space = m.spaces()["workspace"]
+    depth = pavings[REACHABLE].depth
+    v = volumes.volumes(m, {r: p.paving for r, p in pavings.items()})
+    v["evaluations"] = sum(p.evaluations for p in pavings.values())
+    unit = "area" if space.dim == 2 else "volume (x y deg)"
+    notes = [f"{m.name}: workspace {'quadtree' if space.dim == 2 else 'octree'} depth {depth}, "
+             f"{v['evaluations']} evaluations; {unit}:",
+             f"  reachable {v['reachable']:.8g}, unreachable {v['unreachable']:.8g}, "
+             f"undetermined {v['undetermined']:.4g} (root {v['root']:.8g})",
+             f"  singularity-free det J > 0: {v['det_positive']:.8g}, det J < 0: {v['det_negative']:.8g}, "
+             f"singular or undetermined: {v['singular_or_undetermined']:.4g}"]
+    if v["exact_reachable"] != "":
+        notes.append(f"  closed form: reachable {v['exact_reachable']:.8g}, det J > 0 {v['exact_det_positive']:.8g}, "
+                     f"det J < 0 {v['exact_det_negative']:.8g}")
+    return PaveSet(m, depth, pavings, v, tuple(notes))
+
+
+def refine_pave_set(source, m, old_depth: int, depth: int, on_level=None) -> tuple[PaveSet, int]:
+    """The three pairs of an `rpr3 pave` run in folder `source` deepened together to `depth`, and
+    the evaluations saved by not retesting."""
+    from pathlib import Path
+
+    from fivebar_cli.analyses import spaces
+    from fivebar_cli.api.values import Paving
+    from fivebar_cli.io.layout import region_stem
+    from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+
+    pavings, saved_total = {}, 0
+    for region in m.regions("workspace"):
+        path = Path(source) / f"{region_stem('workspace', None if region == REACHABLE else region)}.qt"
+        saved = spaces.load_saved(path)
+        if saved.mechanism != m or saved.inside.tree.grid.depth != old_depth:
+            raise InputError(str(path), "mechanism", "does not belong to the same rpr3 pave run")
+        p = spaces.refine_saved(saved, depth, on_level)
+        pavings[region] = Paving(m, "workspace", depth, saved.procedure, saved.region, p, saved.evaluations + p.evaluations)
+        saved_total += saved.evaluations
+    return pave_set(m, pavings), saved_total
+
+
 # ---------------------------------------------------------------- verify
 
 
-def bounded(mech, source=None):
+def bounded(mech):
     """A 3-RPR whose legs are bounded (a workspace to pave or verify); InputError otherwise."""
-    from fivebar_cli.api.calls import load
+    from fivebar_cli.api.calls import load, source_name
 
-    m = load(mech)
-    if m.kind != "rpr3":
-        raise InputError(str(source or m.name), "type", f"expected 'rpr3', got {m.kind!r}")
+    m = load(mech, kind="rpr3")
     if "workspace" not in m.spaces():
-        raise InputError(str(source or m.name), "legs.rho_max", "'auto' is unbounded here (every point of the "
+        raise InputError(source_name(mech), "legs.rho_max", "'auto' is unbounded here (every point of the "
                          "singularity circle is within rho_min of some C_i): give rho_max to pave or verify")
     return m
 
@@ -387,7 +503,7 @@ def verify(mech, depth: int = 14) -> Study:
 
         drawings = (("counterexample.png", pose_figure),)
     if result.status == UNDECIDED:
-        advice = result.note or "raise the depth"
+        advice = result.note or ADVICE
         notes.append(f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
                      f"{result.depth}: {advice}")
     row = (m.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,

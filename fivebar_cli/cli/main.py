@@ -25,6 +25,7 @@ from fivebar_cli.cli.path import path
 from fivebar_cli.cli.pose_aspects import dkp, pose_aspects, pose_locate, pose_path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
+from fivebar_cli.cli.rpr3_octree import pave_cmd, verify_cmd
 from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
 from fivebar_cli.cli.tolerance import tolerance
 from fivebar_cli.cli.view import view
@@ -53,7 +54,8 @@ def cli() -> None:
     """
 
 
-rpr3.add_command(dkp)  # any kind with a pose-space aspect model; the 3-RPR's --legs
+for command in (pave_cmd, verify_cmd, dkp):  # dkp: any kind with a pose-space aspect model; the 3-RPR's --legs
+    rpr3.add_command(command)
 for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(locate, pose_locate),
                 ByKind(path, pose_path), atlas, kratio, refine, diff, tolerance, view, rpr3, reproduce):
     cli.add_command(command)

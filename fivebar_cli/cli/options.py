@@ -11,7 +11,7 @@ from typing import Iterator
 
 import click
 
-from fivebar_cli.io.files import check_writable_dir, save_figure
+from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
 
@@ -55,6 +55,20 @@ def refuse_stdout(out: Path | None, what: str) -> None:
     if out is not None and str(out) == STDOUT:
         raise click.UsageError(f"-o -: this command writes {what}, not one file: give a folder "
                                "(./- for a folder named '-')")
+
+
+@contextmanager
+def option_errors(**flags: str) -> Iterator[None]:
+    """A library InputError on one of `flags`' fields (`range="--range"`) becomes click's usage
+    error on that option: the library names its arguments, the command line its options."""
+    from fivebar_cli.errors import InputError
+
+    try:
+        yield
+    except InputError as exc:
+        if exc.source or exc.field not in flags:
+            raise
+        raise click.BadParameter(exc.message, param_hint=flags[exc.field]) from None
 
 
 def depth_option(default: int = 10, limit: int = MAX_DEPTH):
@@ -104,53 +118,20 @@ def wrote(quiet: bool, paths) -> None:
         report(quiet, f"  wrote {path}")
 
 
-def figure(make, path: Path) -> Path:
-    """Draw a figure with `make()`, save it atomically as PNG, free it. Names from the user's files
-    (in titles and legends) are drawn as written (`literal_texts`); a name whose `$...$` is not even
-    valid mathtext makes the figure be drawn again with every text literal but the axis labels."""
-    from fivebar_cli.plotting import pyplot
-
-    before = set(pyplot().get_fignums())
-    try:
-        return _save(make(), path)
-    except ValueError as exc:  # matplotlib's mathtext parser, on a `$` of a name
-        if "Parse" not in type(exc).__name__ + str(exc):
-            raise
-        for number in set(pyplot().get_fignums()) - before:
-            pyplot().close(number)  # the figure that failed to draw
+def offscreen() -> None:
+    """The command line draws off screen: it selects matplotlib's Agg backend (the library never does)."""
     import matplotlib
 
-    with matplotlib.rc_context({"text.parse_math": False}):
-        fig = make()
-    for ax in fig.axes:
-        for label in (ax.xaxis.label, ax.yaxis.label):
-            label.set_parse_math(True)  # the axis labels are ours (theta_1, rho_1, ...)
-    return _save(fig, path)
+    matplotlib.use("Agg")
 
 
-def _save(fig, path: Path) -> Path:
-    from fivebar_cli.plotting import pyplot
+def figure(make, path: Path) -> Path:
+    """Draw a figure with `make()` and save it atomically as PNG (`plotting.saving.draw_and_save`),
+    off screen."""
+    offscreen()
+    from fivebar_cli.plotting.saving import draw_and_save
 
-    try:
-        literal_texts(fig)
-        return save_figure(fig, path)
-    finally:
-        pyplot().close(fig)
-
-
-def literal_texts(fig) -> None:
-    """Titles, legends and notes are drawn as written, not as mathtext: they hold names from the
-    user's files, where `$` is a character (`$\\foo$` would otherwise fail to draw). Axis labels
-    and tick labels keep their mathtext (theta_1, 10^2)."""
-    texts = [fig._suptitle, *fig.texts]
-    for legend in [*fig.legends, *(ax.get_legend() for ax in fig.axes)]:
-        if legend is not None:
-            texts += [*legend.get_texts(), legend.get_title()]
-    for ax in fig.axes:
-        texts += [ax.title, ax._left_title, ax._right_title, *ax.texts]
-    for text in texts:
-        if text is not None:
-            text.set_parse_math(False)
+    return draw_and_save(make, path)
 
 
 @contextmanager

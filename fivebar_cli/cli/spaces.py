@@ -9,13 +9,12 @@ import click
 from fivebar_cli.analyses import spaces
 from fivebar_cli.analyses.compare import compare
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, depth_option, figure, prepare_out, progress, refuse_stdout, report, tolerance_option,
-    with_tolerance, wrote,
+    CONFIG, common_options, depth_option, figure, offscreen, prepare_out, progress, refuse_stdout, report,
+    tolerance_option, with_tolerance, wrote,
 )
-from fivebar_cli.cli.rpr3 import PAVE_SET, write_pave
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import check_writable_dir
-from fivebar_cli.io.layout import band_path, geojson_path, paving_files, sibling_paths
+from fivebar_cli.io.layout import PAVE_SET, band_path, geojson_path, paving_files, sibling_paths
 from fivebar_cli.io.outputs import output_set, read_runs
 from fivebar_cli.io.qtfile import read_qt
 from fivebar_cli.mechanisms.base import article
@@ -191,20 +190,18 @@ def refine(tree_path, depth, out, no_plot, quiet):
 
 def _refine_pave_set(source: Path, folder: Path, m, old_depth: int, depth: int, no_plot: bool, quiet: bool) -> None:
     """Refine the three pairs of an `rpr3 pave` run together and rewrite its volumes and figures."""
-    from fivebar_cli.mechanisms.rpr3.model import REGION_FILES
+    from fivebar_cli.api.rpr3 import refine_pave_set
 
-    pavings, evaluations, saved_total = {}, {}, 0
     with progress(quiet, 3 * (depth - old_depth), f"refine to depth {depth}") as advance:
-        for region, stem in REGION_FILES.items():
-            saved = spaces.load_saved(source / f"{stem}.qt")
-            if saved.mechanism != m or saved.inside.tree.grid.depth != old_depth:
-                raise InputError(str(source / f"{stem}.qt"), "mechanism", "does not belong to the same rpr3 pave run")
-            pavings[region] = spaces.refine_saved(saved, depth, on_level=lambda level, n: advance(1))
-            evaluations[region] = saved.evaluations + pavings[region].evaluations
-            saved_total += saved.evaluations
+        result, saved_total = refine_pave_set(source, m, old_depth, depth, on_level=lambda level, n: advance(1))
     report(quiet, f"{m.name}: the three pavings of its rpr3 pave run refined together, depth {old_depth} -> {depth} "
                   f"({saved_total} evaluations saved by not retesting)")
-    wrote(quiet, write_pave(folder, m, pavings, evaluations, no_plot, quiet))
+    if not no_plot:
+        offscreen()
+    paths = result.save(folder, figures=not no_plot)
+    for line in result.notes:
+        report(quiet, line)
+    wrote(quiet, paths)
 
 
 @click.command(short_help="Compare two .qt files as sets (exit 0 same, 1 different).")

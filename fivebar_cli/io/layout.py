@@ -97,6 +97,35 @@ def paving_files(stem: str) -> tuple[str, ...]:
             f"{stem}.complement.png")
 
 
+PAVE_SET = "rpr3-pave"  # the output set of `rpr3 pave` (and of `refine` of one of its pairs)
+VOLUMES_CSV = "volumes.csv"
+
+
+def pave_files() -> tuple[str, ...]:
+    """The files of an `rpr3 pave` run: three pairs (the workspace and its two singularity-free
+    regions), volumes.csv and the figures."""
+    stems = ("workspace", *REGION_STEMS.values())
+    return (*(f for stem in stems for f in paving_files(stem)), VOLUMES_CSV, "singularity-free.png")
+
+
+# The files of the 3-RPR studies (`rpr3 area | sweep | synthesize | verify`).
+AREA_FILES = ("area.csv", "singularity-free-workspace.png")
+SYNTHESIS_FILES = ("synthesis.csv", "table1-comparison.csv", "area-vs-phi-cases.png",
+                   "singularity-free-workspace-case2.png")
+VERIFY_FILES = ("verify.csv", "counterexample.csv", "counterexample.png")
+SWEEP_FILES = {  # sweep -> its table, then its figures in the order it draws them
+    "phi": ("area-vs-phi.csv", "area-vs-phi.png", "area-vs-small-phi.png", "area-vs-phi-optimal-rho-min.png",
+            "optimal-rho-min-vs-phi.png"),
+    "rho_min": ("area-vs-rho-min.csv", "area-vs-rho-min.png"),
+    "t2": ("area-vs-t2.csv", "area-vs-t2.png"),
+}
+
+
+def sweep_files(over: str) -> tuple[str, ...]:
+    """The table and figures of `rpr3 sweep --over OVER`."""
+    return SWEEP_FILES[over]
+
+
 # The output sets of the commands writing into a mechanism's folder (io.outputs): name -> owned files.
 ASPECT_FILES = (ASPECTS_CSV, CROSSINGS_CSV, SPLIT_CSV, "aspects/aspect-*.qt", "aspects/aspect-*.geojson",
                 "aspects/aspect-*.ply", "aspects-*.png")
