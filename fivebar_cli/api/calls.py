@@ -17,8 +17,13 @@ DEFAULT_DEPTH = 10
 def examples() -> dict[str, Path]:
     """The mechanisms of both papers shipped with the package, by name (`m1`, `m2`, `rpr3-caro`,
     `rpr3-verify/table1-case1`, ...) -> the path of the YAML file (what `fivebar examples` lists)."""
-    root = Path(__file__).resolve().parent.parent / "examples"
+    root = examples_folder()
     return {p.relative_to(root).with_suffix("").as_posix(): p for p in sorted(root.rglob("*.yaml"))}
+
+
+def examples_folder() -> Path:
+    """The folder of the shipped examples (the repository's configs/, as package data)."""
+    return Path(__file__).resolve().parent.parent / "examples"
 
 
 def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None,
@@ -151,9 +156,11 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     Examples
     --------
     >>> import fivebar_cli as fb
-    >>> a = fb.aspects(fb.load("m1"), 8)
+    >>> a = fb.aspects(fb.load("rpr2"), 6)
     >>> a.count, a.certified
-    (6, True)
+    (2, True)
+    >>> a[0].working_mode, a[0].assembly_mode
+    ('++', '+')
     """
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 
@@ -194,8 +201,8 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     Examples
     --------
     >>> import fivebar_cli as fb
-    >>> [r["working_mode"] for r in fb.locate(fb.load("m1"), pose=(4, 5), depth=8).rows()]
-    ['++', '+-', '-+', '--']
+    >>> [(r["working_mode"], r["aspect"]) for r in fb.locate(fb.load("rpr2"), pose=(0, 8), depth=6).rows()]
+    [('++', 1)]
     """
     import numpy as np
 

@@ -254,7 +254,7 @@ def synthesize(mech) -> Study:
     Examples
     --------
     >>> import fivebar_cli as fb
-    >>> [r["case"] for r in fb.rpr3.synthesize("rpr3-table1").rows()]
+    >>> [r["case"] for r in fb.rpr3.synthesize("rpr3-table1").rows()]  # doctest: +SKIP
     [1, 2, 3, 4, 5, 6]
     """
     from fivebar_cli.mechanisms.rpr3 import paper
@@ -400,7 +400,7 @@ def pave(mech, depth: int = 7, on_level=None) -> PaveSet:
     Examples
     --------
     >>> import fivebar_cli as fb
-    >>> s = fb.rpr3.pave("rpr3-general", 4)
+    >>> s = fb.rpr3.pave("rpr3-general", 3)
     >>> sorted(s.pavings) == sorted(s.mechanism.regions("workspace"))
     True
     """

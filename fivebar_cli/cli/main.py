@@ -20,6 +20,7 @@ from fivebar_cli import __version__
 from fivebar_cli.cli.aspects import aspects, locate
 from fivebar_cli.cli.atlas import atlas
 from fivebar_cli.cli.dispatch import ByKind
+from fivebar_cli.cli.examples import examples
 from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.path import path
 from fivebar_cli.cli.pose_aspects import dkp, pose_aspects, pose_locate, pose_path
@@ -57,7 +58,7 @@ def cli() -> None:
 for command in (pave_cmd, verify_cmd, dkp):  # dkp: any kind with a pose-space aspect model; the 3-RPR's --legs
     rpr3.add_command(command)
 for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(locate, pose_locate),
-                ByKind(path, pose_path), atlas, kratio, refine, diff, tolerance, view, rpr3, reproduce):
+                ByKind(path, pose_path), atlas, kratio, refine, diff, tolerance, view, rpr3, reproduce, examples):
     cli.add_command(command)
 
 
