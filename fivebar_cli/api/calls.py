@@ -121,7 +121,8 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
 
 def refine(paving, depth: int, on_level=None) -> Paving:
     """A paving deepened to `depth`, testing only its undetermined cells; `paving` is a `Paving` or
-    the path of a saved `.qt` file (either of its pair). Equals a fresh paving at `depth`."""
+    the path of a saved `.qt` file (either of its pair). Equals a fresh paving at `depth`; its
+    `evaluations` count those of the saved paving too."""
     from fivebar_cli.analyses import spaces
     from fivebar_cli.paving import engine
 
@@ -130,12 +131,12 @@ def refine(paving, depth: int, on_level=None) -> Paving:
         p = engine.refine(paving.inside, paving.outside, test, depth, on_level, paving.paving.band)
         return Paving(paving.mechanism, paving.space, depth, paving.procedure, paving.region, p,
                       paving.evaluations + p.evaluations)
-    saved = spaces.load_saved(paving)
+    saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(paving)
     if depth < saved.inside.tree.grid.depth:
-        raise InputError(str(paving), "depth", f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
+        raise InputError(saved.source, "depth", f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
     p = spaces.refine_saved(saved, depth, on_level)
     return Paving(saved.mechanism, saved.space, depth, saved.procedure, saved.region, p,
-                  saved.evaluations + p.evaluations)
+                  saved.evaluations + p.evaluations, saved.stem)
 
 
 def read_qt(path):
@@ -149,9 +150,13 @@ def read_qt(path):
 
 
 def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tolerance: float | None = None,
-            shapes: bool = True, advance=None) -> Aspects:
+            shapes: bool = True, compare: bool = False, advance=None) -> Aspects:
     """The generalized aspects of a five-bar or 2-RPR (in both spaces) or of a 3-RPR (over its
     space of poses), with a certified count (or its bounds).
+
+    With `compare`, also what `fivebar aspects` reports beside them: for interval lengths the
+    nominal aspects and what each becomes (`fates`), with constraints the unconstrained aspects
+    and where each constrained one comes from (`split`).
 
     Examples
     --------
@@ -177,7 +182,22 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     from fivebar_cli.analyses.aspects import analyse_aspects, signs_text
 
     analysis = analyse_aspects(m, depth, step, budget, shapes=shapes)
-    return Aspects(m, depth, analysis, tuple(_aspect(a, signs_text) for a in analysis.aspects))
+    fates, split, free = (), None, None
+    if compare and getattr(m, "is_interval", False):
+        from fivebar_cli.analyses.tolerance import aspect_fates
+
+        fates = tuple(aspect_fates(analyse_aspects(m.nominal(), depth, step, budget, shapes=False), analysis))
+    if compare and getattr(m, "constraints", None):
+        from fivebar_cli.analyses.aspect_split import split_rows
+
+        free = analyse_aspects(m.unconstrained(), depth, step, budget, shapes=False)
+        split = tuple(split_rows(analysis, free))
+    return Aspects(m, depth, analysis, tuple(_aspect(a, signs_text) for a in analysis.aspects), fates, split, free)
+
+
+def comparisons(m: Mechanism) -> int:
+    """How many analyses `aspects(m, compare=True)` runs (for a progress bar)."""
+    return 1 + bool(getattr(m, "is_interval", False)) + bool(getattr(m, "constraints", None))
 
 
 def _aspect(a, signs_text) -> Aspect:

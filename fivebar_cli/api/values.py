@@ -51,6 +51,7 @@ class Paving:
     region: str | None
     paving: object = field(compare=False)  # the engine's Paving (trees and undetermined cells)
     evaluations: int = 0
+    files: str | None = None  # the stem of its files when read from them (`refine`), else derived
 
     @property
     def inside(self) -> Tree:
@@ -77,7 +78,7 @@ class Paving:
         """The files' stem: the space's name, or the region's file name for another region."""
         from fivebar_cli.io.layout import region_stem
 
-        return region_stem(self.space, self.region)
+        return self.files or region_stem(self.space, self.region)
 
     def __repr__(self) -> str:
         where = self.space + (f" ({self.region})" if self.region else "")
@@ -91,16 +92,51 @@ class Paving:
         return _rows(SUMMARY_HEADER, [summary_row(self.mechanism, self.space, self.procedure, self.paving,
                                                   self.evaluations, self.region)])
 
-    def save(self, folder: str | Path) -> list[Path]:
-        """The `.qt` pair (and band) and the summary CSV, as `fivebar workspace|jointspace` writes them
-        (no figure); returns the paths written."""
-        from fivebar_cli.analyses.spaces import write_paving
+    def summary(self, evaluations: int | None = None) -> str:
+        """The line `fivebar workspace|jointspace|refine` prints: evaluations (those given: a refined
+        paving's own), K and the areas."""
+        from fivebar_cli.analyses.spaces import has_band, k_ratio
+
+        m, p = self.mechanism, self.paving
+        dim, depth = p.grid.dim, p.grid.depth
+        n = self.evaluations if evaluations is None else evaluations
+        head = (f"{m.name} {self.space}, depth {depth} ({self.procedure} tests): {n} evaluations "
+                f"(K = {k_ratio(n, dim, depth):.4%}), ")
+        if has_band(m):
+            possible = float(p.grid.size.prod()) - p.outside.area
+            exact = m.exact_measure(self.space)
+            return head + (f"robust area {p.inside.area:.10g}, possible area {possible:.10g} "
+                           f"(uncertain band {p.band.area:.4g}, undetermined {p.undetermined_area:.4g})"
+                           + (f", nominal exact area {exact:.10g}" if exact is not None else ""))
+        return head + (f"certified inside {'area' if dim == 2 else 'volume'} {p.inside.area:.10g}, "
+                       f"undetermined {p.undetermined_area:.4g}")
+
+    def save(self, folder: str | Path, figures: bool = False, command: str | None = None) -> list[Path]:
+        """The `.qt` pair (and band) and the summary CSV, as `fivebar workspace|jointspace` writes them,
+        with `figures` the two PNG figures too (on the backend in use); returns the paths written."""
         from fivebar_cli.io.layout import paving_files
         from fivebar_cli.io.outputs import output_set
 
-        with output_set(folder, self.stem, paving_files(self.stem), f"fivebar {self.space}"):
-            return write_paving(Path(folder), self.mechanism, self.space, self.paving, self.procedure,
-                                self.evaluations, self.region, self.stem)
+        with output_set(folder, self.stem, paving_files(self.stem), command or f"fivebar {self.space}"):
+            return self.write(Path(folder), figures)
+
+    def write(self, folder: Path, figures: bool = False) -> list[Path]:
+        """The files, inside an output set the caller opened (the command adds its GeoJSON to it)."""
+        from fivebar_cli.analyses.spaces import write_paving
+
+        m, p = self.mechanism, self.paving
+        paths = write_paving(folder, m, self.space, p, self.procedure, self.evaluations, self.region, self.stem)
+        if figures:
+            from fivebar_cli.plotting.saving import draw_and_save
+            from fivebar_cli.plotting.trees import figure_paving
+
+            und, s = p.undetermined_tree(), m.spaces()[self.space]
+            marks = getattr(m, "marks", lambda name: [])(self.space)
+            for complement, suffix in ((False, ""), (True, ".complement")):
+                paths.append(draw_and_save(lambda: figure_paving(m.name, s, p.inside, p.outside, und, complement,
+                                                                 p.band, self.region, marks),
+                                           folder / f"{self.stem}{suffix}.png"))
+        return paths
 
     def plot(self, ax=None):
         """Inside in black, undetermined in red, outside in grey on `ax` (a 3-D paving: its slice at
@@ -165,6 +201,9 @@ class Aspects:
     depth: int
     analysis: object = field(compare=False)  # the library's AspectAnalysis (or PoseAspectAnalysis)
     aspects: tuple[Aspect, ...] = ()
+    fates: tuple = ()  # with compare=True and interval lengths: what each nominal aspect becomes
+    split: tuple | None = None  # with compare=True and constraints: each aspect's unconstrained aspect
+    free: object = field(default=None, compare=False)  # the unconstrained analysis (constraints only)
 
     @property
     def count(self) -> int:
@@ -193,6 +232,47 @@ class Aspects:
         """The line `fivebar aspects` prints first."""
         return self.analysis.headline()
 
+    def lines(self) -> list[str]:
+        """What `fivebar aspects` prints after the headline for each aspect and crossing."""
+        from fivebar_cli.analyses.aspects import signs_text
+
+        if self._pose_kind():
+            return []
+        out = []
+        for a in self.analysis.aspects:
+            shapes = (f", largest circle r {a.circle.r:.6g}, square side {a.square.side:.6g}"
+                      if a.circle is not None and a.square is not None else "")
+            out.append(f"  aspect {a.number:2d}: working mode {signs_text(a.working)}, det A {signs_text(a.assembly)}, "
+                       f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}{shapes}"
+                       + ("" if a.certified else " (not certified)"))
+        for c in self.analysis.crossings:
+            out.append(f"  aspects {c.a} and {c.b} (det A {signs_text(c.assembly)}) touch across {c.singularity} = 0")
+        return out
+
+    def comparisons(self) -> list[str]:
+        """What `fivebar aspects` prints last: the nominal aspects' fates (interval lengths), what the
+        constraints cost, and the crossing graph of each assembly mode (the paper's claim on single
+        working-mode changes for its own mechanisms)."""
+        from fivebar_cli.analyses.aspect_split import cost_text
+        from fivebar_cli.analyses.aspects import signs_text
+        from fivebar_cli.analyses.crossings import crossing_pattern, paper_claim_verdict
+        from fivebar_cli.analyses.tolerance import fate_text
+
+        out = [f"  nominal aspect {f.number:2d}: {fate_text(f)}" for f in self.fates]
+        if self.split is not None:
+            out.append(f"  {cost_text(list(self.split), self.free)}")
+        if self.mechanism.kind == "fivebar":
+            from fivebar_cli.mechanisms.fivebar.paper import is_paper_mechanism
+
+            a = self.analysis
+            for am in a.model.assembly_modes:
+                if is_paper_mechanism(self.mechanism):
+                    verdict = paper_claim_verdict(a.aspects, a.crossings, am)
+                    out.append(f"  paper's claim on single working-mode changes (det A {signs_text(am)}): {verdict}")
+                elif a.aspects:
+                    out.append(f"  crossing graph (det A {signs_text(am)}): {crossing_pattern(a.aspects, a.crossings, am)}")
+        return out
+
     def __iter__(self):
         return iter(self.aspects)
 
@@ -220,13 +300,20 @@ class Aspects:
     def save(self, folder: str | Path) -> list[Path]:
         """The files `fivebar aspects` writes (without figures): aspects.csv, the adjacency table,
         the aspect trees (and GeoJSON, or PLY surfaces for octrees)."""
-        from fivebar_cli.analyses.aspect_files import aspect_set, write_aspects
-        from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
+        from fivebar_cli.analyses.aspect_files import aspect_set
 
         with aspect_set(Path(folder)):
-            if self._pose_kind():
-                return write_pose_aspects(Path(folder), self.analysis)
-            return write_aspects(Path(folder), self.analysis)
+            return self.write(Path(folder))
+
+    def write(self, folder: Path) -> list[Path]:
+        """The files, inside an output set the caller opened (the command adds its figures to it)."""
+        from fivebar_cli.analyses.aspect_files import write_aspects
+        from fivebar_cli.analyses.aspect_split import write_split
+        from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
+
+        if self._pose_kind():
+            return write_pose_aspects(folder, self.analysis)
+        return write_aspects(folder, self.analysis) + write_split(folder, None if self.split is None else list(self.split))
 
     def plot(self, ax=None):
         """Every aspect's certified workspace cells in its colour, with its number (a 3-D space: the

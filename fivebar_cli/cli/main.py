@@ -17,17 +17,19 @@ import warnings
 import click
 
 from fivebar_cli import __version__
-from fivebar_cli.cli.aspects import aspects, locate
+from fivebar_cli.cli.aspects import aspects
 from fivebar_cli.cli.atlas import atlas
 from fivebar_cli.cli.dispatch import ByKind
 from fivebar_cli.cli.examples import examples
 from fivebar_cli.cli.kratio import kratio
+from fivebar_cli.cli.locate import locate
 from fivebar_cli.cli.path import path
 from fivebar_cli.cli.pose_aspects import dkp, pose_aspects, pose_locate, pose_path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.rpr3_octree import pave_cmd, verify_cmd
-from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
+from fivebar_cli.cli.refine import diff, refine
+from fivebar_cli.cli.spaces import jointspace, workspace
 from fivebar_cli.cli.tolerance import tolerance
 from fivebar_cli.cli.view import view
 from fivebar_cli.errors import INTERRUPTS, FivebarError, FivebarWarning, Interrupted

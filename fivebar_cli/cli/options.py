@@ -1,8 +1,10 @@
-"""Pieces shared by the click commands: common options, progress bars, reporting, figures."""
+"""The registry of the options the commands share (`-o`, `--quiet`, `--no-plot`: `common_options`;
+`--depth`, `--tolerance`, `--budget`; a new shared option is one function here, as rasterio's
+`rio/options.py`), and what every command does around its one library call: the output folder,
+progress bars, reporting, figures off screen. Command-line numbers and angles: `numbers.py`."""
 
 from __future__ import annotations
 
-import math
 import sys
 import time
 from contextlib import contextmanager
@@ -11,6 +13,7 @@ from typing import Iterator
 
 import click
 
+from fivebar_cli.cli.numbers import Number
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
@@ -86,15 +89,30 @@ def tolerance_option(func):
 
 
 def with_tolerance(m, tolerance: float, source):
-    """The mechanism with its lengths widened by `tolerance` (0: unchanged)."""
-    if tolerance == 0:
-        return m
-    if not hasattr(m, "widened"):
-        from fivebar_cli.io.schema import ConfigError
-        from fivebar_cli.mechanisms.base import article
+    """The mechanism with its lengths widened by `tolerance` (0: unchanged); the error names the option."""
+    from fivebar_cli.api.calls import widened
 
-        raise ConfigError(str(source), "--tolerance", f"{article(m.kind)} has no interval lengths")
-    return m.widened(tolerance, str(source))
+    return widened(m, tolerance, source, "--tolerance")
+
+
+def load_with_aspects(config_path, tolerance: float = 0.0):
+    """CONFIG's mechanism (widened by --tolerance), which must have working and assembly modes."""
+    from fivebar_cli.api.calls import load, with_aspects
+
+    return with_aspects(load(config_path, tolerance=tolerance, field="--tolerance"), config_path)
+
+
+def budget_option(func=None, *, help: str | None = None):
+    """`--budget N`: box evaluations local refinement below --depth may spend (aspects, locate)."""
+    if func is None:
+        return lambda f: budget_option(f, help=help)
+    from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
+
+    return click.option(
+        "--budget", type=click.IntRange(0, None), default=DEFAULT_BUDGET, show_default=True,
+        help=help or ("Box evaluations that local refinement below --depth may spend to join or separate pieces "
+                      "(0: none; the count may then stay uncertified)."),
+    )(func)
 
 
 def prepare_out(out: Path | None, name: str, what: str = "several files") -> Path:
@@ -157,65 +175,3 @@ def progress(quiet: bool, length: int, label: str, unit: str | None = None) -> I
             bar.update(n, n)
 
         yield advance
-
-
-# ---------------------------------------------------------------- command-line numbers and angles
-
-NUMBER_LIMIT = 1e50  # command-line numbers are finite and at most this in magnitude, as numbers in YAML files
-ANGLE_LIMIT = 1e6  # radians: a motion's exact check counts whole turns with 2 pi to 40 digits (formats.md)
-
-
-class Number(click.ParamType):
-    """A finite number of magnitude at most NUMBER_LIMIT (`nan`, `inf`, `1e300` are refused), at
-    least `lo` when given: every number of the command line."""
-
-    name = "number"
-
-    def __init__(self, lo: float | None = None):
-        self.lo = lo
-
-    def convert(self, value, param, ctx):
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            self.fail(f"{value!r} is not a number", param, ctx)
-        if not math.isfinite(number) or abs(number) > NUMBER_LIMIT:
-            self.fail(f"{value!r} is not a finite number of magnitude at most {NUMBER_LIMIT:g}", param, ctx)
-        if self.lo is not None and number < self.lo:
-            self.fail(f"{value!r} is not >= {self.lo:g}", param, ctx)
-        return number
-
-
-class Degrees(float):
-    """A joint value given in degrees on the command line (`30deg`), held in radians."""
-
-
-class JointValue(Number):
-    """A joint value: a number (radians for an angle, a length for a prismatic leg), or an angle in
-    degrees with the suffix `deg` (`30deg`, `-45.5deg`), converted to radians (`Degrees`)."""
-
-    name = "number[deg]"
-
-    def convert(self, value, param, ctx):
-        text = str(value).strip()
-        if text.lower().endswith("deg"):
-            return Degrees(math.radians(super().convert(text[:-3], param, ctx)))
-        return super().convert(value, param, ctx)
-
-
-NUMBER, JOINT = Number(), JointValue()
-
-
-def check_joints(m, joints, source) -> None:
-    """Joint values given in degrees only for angles; angles at most ANGLE_LIMIT rad (InputError)."""
-    from fivebar_cli.errors import InputError
-
-    axes = m.spaces()["jointspace"].axes
-    for values in joints:
-        for axis, value in zip(axes, values):
-            if axis.unit != "rad" and isinstance(value, Degrees):
-                what = "a length" if not axis.unit else f"in {axis.unit}"
-                raise InputError(str(source), "--joints", f"{axis.name} is {what}, not an angle: drop the 'deg' suffix")
-            if axis.unit == "rad" and abs(value) > ANGLE_LIMIT:
-                raise InputError(str(source), "--joints", f"{axis.name} = {value:g} rad: angles must be at most "
-                                 f"{ANGLE_LIMIT:g} rad ({math.degrees(ANGLE_LIMIT):g} deg) in magnitude")

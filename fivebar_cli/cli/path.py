@@ -5,9 +5,9 @@ from __future__ import annotations
 import click
 
 from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_csv, path_points, resolve
-from fivebar_cli.cli.aspects import _load_with_aspects
+from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
 from fivebar_cli.cli.options import (
-    CONFIG, JOINT, MAX_ASPECT_DEPTH, NUMBER, check_joints, common_options, depth_option, figure, prepare_out, report,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, load_with_aspects, prepare_out, report,
     wrote,
 )
 from fivebar_cli.errors import InputError
@@ -76,7 +76,7 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     for name in order:
         for k, value in enumerate(values[name]):
             endpoints.append(Endpoint("pose", value, pose_modes[k]) if name == "poses" else Endpoint("joints", value))
-    m = _load_with_aspects(config_path)
+    m = load_with_aspects(config_path)
     check_joints(m, joints, config_path)
     if allow_serial and not hasattr(m.aspect_model(), "parallel_free_test"):
         raise InputError(str(config_path), "--allow-serial", f"a {m.kind} has no test for parallel singularities")

@@ -9,8 +9,9 @@ from pathlib import Path
 import click
 
 from fivebar_cli.api import rpr3 as api
+from fivebar_cli.cli.numbers import NUMBER
 from fivebar_cli.cli.options import (
-    NUMBER, common_options, data_on_stdout, figure, option_errors, prepare_out, progress, report, wrote,
+    common_options, data_on_stdout, figure, option_errors, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.io.files import csv_text, write_csv
 from fivebar_cli.io.layout import AREA_FILES, SYNTHESIS_FILES, sweep_files
