@@ -10,7 +10,7 @@ The names below are imported on first use, so that `import fivebar_cli` (and `fi
 imports neither numpy's analyses nor click, matplotlib, shapely or dask.
 """
 
-__version__ = "0.1.0"
+from fivebar_cli.version import __version__  # noqa: F401 - the package version
 
 __all__ = [
     "load", "pave", "refine", "read_qt", "aspects", "locate", "path", "atlas", "view", "examples", "rpr3",

@@ -16,7 +16,7 @@ import warnings
 
 import click
 
-from fivebar_cli import __version__
+from fivebar_cli.version import __version__
 from fivebar_cli.cli.aspects import aspects
 from fivebar_cli.cli.atlas import atlas
 from fivebar_cli.cli.dispatch import ByKind

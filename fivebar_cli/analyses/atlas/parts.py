@@ -19,7 +19,7 @@ import time
 import warnings
 from pathlib import Path
 
-from fivebar_cli import __version__
+from fivebar_cli.version import __version__
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 from fivebar_cli.analyses.atlas.metrics import columns
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
@@ -157,7 +157,7 @@ class Parts:
 
     def assemble(self, target: Path) -> tuple[Path, dict[str, list[str]]]:
         """`atlas.csv`: the header, then every part's rows in batch order (atomically); with its table
-        (as `read_table` reads it), from the same bytes."""
+        (`table_of`: columns of text cells), from the same bytes."""
         lines = [self.header]
 
         def write(tmp: Path) -> None:
@@ -174,13 +174,8 @@ class Parts:
         return atomic_write(target, write), table_of(lines)
 
 
-def read_table(path: Path) -> dict[str, list[str]]:
-    """`atlas.csv` as columns of text cells (header name -> cells in row order)."""
-    return table_of(Path(path).read_text(encoding="utf-8").split("\n")[:-1])
-
-
 def table_of(lines: list[str]) -> dict[str, list[str]]:
-    """Lines of `atlas.csv` (the header first) as columns of text cells."""
+    """Lines of `atlas.csv` (the header first) as columns of text cells (header name -> cells in row order)."""
     header = lines[0].split(",")
     cells = list(zip(*(line.split(",") for line in lines[1:]))) or [()] * len(header)
     return {name: list(column) for name, column in zip(header, cells)}
