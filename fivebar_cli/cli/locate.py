@@ -4,7 +4,6 @@ a singularity (the answer `path` shares: `analyses.locate.decide`)."""
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 import click
 
@@ -14,7 +13,9 @@ from fivebar_cli.analyses.locate import (
     NO, UNDECIDED, Pieces, aspect_of, configurations, decide, deeper, mode_verdict, overall, row,
 )
 from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
-from fivebar_cli.cli.options import CONFIG, MAX_ASPECT_DEPTH, budget_option, depth_option, load_with_aspects, tolerance_option
+from fivebar_cli.cli.options import (
+    CONFIG, MAX_ASPECT_DEPTH, budget_option, depth_option, load_with_aspects, reuse_options, tolerance_option,
+)
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural
@@ -34,10 +35,7 @@ from fivebar_cli.mechanisms.base import plural
 @depth_option(limit=MAX_ASPECT_DEPTH)
 @budget_option
 @tolerance_option
-@click.option("--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Folder of an earlier `aspects` run to reuse when it holds this mechanism at this depth "
-                   "[default: outputs/<config name>/]; otherwise the aspects are computed (nothing is written).")
-@click.option("--csv", "as_csv", is_flag=True, help="Print the configurations as CSV.")
+@reuse_options("configurations")
 def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budget, tolerance, out, as_csv):
     """Which aspect a configuration lies in, and whether two can be joined without singularity.
 

@@ -102,6 +102,18 @@ def load_with_aspects(config_path, tolerance: float = 0.0):
     return with_aspects(load(config_path, tolerance=tolerance, field="--tolerance"), config_path)
 
 
+def reuse_options(what: str):
+    """`-o DIR` (an earlier `aspects` run's folder to reuse) and `--csv` (`what` printed as CSV): locate's."""
+    def decorate(func):
+        func = click.option("--csv", "as_csv", is_flag=True, help=f"Print the {what} as CSV.")(func)
+        return click.option(
+            "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+            help="Folder of an earlier `aspects` run to reuse when it holds this mechanism at this depth "
+                 "[default: outputs/<config name>/]; otherwise the aspects are computed (nothing is written).",
+        )(func)
+    return decorate
+
+
 def budget_option(func=None, *, help: str | None = None):
     """`--budget N`: box evaluations local refinement below --depth may spend (aspects, locate)."""
     if func is None:
