@@ -241,8 +241,8 @@ def _why_not(m: Mechanism, depth: int, start: Configuration, end: Configuration,
                                   f"and {end.label}", depth, deeper(depth, max_depth))
     if aspects is None:
         aspects = analyse_aspects(m, depth, shapes=False).aspects
-    verdict = decide(m.aspect_model(), aspects, start, end, depth, getattr(m, "is_interval", False), max_depth,
-                     offer_serial=True, constrained=bool(getattr(m, "constraints", None)))
+    verdict = decide(m.aspect_model(), aspects, start, end, depth, m.is_interval, max_depth,
+                     offer_serial=True, constrained=bool(m.constraints))
     if verdict.answer != YES:
         return verdict
     return Verdict(UNDECIDED, f"{verdict.reason}, so a singularity-free motion joins them, but no chain of certified "

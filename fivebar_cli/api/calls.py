@@ -72,7 +72,7 @@ def widened(m: Mechanism, tolerance: float, source, field: str = "tolerance") ->
     without interval lengths (`field` names the option in the message)."""
     if not tolerance:
         return m
-    if not hasattr(m, "widened"):
+    if not m.widens:
         raise InputError(str(source), field, f"{article(m.kind)} has no interval lengths")
     return m.widened(tolerance, str(source))
 
@@ -183,11 +183,11 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
 
     analysis = analyse_aspects(m, depth, step, budget, shapes=shapes)
     fates, split, free = (), None, None
-    if compare and getattr(m, "is_interval", False):
+    if compare and m.is_interval:
         from fivebar_cli.analyses.tolerance import aspect_fates
 
         fates = tuple(aspect_fates(analyse_aspects(m.nominal(), depth, step, budget, shapes=False), analysis))
-    if compare and getattr(m, "constraints", None):
+    if compare and m.constraints:
         from fivebar_cli.analyses.aspect_split import split_rows
 
         free = analyse_aspects(m.unconstrained(), depth, step, budget, shapes=False)
@@ -197,7 +197,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
 
 def comparisons(m: Mechanism) -> int:
     """How many analyses `aspects(m, compare=True)` runs (for a progress bar)."""
-    return 1 + bool(getattr(m, "is_interval", False)) + bool(getattr(m, "constraints", None))
+    return 1 + bool(m.is_interval) + bool(m.constraints)
 
 
 def _aspect(a, signs_text) -> Aspect:

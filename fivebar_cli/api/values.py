@@ -131,7 +131,7 @@ class Paving:
             from fivebar_cli.plotting.trees import figure_paving
 
             und, s = p.undetermined_tree(), m.spaces()[self.space]
-            marks = getattr(m, "marks", lambda name: [])(self.space)
+            marks = m.marks(self.space)
             for complement, suffix in ((False, ""), (True, ".complement")):
                 paths.append(draw_and_save(lambda: figure_paving(m.name, s, p.inside, p.outside, und, complement,
                                                                  p.band, self.region, marks),

@@ -55,7 +55,7 @@ def aspects(config_path, depth, budget, tolerance, out, no_plot, quiet):
     """
     m = load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
-    robust = getattr(m, "is_interval", False)
+    robust = m.is_interval
     with progress(quiet, region_count(m) * comparisons(m) + 1, f"aspects depth {depth}") as advance:
         result = find_aspects(m, depth, budget=budget, compare=True, advance=advance)
     analysis = result.analysis

@@ -69,7 +69,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
     folder = output_dir(out, m.name)
     saved = load_aspects(folder, m, depth)
     found = saved if saved is not None else analyse_aspects(m, depth, budget=budget, shapes=False).aspects
-    model, robust = m.aspect_model(), getattr(m, "is_interval", False)
+    model, robust = m.aspect_model(), m.is_interval
     names = [a.name for a in m.spaces()["jointspace"].axes]
     locations = [("pose", tuple(p)) for p in poses] + [("joints", tuple(j)) for j in joints]
     kept = []  # per location: (configuration, its row)
@@ -82,7 +82,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
                      for c in found_here])
     if as_csv:
         keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular",
-                "aspect_certified", *(("violates",) if getattr(m, "constraints", None) else ()))
+                "aspect_certified", *(("violates",) if m.constraints else ()))
         cell = {None: "", True: "true", False: "false"}
         click.echo(csv_text(keys, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
                                     for k in keys] for rows in kept for _, r in rows]), nl=False)
@@ -112,7 +112,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
                            "(floating-point kinematics): there is nothing to join")
                 continue
             pairs = [(a, b, decide(model, found, a, b, depth, robust, MAX_ASPECT_DEPTH, pieces,
-                                   constrained=bool(getattr(m, "constraints", None))))
+                                   constrained=bool(m.constraints)))
                      for a, _ in kept[i] for b, _ in kept[j]]
             if len(pairs) == 1:
                 click.echo(f"  {i + 1} -> {j + 1}: {pairs[0][2].line()}")

@@ -46,7 +46,7 @@ def _draw_shapes(ax, aspects) -> None:
 def _aspect_panel(ax, analysis, region, aspects, space: str, title: str) -> None:
     layers = [(region.paving.outside, PALE), (region.paving.undetermined_tree(), BLACK)]
     layers += [(a.workspace if space == "workspace" else a.jointspace, _aspect_colour(a.number)) for a in aspects]
-    marks = getattr(analysis.mechanism, "marks", lambda name: [])(space)
+    marks = analysis.mechanism.marks(space)
     draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[], marks=marks)
     if space == "workspace":
         _draw_shapes(ax, aspects)

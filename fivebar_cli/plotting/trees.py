@@ -103,7 +103,7 @@ def draw_paving(ax, m, space: Space, paving) -> None:
     band amber, the constraints' marks blue (the library's `Paving.plot`)."""
     layers = [(paving.band, AMBER), (paving.outside, PALE), (paving.inside, BLACK), (paving.undetermined_tree(), RED)]
     layers, axes = slice_layers(layers, space)
-    draw_layers(ax, layers, axes, outline=[], marks=getattr(m, "marks", lambda name: [])(space.name))
+    draw_layers(ax, layers, axes, outline=[], marks=m.marks(space.name))
 
 
 def _legend(ax, legend) -> None:
