@@ -52,7 +52,7 @@ def best_of(fn, repeat: int):
 
 def job_verify() -> dict:
     from fivebar_cli.mechanisms.registry import load_config
-    from fivebar_cli.mechanisms.rpr3.verify import verify
+    from fivebar_cli.analyses.pose_verify import verify
 
     m = load_config(PAPER_DESIGN)
     seconds, peak, r = best_of(lambda: verify(m, 14), REPEAT)
@@ -134,9 +134,10 @@ JOBS = {"verify": job_verify, "reachable7": lambda: job_reachable(7), "codac-deg
         "codac-rad": lambda: job_codac(True), "case4": job_case4, "general": job_general}
 
 
-def child(name: str) -> tuple[dict, float]:
-    """Run one job in a fresh interpreter: its result and max RSS (MiB)."""
-    proc = subprocess.Popen([sys.executable, __file__, "--job", name], stdout=subprocess.PIPE, text=True, cwd=ROOT)
+def child(name: str, script: str = __file__) -> tuple[dict, float]:
+    """Run one job of a benchmark script (this one by default) in a fresh interpreter: its result
+    (the JSON it prints) and max RSS (MiB)."""
+    proc = subprocess.Popen([sys.executable, script, "--job", name], stdout=subprocess.PIPE, text=True, cwd=ROOT)
     out = proc.stdout.read()
     _, status, usage = os.wait4(proc.pid, 0)
     if os.waitstatus_to_exitcode(status):

@@ -10,7 +10,7 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 SCRIPTS = ("bench_paving.py", "bench_aspects.py", "bench_tolerance.py", "bench_constraints.py", "bench_path.py",
            "bench_locate_path.py", "bench_rpr3.py", "bench_rpr3_octree.py", "bench_pose_aspects.py", "bench_view.py",
-           "bench_atlas.py")
+           "bench_atlas.py", "bench_rrr3.py")
 
 
 def main() -> int:

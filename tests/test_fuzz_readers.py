@@ -24,6 +24,7 @@ from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.mechanisms.registry import load_config
 from fivebar_cli.mechanisms.rpr2.model import Rpr2
 from fivebar_cli.mechanisms.rpr3.model import Rpr3
+from fivebar_cli.mechanisms.rrr3.model import Rrr3
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIGS = REPO / "configs"
@@ -122,6 +123,15 @@ def assert_valid_mechanism(m) -> None:
             v = getattr(m, key)
             assert isinstance(v, float) and math.isfinite(v), (key, v)
         assert m.d > 0 and 0 <= m.rho_min < m.rho_max and 2 * m.rho_max >= m.d
+        return
+    if isinstance(m, Rrr3):
+        values = [v for p in m.base + m.platform for v in p] + list(m.proximal) + list(m.distal)
+        assert all(isinstance(v, float) and math.isfinite(v) for v in values), values
+        assert all(v > 0 for v in m.proximal + m.distal)
+        lo, hi = m.phi_range
+        assert math.isfinite(lo) and math.isfinite(hi) and lo <= hi
+        assert m.working_mode in (None, "+++", "++-", "+-+", "+--", "-++", "-+-", "--+", "---")
+        assert m.spaces()["workspace"].dim == (2 if lo == hi else 3)
         return
     assert isinstance(m, Rpr3), type(m)
     values = [v for p in m.base + m.platform for v in p] + list(m.rho_min)

@@ -22,7 +22,7 @@ import pytest
 from cli_helpers import PNG_MAGIC, ok, one_line, run_cli, snapshot
 from conftest import CONFIGS, M1_YAML, M2_YAML
 
-import fivebar_cli.cli.main  # noqa: F401 - the commands imported now, before any test patches what they import
+from fivebar_cli.cli import cli  # noqa: F401 - the commands imported now, before any test patches what they import
 from fivebar_cli.analyses.aspect_files import load_aspects
 from fivebar_cli.analyses.view import gather
 from fivebar_cli.errors import Interrupted

@@ -467,7 +467,7 @@ def test_figures_of_pave_and_verify(tmp_path, capsys):
 
 
 def test_verify_stops_when_the_open_set_grows_too_large(monkeypatch):
-    from fivebar_cli.mechanisms.rpr3 import verify as module
+    from fivebar_cli.analyses import pose_verify as module
 
     monkeypatch.setattr(module, "MAX_BOXES", 64)
     r = module.verify(load_config(CONFIGS / "rpr3-table1.yaml"), 10)

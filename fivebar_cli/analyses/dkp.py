@@ -20,7 +20,9 @@ another (that box holds one zero only, so they are the same); enclosures that ar
 distinct zeros. A zero whose enclosure lies outside the root box (the orientation range of a
 3-RPR) is not counted; one whose enclosure straddles the root's boundary is not decided. On a
 periodic axis enclosures are compared modulo the period. The count is certified when no box is
-left undecided: the root box then holds exactly these solutions.
+left undecided: the root box then holds exactly these solutions. Each solution's class is
+certified over its box: by the system when the joints decide the sheet (a 3-RRR's working mode;
+a solution in a working mode the model leaves out is not counted), else by the model.
 """
 
 from __future__ import annotations
@@ -232,15 +234,17 @@ def _distinct(model: PoseAspectModel, system: PoseSystem, found, root: np.ndarra
                     parent[find(j)] = find(i)
                 else:
                     left.append((np.minimum(a[0], b[0] + shift)[None], np.maximum(a[1], b[1] + shift)[None]))
+    classes = getattr(system, "classes_of_boxes", None) or model.classes_of_boxes  # the joints may decide the sheet
     groups: dict[int, list[int]] = {}
     for i in range(len(entries)):
         groups.setdefault(find(i), []).append(i)
     solutions = []
     for members in groups.values():
         s_lo, s_hi, _, _ = min((entries[i] for i in members), key=lambda e: float(np.sum(e[1] - e[0])))
-        pose = _polish(system, s_lo, s_hi)
-        cls = int(model.classes_of_boxes(s_lo[None], s_hi[None])[0])
-        solutions.append(Solution(pose, s_lo, s_hi, cls))
+        cls = int(classes(s_lo[None], s_hi[None])[0])
+        if cls < -1:
+            continue  # certified in none of the model's classes: not one of its configurations
+        solutions.append(Solution(_polish(system, s_lo, s_hi), s_lo, s_hi, cls))
     solutions.sort(key=lambda s: (s.cls if s.cls >= 0 else len(model.classes), *s.pose[::-1]))
     return solutions, left
 

@@ -43,7 +43,7 @@ from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree
 
 __all__ = ["DEFAULT_BUDGET", "ClassRegion", "PoseAspect", "PoseAspectAnalysis", "analyse_pose_aspects",
-           "aspect_at", "pose_model"]
+           "aspect_at", "pose_model", "sheet_classes", "sheet_of"]
 
 
 PROBE_LEVELS = 1  # the band of every outer component holding an aspect is paved this much deeper
@@ -205,13 +205,25 @@ def _number_aspects(model: PoseAspectModel, sets: list[ModeSet], count: _Count, 
     return aspects
 
 
-def aspect_at(aspects: list[PoseAspect], model: PoseAspectModel, pose: np.ndarray) -> tuple[int, PoseAspect | None]:
-    """(class, aspect) of a pose: the class certified at that point (-1: on or near a singularity,
-    or not a valid pose) and the aspect whose cells hold it (None: in no certified cell)."""
+def sheet_classes(model: PoseAspectModel, sheet: int) -> list[int]:
+    """The classes of one sheet: those carrying the sheet's fields."""
+    fields = set(model.sheets[sheet].fields)
+    return [k for k, c in enumerate(model.classes) if fields <= set(c.fields)]
+
+
+def sheet_of(model: PoseAspectModel, k: int) -> int:
+    """The sheet of class k."""
+    return next(s for s in range(len(model.sheets)) if k in sheet_classes(model, s))
+
+
+def aspect_at(aspects: list[PoseAspect], model: PoseAspectModel, pose: np.ndarray,
+              sheet: int = 0) -> tuple[int, PoseAspect | None]:
+    """(class, aspect) of a pose in a sheet: the class certified at that point (-1: on or near a
+    singularity, or not a valid pose) and the aspect whose cells hold it (None: in no certified cell)."""
     pose = np.asarray(pose, float)[None, :]
     if not model.valid(pose)[0]:
         return -1, None
-    cls = int(model.classes_of_boxes(pose, pose)[0])
+    cls = int(model.classes_of_boxes(pose, pose, sheet)[0])
     if cls < 0:
         return -1, None
     for a in aspects:

@@ -377,16 +377,19 @@ def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str) -> None:
             raise InputError(source, "--pose", f"{label}: {axis.name} = {value:g} is outside the {what} "
                                                f"[{axis.lo:g}, {axis.hi:g}]")
     if not model.valid(pose[None, :])[0]:
-        joints, _ = model.ikp(pose[None, :], 0)
+        joints, exists = model.ikp(pose[None, :], 0)
+        if not exists[0]:
+            raise InputError(source, "--pose", f"{label} is not a valid pose: no joint values reach it (a leg cannot "
+                                               "reach it, or only stretched or folded)")
         names = ", ".join(f"{a.name} = {v:.6g} in [{a.lo:g}, {a.hi:g}]" for a, v in zip(model.joint_axes, joints[0]))
         raise InputError(source, "--pose", f"{label} is not a valid pose: {names} (a joint out of its range)")
 
 
-def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str) -> int:
-    """The class of a requested endpoint (`check_pose` first); NoMotion when it is on or near a
-    singularity (the class's signs are not certified there)."""
+def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: int = 0) -> int:
+    """The class of a requested endpoint in a sheet (`check_pose` first); NoMotion when it is on or
+    near a singularity (the class's signs are not certified there)."""
     check_pose(m, pose, label, source)
-    cls = int(pose_model(m).classes_of_boxes(pose[None, :], pose[None, :])[0])
+    cls = int(pose_model(m).classes_of_boxes(pose[None, :], pose[None, :], sheet)[0])
     if cls < 0:
         raise NoMotion(f"{label} is on or near a singularity (its signs are not certified there): no "
                        "singularity-free motion starts there")
@@ -400,12 +403,12 @@ def wrap_pose(space, pose) -> np.ndarray:
 
 
 def find_motion(m: Mechanism, depth: int, start: np.ndarray, end: np.ndarray, labels: tuple[str, str],
-                source: str, aspects: list[PoseAspect] | None = None) -> PoseMotion:
+                source: str, aspects: list[PoseAspect] | None = None, sheets: tuple[int, int] = (0, 0)) -> PoseMotion:
     """A certified motion from `start` to `end` (poses in the space of the pose model, periodic
-    axes wrapped) at this depth, in one class's black cells, or NoMotion saying why: proven
-    (different classes, or different certified aspects) or not decided at this depth."""
+    axes wrapped; each in its sheet) at this depth, in one class's black cells, or NoMotion saying
+    why: proven (different classes, or different certified aspects) or not decided at this depth."""
     model = pose_model(m)
-    classes = [endpoint_class(m, p, lab, source) for p, lab in zip((start, end), labels)]
+    classes = [endpoint_class(m, p, lab, source, sheet) for p, lab, sheet in zip((start, end), labels, sheets)]
     if classes[0] != classes[1]:
         a, b = (model.classes[k].label for k in classes)
         raise NoMotion(f"{labels[0]} ({a}) and {labels[1]} ({b}) are in different classes: every motion between "
@@ -413,7 +416,7 @@ def find_motion(m: Mechanism, depth: int, start: np.ndarray, end: np.ndarray, la
     cls = classes[0]
     aspect = None
     if aspects is not None:
-        _, aspect = aspect_at(aspects, model, start)
+        _, aspect = aspect_at(aspects, model, start, sheets[0])
         if aspect is None:
             raise _no_cell(labels[0], depth)
         cells = aspect.tree
@@ -426,7 +429,7 @@ def find_motion(m: Mechanism, depth: int, start: np.ndarray, end: np.ndarray, la
     if chain is None:
         if aspects is None:
             aspects = analyse_pose_aspects(m, depth).aspects
-        raise _why_not(model, aspects, start, end, labels, depth)
+        raise _why_not(model, aspects, start, end, labels, depth, sheets[0])
     try:
         motion = certified_motion(chain, start, end)
     except ValueError as exc:
@@ -440,10 +443,10 @@ def _no_cell(label: str, depth: int) -> NoMotion:
                     f"or a joint limit for cells this size: try --depth {depth + 1})")
 
 
-def _why_not(model, aspects: list[PoseAspect], start, end, labels, depth: int) -> NoMotion:
-    """Why no chain of face-sharing certified cells joins the two poses: different certified aspects
-    (proven), or not decided at this depth."""
-    held = [aspect_at(aspects, model, p)[1] for p in (start, end)]
+def _why_not(model, aspects: list[PoseAspect], start, end, labels, depth: int, sheet: int) -> NoMotion:
+    """Why no chain of face-sharing certified cells of one class of `sheet` joins the two poses:
+    different certified aspects (proven), or not decided at this depth."""
+    held = [aspect_at(aspects, model, p, sheet)[1] for p in (start, end)]
     a, b = held
     if a is not None and b is not None and a.number != b.number:
         if a.certified and b.certified:

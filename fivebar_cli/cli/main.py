@@ -24,13 +24,15 @@ from fivebar_cli.cli.examples import examples
 from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.locate import locate
 from fivebar_cli.cli.path import path
-from fivebar_cli.cli.pose_aspects import dkp, pose_aspects, pose_locate, pose_path
+from fivebar_cli.cli.pose_aspects import dkp, joints_dkp, pose_aspects, pose_locate, pose_path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
-from fivebar_cli.cli.rpr3_octree import pave_cmd, verify_cmd
+from fivebar_cli.cli.rpr3_octree import pave_cmd as rpr3_pave
+from fivebar_cli.cli.rpr3_octree import verify_cmd as rpr3_verify
 from fivebar_cli.cli.refine import diff, refine
 from fivebar_cli.cli.spaces import jointspace, workspace
 from fivebar_cli.cli.tolerance import tolerance
+from fivebar_cli.cli.verify import verify_cmd
 from fivebar_cli.cli.view import view
 from fivebar_cli.errors import INTERRUPTS, FivebarError, FivebarWarning, Interrupted
 
@@ -52,15 +54,17 @@ def cli() -> None:
       fivebar atlas configs/atlas-small.yaml --workers 2 -o out/atlas
       fivebar kratio configs/m1.yaml configs/m2.yaml --depths 5-10 -o out
       fivebar rpr3 synthesize configs/rpr3-table1.yaml
+      fivebar verify configs/rrr3-symmetric.yaml --working-mode +-+ -o out/rrr3-symmetric  # exit 1: a singular pose
       fivebar view out/m1
       fivebar reproduce -o out/check --no-plot
     """
 
 
-for command in (pave_cmd, verify_cmd, dkp):  # dkp: any kind with a pose-space aspect model; the 3-RPR's --legs
+for command in (rpr3_pave, rpr3_verify, dkp):  # dkp: `fivebar dkp` under its 3-RPR name, with --legs
     rpr3.add_command(command)
 for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(locate, pose_locate),
-                ByKind(path, pose_path), atlas, kratio, refine, diff, tolerance, view, rpr3, reproduce, examples):
+                ByKind(path, pose_path), joints_dkp, verify_cmd, atlas, kratio, refine, diff, tolerance, view, rpr3,
+                reproduce, examples):
     cli.add_command(command)
 
 

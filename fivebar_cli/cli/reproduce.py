@@ -48,14 +48,23 @@ REPRODUCTION = (  # (what, arguments[, expected exit status]); {configs} and {ou
         *((f"Table 1 case {case}, rho_max 0.001 below the limit (certified)", f"table1-case{case}", 0)
           for case in range(1, 7)),
     )),
+    ("3-RRR symmetric at phi = 0: workspace (exact area of the three annuli)",
+     ["workspace", "{configs}/rrr3-symmetric-phi0.yaml", "--depth", "8", "-o", "{out}/rrr3-symmetric-phi0"]),
+    ("3-RRR symmetric at phi = 0: aspects per working mode (Caro et al. 2014's fixed-orientation experiment; "
+     "between 26 and 32 at depth 7, --depth 10 certifies 32)",
+     ["aspects", "{configs}/rrr3-symmetric-phi0.yaml", "--depth", "7", "-o", "{out}/rrr3-symmetric-phi0"]),
+    ("3-RRR symmetric over phi in [-30, 30]: octree of the workspace",
+     ["workspace", "{configs}/rrr3-symmetric.yaml", "--depth", "5", "-o", "{out}/rrr3-symmetric"]),
+    ("3-RRR Gosselin-Angeles-style over phi in [-60, 60]: octree of the workspace",
+     ["workspace", "{configs}/rrr3-gosselin-angeles.yaml", "--depth", "5", "-o", "{out}/rrr3-gosselin-angeles"]),
 )
 FIGURE_STEPS = ("view",)  # commands that only draw: skipped with --no-plot (tables and trees only)
 
 
 @click.command(short_help="Regenerate every table and figure of both papers.")
 @click.option("--configs", type=click.Path(file_okay=False, path_type=Path), default=None,
-              help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml cases [default: configs, or the shipped "
-                   "examples (fivebar examples) when ./configs does not exist].")
+              help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml and rrr3-*.yaml cases [default: configs, or "
+                   "the shipped examples (fivebar examples) when ./configs does not exist].")
 @click.option("--out", "-o", type=click.Path(file_okay=False, path_type=Path), default=Path("outputs"),
               show_default=True, help="Output folder.")
 @click.option("--no-plot", is_flag=True, help="Skip the PNG figures and HTML pages (the tables and trees only).")
@@ -67,8 +76,10 @@ def reproduce(configs, out, no_plot, quiet):
     M1 and M2 at depth 10 with a view.html page of each (fivebar view), the aspects of M1 with
     the two constraints of Caro et al. (2014) (P in [-90, 90] deg; a disc obstacle), their sensitivity to
     manufacturing tolerances (depth 9), the 3-RPR construction, sweeps and synthesis, the octree
-    of a general 3-RPR (and its page) and the `rpr3 verify` checks of the paper's designs (one of
-    them must find a singular pose: exit 1 is its expected result). The .qt and CSV files are
+    of a general 3-RPR (and its page), the `rpr3 verify` checks of the paper's designs (one of
+    them must find a singular pose: exit 1 is its expected result), and the 3-RRR: the workspace
+    and certified aspects of a symmetric design at one orientation, the octrees of the workspace
+    of it and of a Gosselin-Angeles-style design. The .qt and CSV files are
     deterministic: the tests diff them against tests/golden/ (make golden). --no-plot skips the
     figures and the pages. `fivebar reproduce` alone writes everything into outputs/ (under a
     minute; what `make reproduce` runs); outside the repository it reads the shipped examples.

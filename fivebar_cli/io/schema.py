@@ -271,3 +271,43 @@ def name_field(data: Mapping, source: str) -> str:
         raise ConfigError(source, "name", f"{short(name)} is too long for a folder name ({len(name.encode())} bytes "
                           f"in UTF-8, at most {MAX_NAME_BYTES})")
     return name
+
+
+def point(value: Any, source: str, field: str) -> tuple[float, float]:
+    """A point [x, y] of two numbers."""
+    if not isinstance(value, list) or len(value) != 2:
+        raise ConfigError(source, field, f"expected a point [x, y], got {kind_of(value)} {short(value)}")
+    return (number(value[0], source, f"{field}[0]"), number(value[1], source, f"{field}[1]"))
+
+
+PHI_LIMIT = 1e6  # degrees: beyond, a float angle has no resolution left for the box tests
+
+
+def orientations(data: Mapping, source: str) -> tuple[tuple[float, float], str]:
+    """A platform's orientation range in degrees from `phi: X` or `phi_range: [phi1, phi2]` (exactly
+    one of them; phi1 <= phi2), and the key it came from."""
+    if ("phi" in data) == ("phi_range" in data):
+        raise ConfigError(source, "phi", "give exactly one of 'phi' (degrees) or 'phi_range: [phi1, phi2]'")
+    if "phi" in data:
+        phi = number(data["phi"], source, "phi")
+        phi_range, field = (phi, phi), "phi"
+    else:
+        raw = data["phi_range"]
+        if not isinstance(raw, list) or len(raw) != 2:
+            raise ConfigError(source, "phi_range", f"expected a list [phi1, phi2], got {raw!r}")
+        phi_range = (number(raw[0], source, "phi_range[0]"), number(raw[1], source, "phi_range[1]"))
+        field = "phi_range"
+        if phi_range[0] > phi_range[1]:
+            raise ConfigError(source, field, f"phi1 must not exceed phi2, got {list(phi_range)}")
+    if max(abs(p) for p in phi_range) > PHI_LIMIT:
+        raise ConfigError(source, field, f"orientations must be within +-{PHI_LIMIT:g} degrees")
+    return phi_range, field
+
+
+def distinct_points(points, source: str, field: str, letter: str) -> None:
+    """ConfigError when two of the points coincide (to a relative 1e-12), naming them `<letter>i`."""
+    scale = max(abs(v) for p in points for v in p) or 1.0
+    for i in range(len(points)):
+        for j in range(i + 1, len(points)):
+            if math.dist(points[i], points[j]) <= 1e-12 * scale:
+                raise ConfigError(source, field, f"{letter}{i + 1} and {letter}{j + 1} coincide")

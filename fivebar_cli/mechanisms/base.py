@@ -237,6 +237,38 @@ def description_numbers(fields: Mapping[str, str], keys, source: str) -> dict[st
     return out
 
 
+def pair_word(point) -> str:
+    """A point as a description word's value: 'x,y' (repr floats)."""
+    return f"{float(point[0])!r},{float(point[1])!r}"
+
+
+def values_word(values) -> str:
+    """Per-leg values as a description word's value: one number when all are equal, else 'a,b,c'."""
+    if len(set(values)) == 1:
+        return repr(float(values[0]))
+    return ",".join(repr(float(v)) for v in values)
+
+
+def word_values(word: str | None, counts: tuple[int, ...], key: str, source: str) -> list[float]:
+    """The comma-separated numbers of a description word's value (as many as one of `counts`)."""
+    if word is None:
+        raise ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
+    try:
+        values = [float(v) for v in word.split(",")]
+    except ValueError:
+        raise ConfigError(source, "mechanism", f"bad value {key}={word!r}") from None
+    if len(values) not in counts:
+        raise ConfigError(source, "mechanism", f"{key}= needs {' or '.join(map(str, counts))} comma-separated "
+                          f"numbers, got {word!r}")
+    return values
+
+
+def legs_word_value(word: str | None, key: str, source: str):
+    """A per-leg description value: one number (every leg) or a list of three, as the YAML has it."""
+    values = word_values(word, (1, 3), key, source)
+    return values[0] if len(values) == 1 else values
+
+
 class AspectModel(Protocol):
     """What the generalized-aspect analysis (`analyses/aspects.py`) needs from a 2-DOF mechanism.
 
@@ -320,6 +352,13 @@ class PoseSystem(Protocol):
         """Over boxes [lo, hi] (n, d): certified bounds of F, (n, d) each, and of the Jacobian,
         (n, d, d) each (outward rounded); a point box gives an enclosure of F at that point."""
 
+    # Optional, when the joints decide a solution's sheet (a 3-RRR's working mode follows from the
+    # actuated angles): the class certified over each box of poses with these joints, -1 where not
+    # certified, below -1 where certified in none of the model's classes (a working mode the model
+    # leaves out: such a solution is not one of its configurations and is not counted). Otherwise
+    # `dkp.py` asks the model's `classes_of_boxes` on sheet 0.
+    # def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray: ...
+
 
 class PoseAspectModel(Protocol):
     """What the one-space aspect analysis (`analyses/pose_aspects.py`), `dkp.py`, `pose_paths.py`
@@ -331,19 +370,30 @@ class PoseAspectModel(Protocol):
     that class (so singularities stay undetermined and separate the aspects) and whose -1 means no
     pose of the box is a valid pose of that class. The space may have a periodic axis (a full turn
     of the platform); the joint space may be a box or a torus (`joint_axes`).
+
+    A configuration is a pose and, when the pose alone does not decide it, a choice the IKP makes
+    (a 3-RRR's working mode: a pose is reached in eight). The classes are then grouped into
+    `sheets`, one per choice, each a `SignClass` of the fields chosen (("working_mode", "+-+"),);
+    a class belongs to the sheet whose fields it carries, and a pose has one class in each sheet.
+    A kind whose pose decides has one sheet of no fields.
     """
 
     space: str  # the name of the space in `Mechanism.spaces()` (e.g. "workspace": x, y, phi)
     classes: tuple[SignClass, ...]  # in the order aspects are numbered
+    sheets: tuple[SignClass, ...]  # the choices besides the pose; (SignClass(()),) when the pose decides
     joint_axes: tuple[Axis, ...]  # the actuated joints: names, units, ranges, periodic
     length_scale: float  # a typical length: tolerances are relative to it
+    singularity_name: str  # the file column of `singularity` ("det_j", "det_a")
 
     def class_test(self, k: int) -> BoxTest:
         """1: every pose of the box is valid, non-singular and of class k; -1: none is."""
 
-    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """The class whose signs hold at every pose of each box, validity aside (the joint limits
-        are not checked), certified; -1 where the signs are not certified constant."""
+    def valid_test(self) -> BoxTest:
+        """1: every pose of the box is valid (joints in range, no serial singularity); -1: none is."""
+
+    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
+        """The class of `sheet` whose signs hold at every pose of each box, validity aside (the
+        joint limits are not checked), certified; -1 where the signs are not certified constant."""
 
     def valid(self, poses: np.ndarray) -> np.ndarray:
         """Whether poses (n, d) satisfy every constraint (joints in range), floating point."""
@@ -351,9 +401,13 @@ class PoseAspectModel(Protocol):
     def ikp(self, poses: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
         """Joint values (n, j) of poses in class k, and where they exist."""
 
+    def singularity(self, poses: np.ndarray, k: int) -> np.ndarray:
+        """The value whose sign tells the classes of k's sheet apart (det J, det A), floating point (n,)."""
+
     def dkp_system(self, joints: np.ndarray) -> PoseSystem:
         """The equations of the poses with joint values `joints` (j,), for class-free solving."""
 
-    def sketch(self, poses: np.ndarray) -> dict[str, np.ndarray]:
-        """Planar drawing of the mechanism at poses (n, d), for figures: 'base' (k, 2), a closed
-        polygon; 'platform' (n, m, 2), closed polygons; 'links' (n, s, 2, 2), segments."""
+    def sketch(self, poses: np.ndarray, classes=0) -> dict[str, np.ndarray]:
+        """Planar drawing of the mechanism at poses (n, d) in classes `classes` (one, or one per
+        pose), for figures: 'base' (k, 2), a closed polygon; 'platform' (n, m, 2), closed
+        polygons; 'links' (n, s, 2, 2), segments."""

@@ -18,6 +18,7 @@ BUILTIN = {  # type -> "module:Class", imported on first use
     "fivebar": "fivebar_cli.mechanisms.fivebar.model:FiveBar",
     "rpr3": "fivebar_cli.mechanisms.rpr3.model:Rpr3",
     "rpr2": "fivebar_cli.mechanisms.rpr2.model:Rpr2",
+    "rrr3": "fivebar_cli.mechanisms.rrr3.model:Rrr3",
 }
 ENTRY_POINT_GROUP = "fivebar.mechanisms"
 

@@ -12,6 +12,7 @@ from fivebar_cli.plotting.trees import PALE, draw_layers
 
 SLICES = 4  # columns of the slice figure: centres of equal parts of the last axis
 MAX_ROWS = 6  # aspects drawn (one row each); the others are named in the title
+UNDETERMINED = (0.25, 0.25, 0.25)  # the cells a class test left undetermined, in the aspect map
 SNAPSHOTS = 9  # poses of the mechanism drawn along a motion
 
 
@@ -55,6 +56,41 @@ def figure_aspect_slices(analysis):
     return fig
 
 
+def figure_aspect_map(analysis):
+    """One panel per sheet (a 3-RRR's working mode; one panel for a 3-RPR): every aspect of the
+    sheet in its own colour, the cells its classes left undetermined in dark grey (the singularity
+    curves and the workspace's boundary), at one orientation (the middle of the range for a 3-D
+    space)."""
+    from fivebar_cli.analyses.pose_aspects import sheet_classes
+
+    plt = pyplot()
+    model = analysis.model
+    space = analysis.mechanism.spaces()[model.space]
+    value = None if space.dim == 2 else 0.5 * (space.axes[-1].lo + space.axes[-1].hi)
+    cut = (lambda t: t) if value is None else (lambda t: t.slice(space.dim - 1, value))
+    n = len(model.sheets)
+    columns = min(n, 4)
+    rows = (n + columns - 1) // columns
+    fig, panels = plt.subplots(rows, columns, figsize=(3.3 * columns + 0.4, 3.3 * rows + 0.8), dpi=110, squeeze=False)
+    for sheet, ax in enumerate(panels.ravel()):
+        if sheet >= n:
+            ax.axis("off")
+            continue
+        classes = sheet_classes(model, sheet)
+        layers = [(cut(analysis.regions[k].paving.undetermined_tree()), UNDETERMINED) for k in classes]
+        mine = [a for a in analysis.aspects if a.cls in classes]
+        layers += [(cut(a.tree), _colour(j + 1)) for j, a in enumerate(mine)]
+        draw_layers(ax, layers, space.axes[:2], outline=[])
+        label = model.sheets[sheet].label
+        ax.set_title(f"{label + ': ' if label else ''}{len(mine)} aspects "
+                     f"({', '.join(str(a.number) for a in mine) or '-'})", fontsize=8)
+        ax.tick_params(labelsize=7)
+    where = "" if value is None else f", {space.axes[-1].name} = {value:.4g} {space.axes[-1].unit}".rstrip()
+    fig.suptitle(f"{analysis.headline()}{where}; dark: undetermined (singularities, boundary)", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
 def _draw_mechanism(ax, sketch: dict, k: int, colour, alpha: float = 1.0, links: bool = True) -> None:
     platform = sketch["platform"][k]
     ax.fill(platform[:, 0], platform[:, 1], facecolor=colour, edgecolor="k", alpha=alpha, lw=0.8)
@@ -68,16 +104,17 @@ def _draw_base(ax, sketch: dict) -> None:
     ax.fill(base[:, 0], base[:, 1], facecolor="0.85", edgecolor="k", lw=1.2)
 
 
-def figure_assembly_modes(model, poses: np.ndarray, labels: list[str], title: str):
-    """The mechanism in each of its assembly modes, one panel each."""
+def figure_assembly_modes(model, poses: np.ndarray, labels: list[str], title: str, classes=0):
+    """The mechanism in each of its assembly modes (in its class: one, or one per pose), one panel each."""
     plt = pyplot()
     n = max(len(poses), 1)
     columns = min(n, 3)
     rows = (n + columns - 1) // columns
     fig, panels = plt.subplots(rows, columns, figsize=(3.4 * columns, 3.4 * rows + 0.5), dpi=110, squeeze=False)
-    sketch = model.sketch(np.asarray(poses, float).reshape(len(poses), -1)) if len(poses) else None
+    sketch = model.sketch(np.asarray(poses, float).reshape(len(poses), -1), classes) if len(poses) else None
     if sketch is not None:
-        points = np.concatenate([sketch["base"].reshape(-1, 2), sketch["platform"].reshape(-1, 2)])
+        points = np.concatenate([sketch["base"].reshape(-1, 2), sketch["platform"].reshape(-1, 2),
+                                 sketch["links"].reshape(-1, 2)])
         lo, hi = points.min(0), points.max(0)
         pad = 0.08 * float(np.max(hi - lo))
     for k, ax in enumerate(panels.ravel()):
@@ -121,7 +158,7 @@ def figure_motion(model, space, unwrapped: np.ndarray, cls: int, title: str, sta
     samples = dense(unwrapped)
     scales = axis_scales(space.axes)
     s = path_parameter(samples, scales)
-    sketch = model.sketch(samples)
+    sketch = model.sketch(samples, cls)
     _draw_base(left, sketch)
     import matplotlib
 

@@ -173,15 +173,16 @@ def figure_singularity_free(title: str, space, plus, minus, unreachable, phi_ran
     return fig
 
 
-def figure_pose(mech, pose, title: str):
-    """A pose of a 3-RPR: base, platform, legs, and the leg lines extended (at a singular pose they
-    meet in one point, or are parallel)."""
+def figure_pose(mech, pose, legs, title: str):
+    """A pose (x, y, phi in degrees) of a 3-RPR with its leg lengths: base, platform, legs, and the
+    leg lines extended (at a singular pose they meet in one point, or are parallel)."""
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(6.4, 6.0), dpi=120)
     base = np.array(mech.base, float)
-    phi = math.radians(pose.phi)
+    x, y, phi_deg = pose
+    phi = math.radians(phi_deg)
     rot = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
-    joints = np.array([pose.x, pose.y]) + np.array(mech.platform, float) @ rot.T
+    joints = np.array([x, y]) + np.array(mech.platform, float) @ rot.T
     ax.fill(base[:, 0], base[:, 1], facecolor="0.85", edgecolor="k", lw=1.5, label="base")
     ax.fill(joints[:, 0], joints[:, 1], facecolor="tab:olive", edgecolor="k", alpha=0.6, label="platform")
     span = float(np.ptp(np.vstack([base, joints]), axis=0).max()) or 1.0
@@ -189,9 +190,9 @@ def figure_pose(mech, pose, title: str):
         ax.plot(*zip(base[i], joints[i]), "k-", lw=2.0)
         d = (joints[i] - base[i]) / (np.linalg.norm(joints[i] - base[i]) or 1.0)
         ax.plot(*zip(base[i] - 2 * span * d, base[i] + 3 * span * d), ls="--", lw=0.7, color=_COLOURS[i],
-                label=f"leg {i + 1} line ({pose.legs[i]:.6g})")
+                label=f"leg {i + 1} line ({legs[i]:.6g})")
         ax.annotate(f"B{i + 1}", base[i], textcoords="offset points", xytext=(-12, -12), fontsize=9)
-    ax.plot([pose.x], [pose.y], "k+", ms=9, label=f"platform origin, phi = {pose.phi:.6g} deg")
+    ax.plot([x], [y], "k+", ms=9, label=f"platform origin, phi = {phi_deg:.6g} deg")
     pts = np.vstack([base, joints])
     lo, hi = pts.min(0) - 0.6 * span, pts.max(0) + 0.6 * span
     ax.set_xlim(lo[0], hi[0])

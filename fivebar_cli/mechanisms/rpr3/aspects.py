@@ -28,6 +28,8 @@ class Rpr3PoseAspects:
 
     space = "workspace"
     classes = CLASSES
+    sheets = (SignClass(()),)  # a pose has one class
+    singularity_name = "det_j"
 
     def __init__(self, m):
         self.m = m
@@ -39,7 +41,10 @@ class Rpr3PoseAspects:
     def class_test(self, k: int):
         return boxtests.region_test(self.m, REGIONS[k])
 
-    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    def valid_test(self):
+        return boxtests.region_test(self.m, boxtests.REACHABLE)
+
+    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
         sign = boxtests.det_sign(self.g, np.asarray(lo, float), np.asarray(hi, float))
         return np.where(sign > 0, 0, np.where(sign < 0, 1, -1)).astype(np.int64)
 
@@ -51,10 +56,14 @@ class Rpr3PoseAspects:
         poses = np.atleast_2d(np.asarray(poses, float))
         return boxtests.leg_lengths(self.g, poses), np.ones(len(poses), bool)
 
+    def singularity(self, poses: np.ndarray, k: int = 0) -> np.ndarray:
+        """det J, floating point (0 on a singularity)."""
+        return boxtests.det_j(self.g, np.atleast_2d(np.asarray(poses, float)))
+
     def dkp_system(self, joints: np.ndarray) -> "LegSystem":
         return LegSystem(self.g, np.asarray(joints, float))
 
-    def sketch(self, poses: np.ndarray) -> dict[str, np.ndarray]:
+    def sketch(self, poses: np.ndarray, classes=0) -> dict[str, np.ndarray]:
         poses = self.g.poses(np.atleast_2d(np.asarray(poses, float)))
         e, q = boxtests._legs_and_arms(self.g, poses)
         platform = poses[:, None, :2] + q

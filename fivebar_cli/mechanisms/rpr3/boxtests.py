@@ -30,48 +30,27 @@ import numpy as np
 
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
-from fivebar_cli.numerics.ranges import angle_inside
+from fivebar_cli.numerics.platform import ETA_REL, D2R, Platform  # noqa: F401 (ETA_REL: the margin, as before)
 
 REACHABLE = "reachable"  # the regions a box test decides (the `region:` of the .qt files)
 PLUS = "singularity-free det J > 0"
 MINUS = "singularity-free det J < 0"
 
-ETA_REL = 1e-9  # distances: margin relative to the scale of the mechanism
-ANGLE_TOL = 1e-9  # radians added to each end of an arc (covers the rounding of degrees -> radians)
-D2R = math.pi / 180.0
 _D2R = Interval(D2R * (1.0 - 4e-16), D2R * (1.0 + 4e-16))  # encloses pi / 180
-_HALF_PI = 0.5 * math.pi
 
 
 @dataclass(frozen=True)
-class Geometry:
-    """The numbers the tests use, as arrays: base B (3, 2), platform P (3, 2) in the platform
-    frame, leg limits, |P_i| and the angle of P_i, the multiple of 360 degrees subtracted from phi
-    before taking radians, the fixed phi of a single-orientation space, and the margin `eta`."""
+class Geometry(Platform):
+    """The numbers the tests use (`numerics.platform.Platform`: base B, platform P, |P_i| and
+    its angle, the shift of phi, the fixed phi, the margin) and the leg limits, as arrays."""
 
-    base: np.ndarray
-    platform: np.ndarray
     rho_min: np.ndarray
     rho_max: np.ndarray
-    radius: np.ndarray
-    angle: np.ndarray
-    shift: float
-    phi: float
-    eta: float
 
     @classmethod
     def of(cls, m) -> "Geometry":
-        base, platform = np.array(m.base, float), np.array(m.platform, float)
         rho_min, rho_max = (np.array(v, float) for v in m.leg_limits())
-        radius = np.hypot(platform[:, 0], platform[:, 1])
-        scale = float(np.abs(base).max() + radius.max() + rho_max.max())
-        return cls(base, platform, rho_min, rho_max, radius, np.arctan2(platform[:, 1], platform[:, 0]),
-                   360.0 * math.floor(m.phi_range[0] / 360.0), float(m.phi_range[0]), ETA_REL * scale)
-
-    def poses(self, a: np.ndarray) -> np.ndarray:
-        """(m, 3) poses or box bounds from (m, 2) ones of a single-orientation space."""
-        a = np.asarray(a, float)
-        return a if a.shape[1] == 3 else np.column_stack([a, np.full(len(a), self.phi)])
+        return cls(**Platform.fields(m.base, m.platform, m.phi_range, rho_max.max()), rho_min=rho_min, rho_max=rho_max)
 
 
 # ---------------------------------------------------------------- reachability
@@ -79,61 +58,7 @@ class Geometry:
 
 def leg_distance_ranges(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     """Exact (min, max) of each leg length over boxes (m, 3), before margins."""
-    out = []
-    for i in range(3):
-        cx, cy = g.base[i]
-        r = g.radius[i]
-        start = g.angle[i] + math.pi  # C_i - B_i = -q_i
-        t_lo = (lo[:, 2] - g.shift) * D2R + start - ANGLE_TOL
-        t_hi = (hi[:, 2] - g.shift) * D2R + start + ANGLE_TOL
-        out.append(_rect_arc_distance(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1], cx, cy, r, t_lo, t_hi))
-    return out
-
-
-def _box_distance(px, py, xlo, xhi, ylo, yhi):
-    """Distance from points to rectangles (exact up to rounding)."""
-    dx = np.maximum(np.maximum(xlo - px, px - xhi), 0.0)
-    dy = np.maximum(np.maximum(ylo - py, py - yhi), 0.0)
-    return np.hypot(dx, dy)
-
-
-def _rect_arc_distance(xlo, xhi, ylo, yhi, cx, cy, r, t_lo, t_hi):
-    """Range of |X - C| for X in the rectangles and C on the arcs c + r (cos t, sin t), t in [t_lo, t_hi]."""
-    inf = np.inf
-    ends = [(cx + r * np.cos(t), cy + r * np.sin(t)) for t in (t_lo, t_hi)]
-    # farthest: a corner and the arc point opposite it, or an arc end
-    far = np.zeros_like(xlo)
-    near = np.full_like(xlo, inf)
-    for px in (xlo, xhi):
-        for py in (ylo, yhi):
-            wx, wy = px - cx, py - cy
-            rho, psi = np.hypot(wx, wy), np.arctan2(wy, wx)
-            tip = np.where(angle_inside(psi + math.pi, t_lo, t_hi, 0.0), rho + r, 0.0)
-            far = np.maximum(far, np.maximum(tip, np.maximum(*(np.hypot(px - ex, py - ey) for ex, ey in ends))))
-            near = np.minimum(near, np.where(angle_inside(psi, t_lo, t_hi, 0.0), np.abs(rho - r), inf))
-    # nearest: an arc end, an arc point facing a side (radius along an axis), or a crossing of a side
-    candidates = list(ends)
-    for k in range(4):
-        t = k * _HALF_PI
-        ok = angle_inside(t, t_lo, t_hi, 0.0)
-        candidates.append((np.where(ok, cx + r * math.cos(t), np.nan), np.where(ok, cy + r * math.sin(t), np.nan)))
-    with np.errstate(invalid="ignore"):
-        for y0 in (ylo, yhi):  # horizontal sides
-            dy = y0 - cy
-            half = np.sqrt(r * r - dy * dy)
-            for sx in (-1.0, 1.0):
-                ok = angle_inside(np.arctan2(dy, sx * half), t_lo, t_hi, 0.0) & (np.abs(dy) <= r)
-                candidates.append((np.where(ok, cx + sx * half, np.nan), np.where(ok, y0, np.nan)))
-        for x0 in (xlo, xhi):  # vertical sides
-            dx = x0 - cx
-            half = np.sqrt(r * r - dx * dx)
-            for sy in (-1.0, 1.0):
-                ok = angle_inside(np.arctan2(sy * half, dx), t_lo, t_hi, 0.0) & (np.abs(dx) <= r)
-                candidates.append((np.where(ok, x0, np.nan), np.where(ok, cy + sy * half, np.nan)))
-    for px, py in candidates:
-        d = _box_distance(px, py, xlo, xhi, ylo, yhi)
-        near = np.minimum(near, np.where(np.isnan(d), inf, d))
-    return near, far
+    return g.distance_ranges(lo, hi)
 
 
 def reach_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -211,11 +136,7 @@ def det_point_sign(g: Geometry, poses: np.ndarray) -> np.ndarray:
 def _legs_and_arms(m, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Leg vectors e_i and arms q_i = R(phi) P_i, each (m, 3, 2), at poses (m, 3) in floating point."""
     g = Geometry.of(m) if not isinstance(m, Geometry) else m
-    poses = g.poses(poses)
-    phi = (poses[:, 2] - g.shift) * D2R
-    c, s = np.cos(phi), np.sin(phi)
-    q = np.stack([np.stack([c * px - s * py, s * px + c * py], -1) for px, py in g.platform], -2)
-    return poses[:, None, :2] + q - np.asarray(g.base, float)[None], q
+    return g.legs_and_arms(poses)
 
 
 def det_j(m, poses: np.ndarray) -> np.ndarray:

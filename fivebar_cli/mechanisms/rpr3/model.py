@@ -26,14 +26,16 @@ from typing import Mapping
 import numpy as np
 
 from fivebar_cli.io import schema
-from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields, description_numbers
+from fivebar_cli.mechanisms.base import (
+    Axis, Mechanism, Space, describe_fields, description_numbers, legs_word_value, pair_word, values_word, word_values,
+)
 from fivebar_cli.mechanisms.rpr3 import boxtests, closed_form
 from fivebar_cli.mechanisms.rpr3.boxtests import MINUS, PLUS, REACHABLE
+from fivebar_cli.numerics import platform as platform_geometry
 
 SIMILAR_KEYS = ("t1", "t2", "t3", "k", "rho_min", "rho_max", "phi1", "phi2")
 GENERAL_KEYS = ("B1", "B2", "B3", "P1", "P2", "P3", "rho_min", "rho_max", "phi1", "phi2")
 REGION_FILES = {REACHABLE: "workspace", PLUS: "singularity-free.plus", MINUS: "singularity-free.minus"}
-PHI_LIMIT = 1e6  # degrees: beyond, a float angle has no resolution left for the box tests
 FLAT_BASE = 1e7  # circumradius / longest side above which the closed forms refuse the base
 
 Point = tuple[float, float]
@@ -115,13 +117,13 @@ class Rpr3(Mechanism):
         v = description_numbers(fields, keys, source)
         data: dict = {"name": name, "type": cls.kind}
         if general:
-            data["base"] = {f"B{i}": _numbers(words[f"B{i}"], 2, f"B{i}", source) for i in (1, 2, 3)}
-            data["platform"] = {f"P{i}": _numbers(words[f"P{i}"], 2, f"P{i}", source) for i in (1, 2, 3)}
+            data["base"] = {f"B{i}": word_values(words[f"B{i}"], (2,), f"B{i}", source) for i in (1, 2, 3)}
+            data["platform"] = {f"P{i}": word_values(words[f"P{i}"], (2,), f"P{i}", source) for i in (1, 2, 3)}
         else:
             data["base"] = {k: v[k] for k in ("t1", "t2", "t3")}
             data["k"] = v["k"]
-        legs = {"rho_min": _legs_word(words["rho_min"], "rho_min", source)}
-        legs["rho_max"] = "auto" if words["rho_max"] == "auto" else _legs_word(words["rho_max"], "rho_max", source)
+        legs = {"rho_min": legs_word_value(words["rho_min"], "rho_min", source)}
+        legs["rho_max"] = "auto" if words["rho_max"] == "auto" else legs_word_value(words["rho_max"], "rho_max", source)
         data["legs"] = legs
         data.update({"phi": v["phi1"]} if v["phi1"] == v["phi2"] else {"phi_range": [v["phi1"], v["phi2"]]})
         return cls.parse(data, source)
@@ -131,10 +133,10 @@ class Rpr3(Mechanism):
             t1, t2, t3, k = self.similar
             text = describe_fields(self.kind, {"t1": t1, "t2": t2, "t3": t3, "k": k})
         else:
-            text = self.kind + "".join(f" B{i + 1}={_pair(p)}" for i, p in enumerate(self.base))
-            text += "".join(f" P{i + 1}={_pair(p)}" for i, p in enumerate(self.platform))
-        text += f" rho_min={_legs_text(self.rho_min)}"
-        text += " rho_max=auto" if self.rho_max is None else f" rho_max={_legs_text(self.rho_max)}"
+            text = self.kind + "".join(f" B{i + 1}={pair_word(p)}" for i, p in enumerate(self.base))
+            text += "".join(f" P{i + 1}={pair_word(p)}" for i, p in enumerate(self.platform))
+        text += f" rho_min={values_word(self.rho_min)}"
+        text += " rho_max=auto" if self.rho_max is None else f" rho_max={values_word(self.rho_max)}"
         return text + f" phi1={float(self.phi_range[0])!r} phi2={float(self.phi_range[1])!r}"
 
     def spaces(self) -> dict[str, Space]:
@@ -241,38 +243,12 @@ def workspace_root(m: Rpr3) -> tuple[tuple[float, float], tuple[float, float]] |
 
     Leg i reaches X only within rho_max_i of C_i(phi) = B_i - R(phi) P_i, and C_i runs along an
     arc of radius |P_i| about B_i: the box is the intersection over the legs of each arc's
-    bounding box widened by rho_max_i, padded for rounding and rounded outward to a dyadic step
-    (so that libm differences in the last bit do not move it). None when unbounded or empty.
+    bounding box widened by rho_max_i (`numerics.platform.root_box`). None when unbounded or empty.
     """
     _, rho_max = m.leg_limits()
     if not all(math.isfinite(r) for r in rho_max):
         return None
-    a1, a2 = (to_radians(p, m.phi_range[0]) for p in m.phi_range)
-    boxes = []
-    for (bx, by), (px, py), rmax in zip(m.base, m.platform, rho_max):
-        r = math.hypot(px, py)
-        start = math.atan2(py, px) + math.pi
-        xs, ys = _arc_extent(start + a1, start + a2)
-        boxes.append((bx + r * xs[0] - rmax, bx + r * xs[1] + rmax, by + r * ys[0] - rmax, by + r * ys[1] + rmax))
-    xlo, xhi = max(b[0] for b in boxes), min(b[1] for b in boxes)
-    ylo, yhi = max(b[2] for b in boxes), min(b[3] for b in boxes)
-    if not (xlo < xhi and ylo < yhi):
-        return None
-    scale = max(abs(v) for b in boxes for v in b) + max(rho_max)
-    pad = 1e-9 * scale
-    step = 2.0 ** (math.floor(math.log2(max(xhi - xlo, yhi - ylo))) - 10)
-    return tuple((math.floor((lo - pad) / step) * step, math.ceil((hi + pad) / step) * step)
-                 for lo, hi in ((xlo, xhi), (ylo, yhi)))
-
-
-def _arc_extent(t1: float, t2: float) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Ranges of cos t and sin t over [t1, t2] (radians), from the ends and the extrema inside."""
-    c = [math.cos(t1), math.cos(t2)]
-    s = [math.sin(t1), math.sin(t2)]
-    for k in range(math.ceil(t1 / (0.5 * math.pi)), math.floor(t2 / (0.5 * math.pi)) + 1):
-        c.append(math.cos(k * 0.5 * math.pi))
-        s.append(math.sin(k * 0.5 * math.pi))
-    return (min(c), max(c)), (min(s), max(s))
+    return platform_geometry.root_box(m.base, m.platform, rho_max, m.phi_range)
 
 
 # ---------------------------------------------------------------- exact volumes (similar form)
@@ -343,8 +319,8 @@ def _parse(cls, data: Mapping, source: str) -> Rpr3:
     base_map = schema.mapping(data, "base", source)
     if any(k in base_map for k in ("B1", "B2", "B3")):
         schema.check_keys(base_map, {"B1", "B2", "B3"}, {"B1", "B2", "B3"}, source, "base.")
-        base = tuple(point(base_map[f"B{i}"], source, f"base.B{i}") for i in (1, 2, 3))
-        _distinct(base, source, "base", "B")
+        base = tuple(schema.point(base_map[f"B{i}"], source, f"base.B{i}") for i in (1, 2, 3))
+        schema.distinct_points(base, source, "base", "B")
         if "k" in data:
             raise schema.ConfigError(source, "k", "only with base: {t1, t2, t3} (the similar form); with base "
                                      "points give platform: {P1, P2, P3}")
@@ -368,7 +344,7 @@ def _parse(cls, data: Mapping, source: str) -> Rpr3:
             platform, similar = _general_platform(data, source, allow_t=True), None
 
     rho_min, rho_max = _legs(data, source, similar is not None, why)
-    phi_range, field = _orientations(data, source)
+    phi_range, field = schema.orientations(data, source)
     lo, hi = phi_range
     if similar is not None and reaches_singular_orientation(lo, hi):
         what = f"{list(phi_range)} contains" if lo != hi else f"{lo!r} is"
@@ -383,22 +359,6 @@ def _parse(cls, data: Mapping, source: str) -> Rpr3:
     return m
 
 
-def point(value, source: str, field: str) -> Point:
-    """A point [x, y] of two numbers."""
-    if not isinstance(value, list) or len(value) != 2:
-        raise schema.ConfigError(source, field, f"expected a point [x, y], got {schema.kind_of(value)} "
-                                 f"{schema.short(value)}")
-    return (schema.number(value[0], source, f"{field}[0]"), schema.number(value[1], source, f"{field}[1]"))
-
-
-def _distinct(points, source: str, field: str, letter: str) -> None:
-    scale = max(abs(v) for p in points for v in p) or 1.0
-    for i in range(3):
-        for j in range(i + 1, 3):
-            if math.dist(points[i], points[j]) <= 1e-12 * scale:
-                raise schema.ConfigError(source, field, f"{letter}{i + 1} and {letter}{j + 1} coincide")
-
-
 def _general_platform(data: Mapping, source: str, allow_t: bool) -> tuple[Point, Point, Point]:
     """Platform points in the platform frame: {P1, P2, P3} as given, or (with a t-form base)
     {t4, t5, t6} (not similar to the base) with the frame at the platform centroid."""
@@ -411,8 +371,8 @@ def _general_platform(data: Mapping, source: str, allow_t: bool) -> tuple[Point,
         pts = tuple((x - g[0], y - g[1]) for x, y in pts)
     else:
         schema.check_keys(platform, {"P1", "P2", "P3"}, {"P1", "P2", "P3"}, source, "platform.")
-        pts = tuple(point(platform[f"P{i}"], source, f"platform.P{i}") for i in (1, 2, 3))
-    _distinct(pts, source, "platform", "P")
+        pts = tuple(schema.point(platform[f"P{i}"], source, f"platform.P{i}") for i in (1, 2, 3))
+    schema.distinct_points(pts, source, "platform", "P")
     return pts
 
 
@@ -478,58 +438,3 @@ def _leg_values(value, source: str, field: str, **checks) -> Legs:
         return tuple(schema.number(v, source, f"{field}[{i}]", **checks) for i, v in enumerate(value))
     v = schema.number(value, source, field, **checks)
     return (v, v, v)
-
-
-def _orientations(data: Mapping, source: str) -> tuple[tuple[float, float], str]:
-    if ("phi" in data) == ("phi_range" in data):
-        raise schema.ConfigError(source, "phi", "give exactly one of 'phi' (degrees) or 'phi_range: [phi1, phi2]'")
-    if "phi" in data:
-        phi = schema.number(data["phi"], source, "phi")
-        phi_range, field = (phi, phi), "phi"
-    else:
-        raw = data["phi_range"]
-        if not isinstance(raw, list) or len(raw) != 2:
-            raise schema.ConfigError(source, "phi_range", f"expected a list [phi1, phi2], got {raw!r}")
-        phi_range = (schema.number(raw[0], source, "phi_range[0]"), schema.number(raw[1], source, "phi_range[1]"))
-        field = "phi_range"
-        if phi_range[0] > phi_range[1]:
-            raise schema.ConfigError(source, field, f"phi1 must not exceed phi2, got {list(phi_range)}")
-    if max(abs(p) for p in phi_range) > PHI_LIMIT:
-        raise schema.ConfigError(source, field, f"orientations must be within +-{PHI_LIMIT:g} degrees")
-    return phi_range, field
-
-
-# ---------------------------------------------------------------- description words
-
-
-def _pair(p: Point) -> str:
-    return f"{float(p[0])!r},{float(p[1])!r}"
-
-
-def _legs_text(values: Legs) -> str:
-    if len(set(values)) == 1:
-        return repr(float(values[0]))
-    return ",".join(repr(float(v)) for v in values)
-
-
-def _numbers(word: str | None, count: int, key: str, source: str) -> list[float]:
-    if word is None:
-        raise schema.ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
-    try:
-        values = [float(v) for v in word.split(",")]
-    except ValueError:
-        raise schema.ConfigError(source, "mechanism", f"bad value {key}={word!r}") from None
-    if len(values) != count:
-        raise schema.ConfigError(source, "mechanism", f"{key}= needs {count} comma-separated numbers, got {word!r}")
-    return values
-
-
-def _legs_word(word: str | None, key: str, source: str):
-    if word is None:
-        raise schema.ConfigError(source, "mechanism", f"missing {key}= in the mechanism description")
-    values = _numbers(word, len(word.split(",")), key, source)
-    if len(values) == 1:
-        return values[0]
-    if len(values) != 3:
-        raise schema.ConfigError(source, "mechanism", f"{key}= needs 1 or 3 numbers, got {word!r}")
-    return values

@@ -1,0 +1,157 @@
+"""The 3-RRR's aspects in one space of poses: the `PoseAspectModel` of `Rrr3`.
+
+A configuration is a pose and a working mode (the elbow signs, which the IKP chooses), so the
+classes are working mode x sign of det A (16, or 2 with `working_mode:` set), grouped in one sheet
+per working mode: a pose has a class in each sheet. An aspect is a connected component of the
+valid poses (every leg strictly inside its annulus: no serial singularity) of one working mode
+with det A of one sign (no parallel singularity). The joints are the actuated angles theta1..3 in
+degrees (a 3-torus); the direct kinematic problem is |C_i(pose) - B_i(theta_i)|^2 - l2_i^2 = 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fivebar_cli.mechanisms.base import SignClass
+from fivebar_cli.mechanisms.rrr3 import boxtests
+from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
+from fivebar_cli.mechanisms.rrr3.jointspace import JOINT_AXES
+from fivebar_cli.numerics import interval as iv
+from fivebar_cli.numerics.interval import Interval
+
+OUTSIDE = -2  # a DKP solution certified in a working mode the model leaves out (`working_mode:` set)
+
+
+class Rrr3PoseAspects:
+    """`PoseAspectModel` of a 3-RRR (mechanisms/base.py), with one sheet per working mode."""
+
+    space = "workspace"
+    singularity_name = "det_a"
+
+    def __init__(self, m):
+        self.m = m
+        self.g = Geometry.of(m)
+        self.modes = m.working_modes
+        self.sheets = tuple(SignClass((("working_mode", w),)) for w in self.modes)
+        self.classes = tuple(SignClass((("working_mode", w), ("det_sign", s))) for w in self.modes for s in "+-")
+        self.joint_axes = JOINT_AXES
+        self.length_scale = self.g.eta / boxtests.ETA_REL
+
+    def _signs(self, k: int) -> tuple[int, int, int]:
+        return signs_of(self.modes[k // 2])
+
+    def class_test(self, k: int):
+        signs, want = self._signs(k), 1 if k % 2 == 0 else -1
+        return lambda lo, hi: boxtests.class_status(self.g, signs, want, lo, hi)
+
+    def valid_test(self):
+        return lambda lo, hi: boxtests.valid_status(self.g, lo, hi)
+
+    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
+        lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+        valid = boxtests.valid_status(self.g, lo, hi) == 1
+        sign = boxtests.det_sign(self.g, signs_of(self.modes[sheet]), lo, hi, valid)
+        return np.where(sign > 0, 2 * sheet, np.where(sign < 0, 2 * sheet + 1, -1)).astype(np.int64)
+
+    def valid(self, poses: np.ndarray) -> np.ndarray:
+        d, _ = self.g.legs_and_arms(np.atleast_2d(np.asarray(poses, float)))
+        rho = np.hypot(d[..., 0], d[..., 1])
+        return np.all((rho > self.g.inner) & (rho < self.g.outer), axis=1)
+
+    def ikp(self, poses: np.ndarray, k: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        poses = np.atleast_2d(np.asarray(poses, float))
+        theta = boxtests.joint_angles(self.g, poses, self._signs(k))
+        return theta, np.all(np.isfinite(theta), axis=1)
+
+    def singularity(self, poses: np.ndarray, k: int = 0) -> np.ndarray:
+        """det A in class k's working mode, floating point (0 on a parallel singularity)."""
+        return boxtests.det_a(self.g, np.atleast_2d(np.asarray(poses, float)), self._signs(k))
+
+    def dkp_system(self, joints: np.ndarray) -> "DistalSystem":
+        return DistalSystem(self, np.asarray(joints, float))
+
+    def sketch(self, poses: np.ndarray, classes=0) -> dict[str, np.ndarray]:
+        """Base triangle, platform triangles, and the proximal and distal links of each pose in its
+        class's working mode (`classes`: one class, or one per pose)."""
+        poses = self.g.poses(np.atleast_2d(np.asarray(poses, float)))
+        classes = np.broadcast_to(np.asarray(classes), (len(poses),))
+        d, _ = self.g.legs_and_arms(poses)
+        platform = self.g.base[None] + d
+        elbows = np.empty_like(platform)
+        for k in np.unique(classes):
+            at = classes == k
+            elbows[at] = boxtests.elbows(self.g, poses[at], self._signs(max(int(k), 0)))
+        base = np.broadcast_to(self.g.base, platform.shape)
+        links = np.concatenate([np.stack([base, elbows], 2), np.stack([elbows, platform], 2)], axis=1)
+        return {"base": self.g.base, "platform": platform, "links": links}
+
+
+class DistalSystem:
+    """|e_i(x, y, phi)|^2 - l2_i^2 = 0 with e_i = C_i(pose) - B_i(theta_i) (phi, theta in degrees):
+    the poses with actuated angles theta (`PoseSystem`). The Jacobian's rows are
+    2 (e_ix, e_iy, (q_i x e_i) pi / 180): twice A's rows, phi in degrees, so it is singular exactly
+    where det A = 0. Its solutions' class follows from the joints: the working mode is the sign of
+    (B_i - A_i) x e_i, certified with det A's sign over each solution's box."""
+
+    def __init__(self, model: Rrr3PoseAspects, theta: np.ndarray):
+        self.model, self.g, self.theta = model, model.g, theta
+        t = np.radians(theta)
+        self.elbows = self.g.base + self.g.l1[:, None] * np.column_stack([np.cos(t), np.sin(t)])
+        arm = [Interval.point(theta[i]) * _D2R for i in range(3)]
+        self.arm = [(iv.cos(a) * float(self.g.l1[i]), iv.sin(a) * float(self.g.l1[i])) for i, a in enumerate(arm)]
+
+    def _distal(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        d, q = self.g.legs_and_arms(np.atleast_2d(poses))
+        return d + self.g.base[None] - self.elbows[None], q
+
+    def values(self, poses: np.ndarray) -> np.ndarray:
+        e, _ = self._distal(poses)
+        return np.sum(e * e, axis=-1) - self.g.l2 ** 2
+
+    def jacobian(self, poses: np.ndarray) -> np.ndarray:
+        e, q = self._distal(poses)
+        moment = q[..., 0] * e[..., 1] - q[..., 1] * e[..., 0]
+        return 2.0 * np.concatenate([e, (moment * D2R)[..., None]], axis=-1)
+
+    def _columns(self, lo: np.ndarray, hi: np.ndarray):
+        """Interval e_x, e_y, q x e and the arms u_i = B_i - A_i over boxes of poses."""
+        lo, hi = self.g.poses(lo), self.g.poses(hi)
+        x, y, phi = (Interval(lo[:, k], hi[:, k]) for k in range(3))
+        t0 = (phi - self.g.shift) * _D2R
+        ex, ey, mm = [], [], []
+        for i in range(3):
+            radius, angle, *_ = self.g.constants(i)
+            t = t0 + angle
+            qx, qy = iv.cos(t) * radius, iv.sin(t) * radius
+            ux, uy = self.arm[i]
+            ex.append(x + qx - ux - float(self.g.base[i, 0]))
+            ey.append(y + qy - uy - float(self.g.base[i, 1]))
+            mm.append(qx * ey[i] - qy * ex[i])
+        return ex, ey, mm
+
+    def enclosure(self, lo: np.ndarray, hi: np.ndarray):
+        ex, ey, mm = self._columns(lo, hi)
+        f = [iv.sqr(ex[i]) + iv.sqr(ey[i]) - iv.sqr(Interval.point(self.g.l2[i])) for i in range(3)]
+        rows = [[ex[i] * 2.0, ey[i] * 2.0, mm[i] * (_D2R * 2.0)] for i in range(3)]
+        j_lo = np.stack([np.stack([v.lo for v in row], -1) for row in rows], 1)
+        j_hi = np.stack([np.stack([v.hi for v in row], -1) for row in rows], 1)
+        return np.stack([v.lo for v in f], -1), np.stack([v.hi for v in f], -1), j_lo, j_hi
+
+    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """The class certified over each box of poses with these joints; -1 where a sign is not
+        certified, OUTSIDE where the working mode is one the model leaves out."""
+        ex, ey, mm = self._columns(lo, hi)
+        signs = []
+        for i in range(3):
+            ux, uy = self.arm[i]
+            cross = ux * ey[i] - uy * ex[i]
+            signs.append(np.where(cross.lo > 0, 1, np.where(cross.hi < 0, -1, 0)))
+        det = boxtests._det3(*([ex[i], ey[i], mm[i]] for i in range(3)))
+        det_sign = np.where(det.lo > 0, 0, np.where(det.hi < 0, 1, -1))
+        out = np.full(len(det_sign), -1, np.int64)
+        for k, (s1, s2, s3) in enumerate(zip(*signs)):
+            if 0 in (s1, s2, s3) or det_sign[k] < 0:
+                continue
+            mode = "".join("+" if s > 0 else "-" for s in (s1, s2, s3))
+            out[k] = 2 * self.model.modes.index(mode) + det_sign[k] if mode in self.model.modes else OUTSIDE
+        return out
