@@ -480,7 +480,7 @@ def verify(mech, depth: int = 14) -> Study:
     >>> fb.rpr3.verify("rpr3-verify/table1-legs-1-1.5").rows()[0]["status"]
     'certified singularity-free'
     """
-    from fivebar_cli.mechanisms.rpr3.verify import SINGULAR, UNDECIDED, verify as run
+    from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify as run
 
     m = bounded(mech)
     result = run(m, depth)
@@ -491,15 +491,16 @@ def verify(mech, depth: int = 14) -> Study:
              f"  {result.status} (depth {result.depth} of {result.max_depth}, {result.evaluations} boxes tested)"]
     pose, counterexample, drawings = result.pose, None, ()
     if result.status == SINGULAR:
-        notes.append(f"  singular pose: x = {pose.x:.12g}, y = {pose.y:.12g}, phi = {pose.phi:.12g} deg, legs "
-                     f"{', '.join(f'{v:.12g}' for v in pose.legs)}, det J = {pose.det_j:.3g}")
-        counterexample = Table("Singular pose", COUNTEREXAMPLE_HEADER, ((pose.x, pose.y, pose.phi, *pose.legs,
-                                                                          pose.det_j),))
+        x, y, phi = (*pose.pose, m.phi_range[0])[:3]  # one orientation: the pose is (x, y)
+        notes.append(f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
+                     f"{', '.join(f'{v:.12g}' for v in pose.joints)}, det J = {pose.value:.3g}")
+        counterexample = Table("Singular pose", COUNTEREXAMPLE_HEADER, ((x, y, phi, *pose.joints, pose.value),))
 
         def pose_figure():
             from fivebar_cli.plotting.rpr3 import figure_pose
 
-            return figure_pose(m, pose, f"{m.name}: a reachable singular pose (det J = {pose.det_j:.2g})")
+            return figure_pose(m, (x, y, phi), pose.joints, f"{m.name}: a reachable singular pose (det J = "
+                               f"{pose.value:.2g})")
 
         drawings = (("counterexample.png", pose_figure),)
     if result.status == UNDECIDED:

@@ -24,7 +24,10 @@ from fivebar_cli.cli.examples import examples
 from fivebar_cli.cli.kratio import kratio
 from fivebar_cli.cli.locate import locate
 from fivebar_cli.cli.path import path
-from fivebar_cli.cli.pose_aspects import dkp, joints_dkp, pose_aspects, pose_locate, pose_path
+from fivebar_cli.cli.dkp import dkp, joints_dkp
+from fivebar_cli.cli.pose_aspects import pose_aspects
+from fivebar_cli.cli.pose_locate import pose_locate
+from fivebar_cli.cli.pose_path import pose_path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
 from fivebar_cli.cli.rpr3_octree import pave_cmd as rpr3_pave
