@@ -324,7 +324,7 @@ def test_refine_resumes_a_constrained_paving_with_a_limited_axis(tmp_path):
 
 def test_view_and_figures_mark_obstacles_and_limits(tmp_path):
     from fivebar_cli.analyses.view import gather
-    from fivebar_cli.view.page import page_data
+    from fivebar_cli.webpage.page import page_data
 
     config = tmp_path / "lim.yaml"
     config.write_text("name: lim\ntype: fivebar\nlengths: {L0: 9, L1: 8, L2: 5, L3: 5, L4: 8}\n"

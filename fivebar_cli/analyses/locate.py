@@ -110,7 +110,7 @@ def configurations(m: Mechanism, point, space: str, label: str = "") -> list[Con
         signs = ["0" if abs(x) <= tol else ("+" if x > 0 else "-") for x in values]
         out.append(Configuration(label, np.asarray(joints, float), np.asarray(pose, float),
                                  "".join(signs[:-1]), signs[-1]))
-    if out and getattr(m, "constraints", None):
+    if out and m.constraints:
         labels = m.violated_constraints(np.array([c.joints for c in out]), np.array([c.pose for c in out]))
         out = [replace(c, violates="; ".join(names)) for c, names in zip(out, labels)]
     return out
@@ -145,7 +145,7 @@ def row(m: Mechanism, c: Configuration, aspect: Aspect | None, index: int) -> di
         "singular": "; ".join(singularities(m.aspect_model(), c)),
         "aspect_certified": None if aspect is None else aspect.certified,
     }
-    return {**out, "violates": c.violates} if getattr(m, "constraints", None) else out
+    return {**out, "violates": c.violates} if m.constraints else out
 
 
 def _joint_key(space: Space, joints: np.ndarray) -> np.ndarray:

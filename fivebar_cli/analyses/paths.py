@@ -33,6 +33,7 @@ from fivebar_cli.analyses.locate import (
     UNDECIDED, YES, Configuration, Verdict, configurations, decide, deeper, holders, mode_verdict,
 )
 from fivebar_cli.errors import FivebarError, InputError
+from fivebar_cli.io.files import csv_text
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.engine import pave
 from fivebar_cli.paving.tree import Tree
@@ -76,6 +77,29 @@ class PathResult:
     @property
     def length(self) -> float:
         return float(np.sum(np.hypot(*np.diff(self.unwrapped(), axis=0).T)))
+
+
+def path_columns(m: Mechanism) -> tuple[str, ...]:
+    """The columns of `path.csv`: the joint axes, then the workspace axes (theta1,theta2,x,y)."""
+    return tuple(a.name for s in ("jointspace", "workspace") for a in m.spaces()[s].axes)
+
+
+def path_points(result: "PathResult") -> np.ndarray:
+    """The rows of `path.csv` as numbers: joints then pose of each waypoint."""
+    return np.hstack([result.joints, result.poses])
+
+
+def exact_text(value: float) -> str:
+    """A float in its shortest form that reads back exactly (so the file holds the checked path)."""
+    v = float(value)
+    if v != v:
+        return ""
+    return "0" if v == 0 else repr(v)
+
+
+def path_csv(columns, points) -> str:
+    """`path.csv`: one row per waypoint, exact shortest floats (a pose the DKP did not give: empty)."""
+    return csv_text(list(columns), [[exact_text(v) for v in row] for row in points])
 
 
 # ---------------------------------------------------------------- endpoints
@@ -217,8 +241,8 @@ def _why_not(m: Mechanism, depth: int, start: Configuration, end: Configuration,
                                   f"and {end.label}", depth, deeper(depth, max_depth))
     if aspects is None:
         aspects = analyse_aspects(m, depth, shapes=False).aspects
-    verdict = decide(m.aspect_model(), aspects, start, end, depth, getattr(m, "is_interval", False), max_depth,
-                     offer_serial=True, constrained=bool(getattr(m, "constraints", None)))
+    verdict = decide(m.aspect_model(), aspects, start, end, depth, m.is_interval, max_depth,
+                     offer_serial=True, constrained=bool(m.constraints))
     if verdict.answer != YES:
         return verdict
     return Verdict(UNDECIDED, f"{verdict.reason}, so a singularity-free motion joins them, but no chain of certified "

@@ -82,7 +82,7 @@ def qt_fields(m: Mechanism, space: str, colour: str, procedure: str, evaluations
 
 def has_band(m: Mechanism) -> bool:
     """Whether the mechanism's pavings have an uncertain band (interval parameters)."""
-    return bool(getattr(m, "is_interval", False))
+    return bool(m.is_interval)
 
 
 def write_paving(folder: Path, m: Mechanism, space: str, paving: Paving, procedure: str,

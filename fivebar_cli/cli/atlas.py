@@ -5,16 +5,17 @@ from __future__ import annotations
 import dataclasses
 import os
 import time
-from contextlib import nullcontext
 
 import click
 
 from fivebar_cli.analyses.atlas.engine import compute_plan, in_process, plan_atlas
-from fivebar_cli.analyses.atlas.parts import ATLAS_CSV, read_table
+from fivebar_cli.api.calls import atlas_runner
+from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
 from fivebar_cli.analyses.atlas.cluster import check_address
 from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
+from fivebar_cli.cli.numbers import Number
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, Number, common_options, figure, plural, prepare_out, progress, report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, figure, plural, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.io.outputs import output_set
 
@@ -83,7 +84,7 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
            f"{plural(plan.batches, 'batch', 'batches')} of {spec.batch_size}: {plan.batches - len(plan.todo)} done "
            f"before, {len(plan.todo)} to compute")
     start = time.monotonic()
-    with _runner(workers, scheduler, len(plan.todo)) as runner:
+    with atlas_runner(workers, scheduler, len(plan.todo)) as runner:
         if plan.todo and runner is not in_process:
             connected = runner.workers
             report(quiet, f"  on {runner.where} ({plural(connected, 'worker')} connected"
@@ -92,8 +93,7 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
             compute_plan(plan, runner, advance)
     seconds = time.monotonic() - start
     with output_set(folder, "atlas", (ATLAS_CSV, "atlas.png"), "fivebar atlas"):
-        path = plan.parts.assemble(folder / ATLAS_CSV)
-        table = read_table(path)
+        path, table = plan.parts.assemble(folder / ATLAS_CSV)
         paths = [path]
         if not no_plot and spec.swept:
             from fivebar_cli.plotting.atlas import figure_atlas
@@ -117,17 +117,3 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
 def _certified(table: dict, column: str) -> int:
     """Designs that can be assembled and whose count in `column` is certified."""
     return sum(a == "true" and c == "true" for a, c in zip(table["assemblable"], table[column]))
-
-
-def _runner(workers: int | None, scheduler: str | None, needed: int):
-    """The context of a runner: in this process, a local Dask cluster (no more workers than the
-    `needed` batches), or an existing one."""
-    if scheduler is not None and needed:
-        from fivebar_cli.analyses.atlas.cluster import existing_cluster
-
-        return existing_cluster(scheduler)
-    if workers and needed:
-        from fivebar_cli.analyses.atlas.cluster import local_cluster
-
-        return local_cluster(min(workers, needed))
-    return nullcontext(in_process)

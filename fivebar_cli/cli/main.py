@@ -16,16 +16,24 @@ import warnings
 
 import click
 
-from fivebar_cli import __version__
-from fivebar_cli.cli.aspects import aspects, locate
+from fivebar_cli.version import __version__
+from fivebar_cli.cli.aspects import aspects
 from fivebar_cli.cli.atlas import atlas
 from fivebar_cli.cli.dispatch import ByKind
+from fivebar_cli.cli.examples import examples
 from fivebar_cli.cli.kratio import kratio
+from fivebar_cli.cli.locate import locate
 from fivebar_cli.cli.path import path
-from fivebar_cli.cli.pose_aspects import dkp, joints_dkp, pose_aspects, pose_locate, pose_path
+from fivebar_cli.cli.dkp import dkp, joints_dkp
+from fivebar_cli.cli.pose_aspects import pose_aspects
+from fivebar_cli.cli.pose_locate import pose_locate
+from fivebar_cli.cli.pose_path import pose_path
 from fivebar_cli.cli.reproduce import reproduce
 from fivebar_cli.cli.rpr3 import rpr3
-from fivebar_cli.cli.spaces import diff, jointspace, refine, workspace
+from fivebar_cli.cli.rpr3_octree import pave_cmd as rpr3_pave
+from fivebar_cli.cli.rpr3_octree import verify_cmd as rpr3_verify
+from fivebar_cli.cli.refine import diff, refine
+from fivebar_cli.cli.spaces import jointspace, workspace
 from fivebar_cli.cli.tolerance import tolerance
 from fivebar_cli.cli.verify import verify_cmd
 from fivebar_cli.cli.view import view
@@ -55,10 +63,11 @@ def cli() -> None:
     """
 
 
-rpr3.add_command(dkp)  # `fivebar dkp` under its 3-RPR name, with --legs
+for command in (rpr3_pave, rpr3_verify, dkp):  # dkp: `fivebar dkp` under its 3-RPR name, with --legs
+    rpr3.add_command(command)
 for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(locate, pose_locate),
                 ByKind(path, pose_path), joints_dkp, verify_cmd, atlas, kratio, refine, diff, tolerance, view, rpr3,
-                reproduce):
+                reproduce, examples):
     cli.add_command(command)
 
 

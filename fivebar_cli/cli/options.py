@@ -1,8 +1,10 @@
-"""Pieces shared by the click commands: common options, progress bars, reporting, figures."""
+"""The registry of the options the commands share (`-o`, `--quiet`, `--no-plot`: `common_options`;
+`--depth`, `--tolerance`, `--budget`; a new shared option is one function here, as rasterio's
+`rio/options.py`), and what every command does around its one library call: the output folder,
+progress bars, reporting, figures off screen. Command-line numbers and angles: `numbers.py`."""
 
 from __future__ import annotations
 
-import math
 import sys
 import time
 from contextlib import contextmanager
@@ -11,7 +13,8 @@ from typing import Iterator
 
 import click
 
-from fivebar_cli.io.files import check_writable_dir, save_figure
+from fivebar_cli.cli.numbers import Number
+from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
 
@@ -57,6 +60,20 @@ def refuse_stdout(out: Path | None, what: str) -> None:
                                "(./- for a folder named '-')")
 
 
+@contextmanager
+def option_errors(**flags: str) -> Iterator[None]:
+    """A library InputError on one of `flags`' fields (`range="--range"`) becomes click's usage
+    error on that option: the library names its arguments, the command line its options."""
+    from fivebar_cli.errors import InputError
+
+    try:
+        yield
+    except InputError as exc:
+        if exc.source or exc.field not in flags:
+            raise
+        raise click.BadParameter(exc.message, param_hint=flags[exc.field]) from None
+
+
 def depth_option(default: int = 10, limit: int = MAX_DEPTH):
     return click.option("--depth", "-d", type=click.IntRange(0, limit), default=default, show_default=True,
                         help=f"Maximum depth d of the tree (cells are root/2^d wide; 0..{limit}).")
@@ -81,15 +98,42 @@ def tolerance_option(func):
 
 
 def with_tolerance(m, tolerance: float, source):
-    """The mechanism with its lengths widened by `tolerance` (0: unchanged)."""
-    if tolerance == 0:
-        return m
-    if not hasattr(m, "widened"):
-        from fivebar_cli.io.schema import ConfigError
-        from fivebar_cli.mechanisms.base import article
+    """The mechanism with its lengths widened by `tolerance` (0: unchanged); the error names the option."""
+    from fivebar_cli.api.calls import widened
 
-        raise ConfigError(str(source), "--tolerance", f"{article(m.kind)} has no interval lengths")
-    return m.widened(tolerance, str(source))
+    return widened(m, tolerance, source, "--tolerance")
+
+
+def load_with_aspects(config_path, tolerance: float = 0.0):
+    """CONFIG's mechanism (widened by --tolerance), which must have working and assembly modes."""
+    from fivebar_cli.api.calls import load, with_aspects
+
+    return with_aspects(load(config_path, tolerance=tolerance, field="--tolerance"), config_path)
+
+
+def reuse_options(what: str):
+    """`-o DIR` (an earlier `aspects` run's folder to reuse) and `--csv` (`what` printed as CSV): locate's."""
+    def decorate(func):
+        func = click.option("--csv", "as_csv", is_flag=True, help=f"Print the {what} as CSV.")(func)
+        return click.option(
+            "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+            help="Folder of an earlier `aspects` run to reuse when it holds this mechanism at this depth "
+                 "[default: outputs/<config name>/]; otherwise the aspects are computed (nothing is written).",
+        )(func)
+    return decorate
+
+
+def budget_option(func=None, *, help: str | None = None):
+    """`--budget N`: box evaluations local refinement below --depth may spend (aspects, locate)."""
+    if func is None:
+        return lambda f: budget_option(f, help=help)
+    from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
+
+    return click.option(
+        "--budget", type=click.IntRange(0, None), default=DEFAULT_BUDGET, show_default=True,
+        help=help or ("Box evaluations that local refinement below --depth may spend to join or separate pieces "
+                      "(0: none; the count may then stay uncertified)."),
+    )(func)
 
 
 def prepare_out(out: Path | None, name: str, what: str = "several files") -> Path:
@@ -113,53 +157,20 @@ def wrote(quiet: bool, paths) -> None:
         report(quiet, f"  wrote {path}")
 
 
-def figure(make, path: Path) -> Path:
-    """Draw a figure with `make()`, save it atomically as PNG, free it. Names from the user's files
-    (in titles and legends) are drawn as written (`literal_texts`); a name whose `$...$` is not even
-    valid mathtext makes the figure be drawn again with every text literal but the axis labels."""
-    from fivebar_cli.plotting import pyplot
-
-    before = set(pyplot().get_fignums())
-    try:
-        return _save(make(), path)
-    except ValueError as exc:  # matplotlib's mathtext parser, on a `$` of a name
-        if "Parse" not in type(exc).__name__ + str(exc):
-            raise
-        for number in set(pyplot().get_fignums()) - before:
-            pyplot().close(number)  # the figure that failed to draw
+def offscreen() -> None:
+    """The command line draws off screen: it selects matplotlib's Agg backend (the library never does)."""
     import matplotlib
 
-    with matplotlib.rc_context({"text.parse_math": False}):
-        fig = make()
-    for ax in fig.axes:
-        for label in (ax.xaxis.label, ax.yaxis.label):
-            label.set_parse_math(True)  # the axis labels are ours (theta_1, rho_1, ...)
-    return _save(fig, path)
+    matplotlib.use("Agg")
 
 
-def _save(fig, path: Path) -> Path:
-    from fivebar_cli.plotting import pyplot
+def figure(make, path: Path) -> Path:
+    """Draw a figure with `make()` and save it atomically as PNG (`plotting.saving.draw_and_save`),
+    off screen."""
+    offscreen()
+    from fivebar_cli.plotting.saving import draw_and_save
 
-    try:
-        literal_texts(fig)
-        return save_figure(fig, path)
-    finally:
-        pyplot().close(fig)
-
-
-def literal_texts(fig) -> None:
-    """Titles, legends and notes are drawn as written, not as mathtext: they hold names from the
-    user's files, where `$` is a character (`$\\foo$` would otherwise fail to draw). Axis labels
-    and tick labels keep their mathtext (theta_1, 10^2)."""
-    texts = [fig._suptitle, *fig.texts]
-    for legend in [*fig.legends, *(ax.get_legend() for ax in fig.axes)]:
-        if legend is not None:
-            texts += [*legend.get_texts(), legend.get_title()]
-    for ax in fig.axes:
-        texts += [ax.title, ax._left_title, ax._right_title, *ax.texts]
-    for text in texts:
-        if text is not None:
-            text.set_parse_math(False)
+    return draw_and_save(make, path)
 
 
 @contextmanager
@@ -185,65 +196,3 @@ def progress(quiet: bool, length: int, label: str, unit: str | None = None) -> I
             bar.update(n, n)
 
         yield advance
-
-
-# ---------------------------------------------------------------- command-line numbers and angles
-
-NUMBER_LIMIT = 1e50  # command-line numbers are finite and at most this in magnitude, as numbers in YAML files
-ANGLE_LIMIT = 1e6  # radians: a motion's exact check counts whole turns with 2 pi to 40 digits (formats.md)
-
-
-class Number(click.ParamType):
-    """A finite number of magnitude at most NUMBER_LIMIT (`nan`, `inf`, `1e300` are refused), at
-    least `lo` when given: every number of the command line."""
-
-    name = "number"
-
-    def __init__(self, lo: float | None = None):
-        self.lo = lo
-
-    def convert(self, value, param, ctx):
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            self.fail(f"{value!r} is not a number", param, ctx)
-        if not math.isfinite(number) or abs(number) > NUMBER_LIMIT:
-            self.fail(f"{value!r} is not a finite number of magnitude at most {NUMBER_LIMIT:g}", param, ctx)
-        if self.lo is not None and number < self.lo:
-            self.fail(f"{value!r} is not >= {self.lo:g}", param, ctx)
-        return number
-
-
-class Degrees(float):
-    """A joint value given in degrees on the command line (`30deg`), held in radians."""
-
-
-class JointValue(Number):
-    """A joint value: a number (radians for an angle, a length for a prismatic leg), or an angle in
-    degrees with the suffix `deg` (`30deg`, `-45.5deg`), converted to radians (`Degrees`)."""
-
-    name = "number[deg]"
-
-    def convert(self, value, param, ctx):
-        text = str(value).strip()
-        if text.lower().endswith("deg"):
-            return Degrees(math.radians(super().convert(text[:-3], param, ctx)))
-        return super().convert(value, param, ctx)
-
-
-NUMBER, JOINT = Number(), JointValue()
-
-
-def check_joints(m, joints, source) -> None:
-    """Joint values given in degrees only for angles; angles at most ANGLE_LIMIT rad (InputError)."""
-    from fivebar_cli.errors import InputError
-
-    axes = m.spaces()["jointspace"].axes
-    for values in joints:
-        for axis, value in zip(axes, values):
-            if axis.unit != "rad" and isinstance(value, Degrees):
-                what = "a length" if not axis.unit else f"in {axis.unit}"
-                raise InputError(str(source), "--joints", f"{axis.name} is {what}, not an angle: drop the 'deg' suffix")
-            if axis.unit == "rad" and abs(value) > ANGLE_LIMIT:
-                raise InputError(str(source), "--joints", f"{axis.name} = {value:g} rad: angles must be at most "
-                                 f"{ANGLE_LIMIT:g} rad ({math.degrees(ANGLE_LIMIT):g} deg) in magnitude")

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import click
 
-from fivebar_cli.analyses.paths import Endpoint, find_path, resolve
-from fivebar_cli.cli.aspects import _load_with_aspects
+from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_csv, path_points, resolve
+from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
 from fivebar_cli.cli.options import (
-    CONFIG, JOINT, MAX_ASPECT_DEPTH, NUMBER, check_joints, common_options, depth_option, figure, prepare_out, report,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, load_with_aspects, prepare_out, report,
     wrote,
 )
 from fivebar_cli.errors import InputError
-from fivebar_cli.io.files import csv_text, write_text
+from fivebar_cli.io.files import write_text
 from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG
 from fivebar_cli.io.outputs import output_set
 
@@ -24,21 +24,6 @@ def _record_order(ctx, param, value):
     if value:
         ctx.meta.setdefault("path_order", []).append(param.name)
     return value
-
-
-def exact_text(value: float) -> str:
-    """A float in its shortest form that reads back exactly (so the file holds the checked path)."""
-    v = float(value)
-    if v != v:
-        return ""
-    return "0" if v == 0 else repr(v)
-
-
-def path_csv(result) -> str:
-    m = result.mechanism
-    names = [a.name for s in ("jointspace", "workspace") for a in m.spaces()[s].axes]
-    rows = [[exact_text(v) for v in (*j, *p)] for j, p in zip(result.joints, result.poses)]
-    return csv_text(names, rows)
 
 
 @click.command(short_help="A certified singularity-free motion between two configurations.")
@@ -91,7 +76,7 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     for name in order:
         for k, value in enumerate(values[name]):
             endpoints.append(Endpoint("pose", value, pose_modes[k]) if name == "poses" else Endpoint("joints", value))
-    m = _load_with_aspects(config_path)
+    m = load_with_aspects(config_path)
     check_joints(m, joints, config_path)
     if allow_serial and not hasattr(m.aspect_model(), "parallel_free_test"):
         raise InputError(str(config_path), "--allow-serial", f"a {m.kind} has no test for parallel singularities")
@@ -99,7 +84,7 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     start, end = resolve(m, endpoints, assembly_mode, str(config_path))
     result = find_path(m, depth, start, end, allow_serial, folder, max_depth=MAX_ASPECT_DEPTH)
     with output_set(folder, "path", PATH_FILES, "fivebar path"):  # one run's path.csv and path.png
-        paths = [write_text(folder / PATH_CSV, path_csv(result))]
+        paths = [write_text(folder / PATH_CSV, path_csv(path_columns(m), path_points(result)))]
         if not no_plot:
             from fivebar_cli.analyses.paths import component_of, workspace_backdrop
             from fivebar_cli.plotting.paths import figure_path

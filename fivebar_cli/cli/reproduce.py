@@ -62,8 +62,9 @@ FIGURE_STEPS = ("view",)  # commands that only draw: skipped with --no-plot (tab
 
 
 @click.command(short_help="Regenerate every table and figure of both papers.")
-@click.option("--configs", type=click.Path(file_okay=False, path_type=Path), default=Path("configs"),
-              show_default=True, help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml and rrr3-*.yaml cases.")
+@click.option("--configs", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml and rrr3-*.yaml cases [default: configs, or "
+                   "the shipped examples (fivebar examples) when ./configs does not exist].")
 @click.option("--out", "-o", type=click.Path(file_okay=False, path_type=Path), default=Path("outputs"),
               show_default=True, help="Output folder.")
 @click.option("--no-plot", is_flag=True, help="Skip the PNG figures and HTML pages (the tables and trees only).")
@@ -81,12 +82,16 @@ def reproduce(configs, out, no_plot, quiet):
     of it and of a Gosselin-Angeles-style design. The .qt and CSV files are
     deterministic: the tests diff them against tests/golden/ (make golden). --no-plot skips the
     figures and the pages. `fivebar reproduce` alone writes everything into outputs/ (under a
-    minute; what `make reproduce` runs).
+    minute; what `make reproduce` runs); outside the repository it reads the shipped examples.
 
     \b
     Example:
       fivebar reproduce -o out/check --no-plot
     """
+    if configs is None:
+        from fivebar_cli.api.calls import examples_folder
+
+        configs = Path("configs") if Path("configs").is_dir() else examples_folder()
     root = click.get_current_context().find_root().command
     flags = (["--no-plot"] if no_plot else []) + (["--quiet"] if quiet else [])
     for number, (what, args, *expected) in enumerate(REPRODUCTION, start=1):

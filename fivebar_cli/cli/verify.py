@@ -8,7 +8,7 @@ import click
 from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
 from fivebar_cli.analyses.pose_verify import EXIT, SINGULAR, UNDECIDED, verify
 from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
-from fivebar_cli.cli.pose_aspects import CONFIG, load_pose_kind, sheets_chosen
+from fivebar_cli.cli.poses import CONFIG, load_pose_kind, sheets_chosen
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.outputs import output_set
 

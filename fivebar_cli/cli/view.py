@@ -48,7 +48,7 @@ def view(paths, out, quiet):
 
     from fivebar_cli.analyses.view import gather  # imported here: other commands start without them
     from fivebar_cli.errors import FivebarWarning
-    from fivebar_cli.view.page import render_page, write_page
+    from fivebar_cli.webpage.page import render_page, write_page
 
     stdout = out is not None and str(out) == STDOUT and data_on_stdout(out)
     page = out if out is not None else default_page(paths[0])

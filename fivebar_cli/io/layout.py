@@ -10,6 +10,7 @@ in one of its runs.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from fivebar_cli.errors import InputError
@@ -76,10 +77,53 @@ DKP_CSV = "dkp.csv"
 DKP_PNG = "dkp.png"
 
 
+# The stems of the pavings of regions other than a space's own (`rpr3 pave`): region -> stem.
+REGION_STEMS = {"singularity-free det J > 0": "singularity-free.plus",
+                "singularity-free det J < 0": "singularity-free.minus"}
+
+
+def region_stem(space: str, region: str | None) -> str:
+    """The stem of a paving's files: the space's name for its own region (None), else the region's
+    stem (`singularity-free.plus`), else the region's name with every run of other characters
+    than letters, digits, '.' and '-' made one '-'."""
+    if region is None:
+        return space
+    return REGION_STEMS.get(region) or re.sub(r"[^A-Za-z0-9.-]+", "-", region).strip("-")
+
+
 def paving_files(stem: str) -> tuple[str, ...]:
     """The files of a paving written under `stem`: the trees, the summary, GeoJSON and figures."""
     return (f"{stem}.qt", f"{stem}{COMPLEMENT}", f"{stem}{BAND}", f"{stem}.csv", f"{stem}.geojson", f"{stem}.png",
             f"{stem}.complement.png")
+
+
+PAVE_SET = "rpr3-pave"  # the output set of `rpr3 pave` (and of `refine` of one of its pairs)
+VOLUMES_CSV = "volumes.csv"
+
+
+def pave_files() -> tuple[str, ...]:
+    """The files of an `rpr3 pave` run: three pairs (the workspace and its two singularity-free
+    regions), volumes.csv and the figures."""
+    stems = ("workspace", *REGION_STEMS.values())
+    return (*(f for stem in stems for f in paving_files(stem)), VOLUMES_CSV, "singularity-free.png")
+
+
+# The files of the 3-RPR studies (`rpr3 area | sweep | synthesize | verify`).
+AREA_FILES = ("area.csv", "singularity-free-workspace.png")
+SYNTHESIS_FILES = ("synthesis.csv", "table1-comparison.csv", "area-vs-phi-cases.png",
+                   "singularity-free-workspace-case2.png")
+VERIFY_FILES = ("verify.csv", "counterexample.csv", "counterexample.png")
+SWEEP_FILES = {  # sweep -> its table, then its figures in the order it draws them
+    "phi": ("area-vs-phi.csv", "area-vs-phi.png", "area-vs-small-phi.png", "area-vs-phi-optimal-rho-min.png",
+            "optimal-rho-min-vs-phi.png"),
+    "rho_min": ("area-vs-rho-min.csv", "area-vs-rho-min.png"),
+    "t2": ("area-vs-t2.csv", "area-vs-t2.png"),
+}
+
+
+def sweep_files(over: str) -> tuple[str, ...]:
+    """The table and figures of `rpr3 sweep --over OVER`."""
+    return SWEEP_FILES[over]
 
 
 # The output sets of the commands writing into a mechanism's folder (io.outputs): name -> owned files.

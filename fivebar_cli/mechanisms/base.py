@@ -156,6 +156,31 @@ class Mechanism:
         needs, or None when the kind has none."""
         return None
 
+    # Capabilities a kind may declare (the five-bar declares them all), asked instead of probed.
+    widens: ClassVar[bool] = False  # its lengths can be widened into intervals (`widened`)
+    constraints = ()  # its joint limits and obstacles (falsy: none)
+
+    @property
+    def is_interval(self) -> bool:
+        """Whether some parameter is an interval of positive width (robust analyses)."""
+        return False
+
+    def widened(self, tolerance: float, source: str) -> "Mechanism":
+        """Every length widened to [L - T, L + T] (a kind with `widens`)."""
+        raise NotImplementedError(f"{self.kind} has no interval lengths")
+
+    def nominal(self) -> "Mechanism":
+        """The mechanism with its nominal parameters (itself unless `is_interval`)."""
+        return self
+
+    def unconstrained(self) -> "Mechanism":
+        """The mechanism without its joint limits and obstacles (itself when it has none)."""
+        return self
+
+    def marks(self, space: str) -> list[dict]:
+        """What figures draw over a space: obstacles, joint limits (none by default)."""
+        return []
+
 
 def _while_parsing(parse):
     def parse_checked(cls, data, source="<config>", *args, **kwargs):

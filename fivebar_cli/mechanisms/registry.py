@@ -57,7 +57,11 @@ def parse(data: dict, source: str) -> Mechanism:
 def load_config(path: str | Path, kind: str | None = None, space: str | None = None) -> Mechanism:
     """Read and validate a mechanism file; with `kind` or `space`, require that kind or that space."""
     source = str(path)
-    mech = parse(read_yaml(path, source), source)
+    return check_kind(parse(read_yaml(path, source), source), source, kind, space)
+
+
+def check_kind(mech: Mechanism, source: str, kind: str | None = None, space: str | None = None) -> Mechanism:
+    """`mech`, when it is of `kind` and has `space` (each when given); ConfigError otherwise."""
     if kind is not None and mech.kind != kind:
         raise ConfigError(source, "type", f"this command needs {article(kind)} ('type: {kind}'), got {mech.kind!r}")
     if space is not None and space not in mech.spaces():

@@ -1,14 +1,12 @@
-"""Matplotlib figures of the analyses' results (imported lazily: only commands that plot load
-matplotlib, always with the Agg backend)."""
+"""Matplotlib figures of the analyses' results (imported lazily: only what plots loads matplotlib).
+The library never chooses the backend: the CLI selects Agg itself (`cli.options.figure`), and a
+notebook keeps its own."""
 
 from __future__ import annotations
 
 
 def pyplot():
-    """matplotlib.pyplot on the Agg backend (no display needed)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+    """matplotlib.pyplot, on whatever backend is in use."""
     import matplotlib.pyplot as plt
 
     return plt

@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from fivebar_cli.analyses.aspects import signs_text
+from fivebar_cli.paving.tree import Tree
 from fivebar_cli.plotting import pyplot
 from fivebar_cli.plotting.trees import BLACK, PALE, draw_layers
 
@@ -45,12 +46,31 @@ def _draw_shapes(ax, aspects) -> None:
 def _aspect_panel(ax, analysis, region, aspects, space: str, title: str) -> None:
     layers = [(region.paving.outside, PALE), (region.paving.undetermined_tree(), BLACK)]
     layers += [(a.workspace if space == "workspace" else a.jointspace, _aspect_colour(a.number)) for a in aspects]
-    marks = getattr(analysis.mechanism, "marks", lambda name: [])(space)
+    marks = analysis.mechanism.marks(space)
     draw_layers(ax, layers, analysis.mechanism.spaces()[space].axes, outline=[], marks=marks)
     if space == "workspace":
         _draw_shapes(ax, aspects)
     _label_aspects(ax, aspects, space)
     ax.set_title(title, fontsize=9)
+
+
+def draw_aspects(ax, m, aspects, space: str = "workspace") -> None:
+    """Aspects as (number, tree) on the caller's axes, each in its colour with its number (the
+    library's `Aspects.plot`); a 3-D space is shown by its slice at the middle of the last axis."""
+    from fivebar_cli.plotting.trees import slice_layers
+
+    s = m.spaces()[space]
+    layers, axes = slice_layers([(tree, _aspect_colour(number)) for number, tree in aspects], s)
+    if not layers:
+        layers = [(Tree.empty(s.grid(0)), PALE)]
+        layers, axes = slice_layers(layers, s)
+    draw_layers(ax, layers, axes, outline=[])
+    if s.dim == 2:
+        for number, tree in aspects:
+            if len(tree):
+                x, y = tree.centres()[int(np.argmin(tree.level))]
+                ax.annotate(str(number), (x, y), ha="center", va="center", fontsize=9, color="white",
+                            bbox={"boxstyle": "circle,pad=0.2", "fc": "0.15", "ec": "none", "alpha": 0.8})
 
 
 LEGEND_ROW = 0.17  # inches per legend row (7 pt)

@@ -38,7 +38,7 @@ def figure_path(result, component, backdrop):
     spaces = m.spaces()
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 6.2), dpi=100)
     grid = result.cells.grid
-    marks = getattr(m, "marks", lambda name: [])
+    marks = m.marks
     draw_layers(left, [(result.cells, CELLS), (component, CHANNEL)], spaces["jointspace"].axes, outline=[],
                 marks=marks("jointspace"))
     curve = wrapped(dense(result.unwrapped()), grid)

@@ -23,7 +23,7 @@ def figure_bands(study):
         layers = [(largest.outside.complement(), (0.88, 0.88, 0.88))]
         layers += [(study.pavings[tol, space].inside, c) for tol, c in zip(tolerances, colours)]
         draw_layers(ax, layers, study.mechanism.spaces()[space].axes, outline=[],
-                    marks=getattr(study.mechanism, "marks", lambda name: [])(space))
+                    marks=study.mechanism.marks(space))
         ax.set_title(f"{space}: robust region per tolerance", fontsize=10)
     handles = [Patch(facecolor=(0.88, 0.88, 0.88), label=f"possible at T = {tolerances[-1]:g}")]
     handles += [Patch(facecolor=c, label="nominal" if tol == 0 else f"robust at T = {tol:g}")

@@ -88,6 +88,24 @@ def draw_layers(ax, layers, axes, outline: list[Tree], marks=()) -> None:
     axes_labels(ax, axes)
 
 
+def slice_layers(layers, space: Space):
+    """2-D layers of a paving: the trees as they are, or a 3-D paving's slice at the middle of its
+    last axis (with the axes to label)."""
+    if space.dim == 2:
+        return layers, space.axes
+    last = space.axes[-1]
+    middle = 0.5 * (last.lo + last.hi)
+    return [(tree.slice(space.dim - 1, middle), colour) for tree, colour in layers], space.axes[:2]
+
+
+def draw_paving(ax, m, space: Space, paving) -> None:
+    """A paving on the caller's axes: inside black, undetermined red, outside grey, the uncertain
+    band amber, the constraints' marks blue (the library's `Paving.plot`)."""
+    layers = [(paving.band, AMBER), (paving.outside, PALE), (paving.inside, BLACK), (paving.undetermined_tree(), RED)]
+    layers, axes = slice_layers(layers, space)
+    draw_layers(ax, layers, axes, outline=[], marks=m.marks(space.name))
+
+
 def _legend(ax, legend) -> None:
     from matplotlib.patches import Patch
 

@@ -19,7 +19,7 @@ import time
 import warnings
 from pathlib import Path
 
-from fivebar_cli import __version__
+from fivebar_cli.version import __version__
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 from fivebar_cli.analyses.atlas.metrics import columns
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
@@ -155,24 +155,27 @@ class Parts:
             self.save()
         return write_text(self.path(index), text)
 
-    def assemble(self, target: Path) -> Path:
-        """`atlas.csv`: the header, then every part's rows in batch order (atomically, streamed)."""
+    def assemble(self, target: Path) -> tuple[Path, dict[str, list[str]]]:
+        """`atlas.csv`: the header, then every part's rows in batch order (atomically); with its table
+        (`table_of`: columns of text cells), from the same bytes."""
+        lines = [self.header]
 
         def write(tmp: Path) -> None:
             with open(tmp, "wb") as out:
                 out.write((self.header + "\n").encode())
                 for index in range(batch_count(self.spec)):
                     data = self.path(index).read_bytes()
-                    out.write(data[data.index(b"\n") + 1:])
+                    body = data[data.index(b"\n") + 1:]
+                    lines.extend(body.decode("utf-8").split("\n")[:-1])
+                    out.write(body)
                 out.flush()
                 os.fsync(out.fileno())
 
-        return atomic_write(target, write)
+        return atomic_write(target, write), table_of(lines)
 
 
-def read_table(path: Path) -> dict[str, list[str]]:
-    """`atlas.csv` as columns of text cells (header name -> cells in row order)."""
-    lines = Path(path).read_text(encoding="utf-8").split("\n")[:-1]
+def table_of(lines: list[str]) -> dict[str, list[str]]:
+    """Lines of `atlas.csv` (the header first) as columns of text cells (header name -> cells in row order)."""
     header = lines[0].split(",")
     cells = list(zip(*(line.split(",") for line in lines[1:]))) or [()] * len(header)
     return {name: list(column) for name, column in zip(header, cells)}

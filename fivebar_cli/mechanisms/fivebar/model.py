@@ -84,6 +84,8 @@ class FiveBar(Mechanism):
     def lengths(self) -> dict[str, float]:
         return {k: getattr(self, k) for k in LENGTHS}
 
+    widens = True  # Mechanism's capability: interval lengths (`widened`)
+
     @property
     def is_interval(self) -> bool:
         """Whether some length is an interval of positive width."""

@@ -35,7 +35,6 @@ from fivebar_cli.numerics import platform as platform_geometry
 
 SIMILAR_KEYS = ("t1", "t2", "t3", "k", "rho_min", "rho_max", "phi1", "phi2")
 GENERAL_KEYS = ("B1", "B2", "B3", "P1", "P2", "P3", "rho_min", "rho_max", "phi1", "phi2")
-REGION_FILES = {REACHABLE: "workspace", PLUS: "singularity-free.plus", MINUS: "singularity-free.minus"}
 FLAT_BASE = 1e7  # circumradius / longest side above which the closed forms refuse the base
 
 Point = tuple[float, float]

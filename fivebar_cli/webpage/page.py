@@ -23,7 +23,7 @@ PLACEHOLDER = re.compile(r"\{\{(title|style|script|data)\}\}")
 
 def asset(name: str) -> str:
     """The text of one of the page's files shipped with the package."""
-    return resources.files("fivebar_cli.view").joinpath(name).read_text(encoding="utf-8")
+    return resources.files("fivebar_cli.webpage").joinpath(name).read_text(encoding="utf-8")
 
 
 def tree_data(t: ViewTree) -> dict:

@@ -1,0 +1,15 @@
+"""The public Python API (`import fivebar_cli as fb`): the names of `__all__`, re-exported at the
+package's top on first use. Results are immutable values (`values.py`); the `fivebar` commands are
+this API's first client."""
+
+from fivebar_cli.api import rpr3
+from fivebar_cli.api.calls import aspects, atlas, examples, load, locate, path, pave, read_qt, refine, view
+from fivebar_cli.api.values import Aspect, Aspects, Location, Paving, Table
+from fivebar_cli.api.values import Path_ as Path
+from fivebar_cli.errors import FivebarError, InputError
+from fivebar_cli.mechanisms.base import Mechanism
+
+__all__ = [
+    "load", "pave", "refine", "read_qt", "aspects", "locate", "path", "atlas", "view", "examples", "rpr3",
+    "Mechanism", "Paving", "Aspects", "Aspect", "Location", "Path", "Table", "FivebarError", "InputError",
+]

@@ -1,0 +1,357 @@
+"""The public functions: a mechanism in, an immutable result out (`values.py`); the commands of
+`fivebar` call these too. Messages name the Python arguments (`tolerance`), never a command-line
+flag: the CLI passes its own names where it reports an error of its options."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+
+from fivebar_cli.api.values import Aspect, Aspects, Location, Path_, Paving, Table
+from fivebar_cli.errors import InputError
+from fivebar_cli.mechanisms.base import Mechanism, article
+
+DEFAULT_DEPTH = 10
+
+
+def examples() -> dict[str, Path]:
+    """The mechanisms of both papers shipped with the package, by name (`m1`, `m2`, `rpr3-caro`,
+    `rpr3-verify/table1-case1`, ...) -> the path of the YAML file (what `fivebar examples` lists)."""
+    root = examples_folder()
+    return {p.relative_to(root).with_suffix("").as_posix(): p for p in sorted(root.rglob("*.yaml"))}
+
+
+def examples_folder() -> Path:
+    """The folder of the shipped examples (the repository's configs/, as package data)."""
+    return Path(__file__).resolve().parent.parent / "examples"
+
+
+def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None,
+         field: str = "tolerance") -> Mechanism:
+    """A mechanism from a YAML file, a mapping with the same schema, or the name of a shipped example.
+
+    Parameters
+    ----------
+    source : str, Path or Mapping
+        A config file (`configs/m1.yaml`), a dict (`{"type": "fivebar", "name": "M1", ...}`) or an
+        example's name (`"m1"`, see `examples()`).
+    tolerance : float
+        Widen every link length to [L - T, L + T] (robust analyses); 0 keeps the nominal lengths.
+    kind, space : str, optional
+        Require this kind (`"rpr3"`) or this space (`"workspace"`): InputError otherwise.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> fb.load("m1").name
+    'M1'
+    """
+    from fivebar_cli.mechanisms.registry import check_kind, load_config, parse
+
+    if isinstance(source, Mechanism):
+        m = check_kind(source, source.name, kind, space)
+    elif isinstance(source, Mapping):
+        m = check_kind(parse(dict(source), "<mapping>"), "<mapping>", kind, space)
+    else:
+        path = Path(source)
+        if not path.exists() and str(source) in examples():
+            path = examples()[str(source)]
+        m = load_config(path, kind, space)
+    return widened(m, tolerance, source_name(source), field)
+
+
+def source_name(source) -> str:
+    """How messages name where a mechanism came from: its file, `<mapping>`, or its name."""
+    if isinstance(source, Mechanism):
+        return source.name
+    return "<mapping>" if isinstance(source, Mapping) else str(source)
+
+
+def widened(m: Mechanism, tolerance: float, source, field: str = "tolerance") -> Mechanism:
+    """The mechanism with its lengths widened by `tolerance` (0: unchanged); InputError for a kind
+    without interval lengths (`field` names the option in the message)."""
+    if not tolerance:
+        return m
+    if not m.widens:
+        raise InputError(str(source), field, f"{article(m.kind)} has no interval lengths")
+    return m.widened(tolerance, str(source))
+
+
+def with_aspects(m: Mechanism, source) -> Mechanism:
+    """`m`, checked to have working and assembly modes (InputError on its `type` otherwise)."""
+    if m.aspect_model() is None and m.pose_aspect_model() is None:
+        raise InputError(str(source), "type", f"{article(m.kind)} has no working and assembly modes (no aspects)")
+    return m
+
+
+def _mechanism(mech) -> Mechanism:
+    return mech if isinstance(mech, Mechanism) else load(mech)
+
+
+# ---------------------------------------------------------------- pavings
+
+
+def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, tolerance: float | None = None,
+         region: str | None = None, procedure: str = "exact", on_level=None) -> Paving:
+    """Certified paving of one space of a mechanism (or of one region of it) to `depth`.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> p = fb.pave(fb.load("m1"), "workspace", 6)
+    >>> round(p.inside_area, 3) > 0
+    True
+    """
+    from fivebar_cli.analyses import spaces
+
+    m = widened(_mechanism(mech), tolerance or 0.0, source_name(mech))
+    if space not in m.spaces():
+        raise InputError(m.name, "space", f"{space!r} is not a space of {article(m.kind)} "
+                         f"(it has: {', '.join(m.spaces())})")
+    own = None if region is None or region == m.spaces()[space].region else region
+    if own is not None and own not in m.regions(space):
+        raise InputError(m.name, "region", f"{region!r} is not a region of its {space} "
+                         f"(it has: {', '.join(m.regions(space))})")
+    if procedure not in m.procedures:
+        raise InputError(m.name, "procedure", f"{article(m.kind)} has no {procedure!r} procedure "
+                         f"(it has: {', '.join(m.procedures)})")
+    p = spaces.pave_space(m, space, depth, procedure, on_level, own)
+    return Paving(m, space, depth, procedure, own, p, p.evaluations)
+
+
+def refine(paving, depth: int, on_level=None) -> Paving:
+    """A paving deepened to `depth`, testing only its undetermined cells; `paving` is a `Paving` or
+    the path of a saved `.qt` file (either of its pair). Equals a fresh paving at `depth`; its
+    `evaluations` count those of the saved paving too."""
+    from fivebar_cli.analyses import spaces
+    from fivebar_cli.paving import engine
+
+    if isinstance(paving, Paving):
+        test = spaces._test(paving.mechanism, paving.space, paving.procedure, paving.region)
+        p = engine.refine(paving.inside, paving.outside, test, depth, on_level, paving.paving.band)
+        return Paving(paving.mechanism, paving.space, depth, paving.procedure, paving.region, p,
+                      paving.evaluations + p.evaluations)
+    saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(paving)
+    if depth < saved.inside.tree.grid.depth:
+        raise InputError(saved.source, "depth", f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
+    p = spaces.refine_saved(saved, depth, on_level)
+    return Paving(saved.mechanism, saved.space, depth, saved.procedure, saved.region, p,
+                  saved.evaluations + p.evaluations, saved.stem)
+
+
+def read_qt(path):
+    """A `.qt` file: its tree (`.tree`: cells, `.area`) and header fields (`.fields`)."""
+    from fivebar_cli.io.qtfile import read_qt as read
+
+    return read(path)
+
+
+# ---------------------------------------------------------------- aspects
+
+
+def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tolerance: float | None = None,
+            shapes: bool = True, compare: bool = False, advance=None, jobs: int | None = 1) -> Aspects:
+    """The generalized aspects of a five-bar or 2-RPR (in both spaces) or of a 3-RPR (over its
+    space of poses), with a certified count (or its bounds).
+
+    With `compare`, also what `fivebar aspects` reports beside them: for interval lengths the
+    nominal aspects and what each becomes (`fates`), with constraints the unconstrained aspects
+    and where each constrained one comes from (`split`). `jobs`: worker processes for the
+    independent pavings (None: one per core; 1: this process); the result is the same for any.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> a = fb.aspects(fb.load("rpr2"), 6)
+    >>> a.count, a.certified
+    (2, True)
+    >>> a[0].working_mode, a[0].assembly_mode
+    ('++', '+')
+    """
+    from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
+
+    m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source_name(mech)), m_name(mech))
+    budget = DEFAULT_BUDGET if budget is None else budget
+    step = advance or (lambda n=1: None)
+    if m.pose_aspect_model() is not None:
+        from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
+
+        analysis = analyse_pose_aspects(m, depth, step, budget, jobs)
+        found = tuple(Aspect(a.number, dict(a.signs.fields), a.tree, None, tuple(a.pose), tuple(a.joints),
+                             bool(a.certified)) for a in analysis.aspects)
+        return Aspects(m, depth, analysis, found)
+    from fivebar_cli.analyses.aspects import analyse_aspects, signs_text
+
+    analysis = analyse_aspects(m, depth, step, budget, shapes=shapes, jobs=jobs)
+    fates, split, free = (), None, None
+    if compare and m.is_interval:
+        from fivebar_cli.analyses.tolerance import aspect_fates
+
+        fates = tuple(aspect_fates(analyse_aspects(m.nominal(), depth, step, budget, shapes=False, jobs=jobs), analysis))
+    if compare and m.constraints:
+        from fivebar_cli.analyses.aspect_split import split_rows
+
+        free = analyse_aspects(m.unconstrained(), depth, step, budget, shapes=False, jobs=jobs)
+        split = tuple(split_rows(analysis, free))
+    return Aspects(m, depth, analysis, tuple(_aspect(a, signs_text) for a in analysis.aspects), fates, split, free)
+
+
+def comparisons(m: Mechanism) -> int:
+    """How many analyses `aspects(m, compare=True)` runs (for a progress bar)."""
+    return 1 + bool(m.is_interval) + bool(m.constraints)
+
+
+def _aspect(a, signs_text) -> Aspect:
+    circle = (a.circle.x, a.circle.y, a.circle.r) if a.circle is not None else None
+    square = (a.square.x, a.square.y, a.square.side) if a.square is not None else None
+    return Aspect(a.number, {"working_mode": signs_text(a.working), "assembly_mode": signs_text(a.assembly)},
+                  a.workspace, a.jointspace, tuple(a.pose), tuple(a.joints), bool(a.certified), circle, square)
+
+
+def m_name(mech) -> str:
+    return mech.name if isinstance(mech, Mechanism) else str(mech)
+
+
+# ---------------------------------------------------------------- locate and path
+
+
+def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None) -> Location:
+    """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
+    it at `depth` (the aspects are computed unless given). For a 3-RPR, `pose` is (x, y, phi_deg).
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> [(r["working_mode"], r["aspect"]) for r in fb.locate(fb.load("rpr2"), pose=(0, 8), depth=6).rows()]
+    [('++', 1)]
+    """
+    import numpy as np
+
+    m = with_aspects(_mechanism(mech), m_name(mech))
+    if (pose is None) == (joints is None):
+        raise InputError(m.name, "pose", "give either pose or joints")
+    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False)
+    if m.pose_aspect_model() is not None:
+        from fivebar_cli.analyses.pose_aspects import aspect_at
+
+        if pose is None:
+            raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
+        model = m.pose_aspect_model()
+        point = np.asarray(pose, float)
+        cls, aspect = aspect_at(found.analysis.aspects, model, point)
+        legs, _ = model.ikp(point[None, :], max(cls, 0))
+        row = {"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
+               "class": dict(model.classes[cls].fields) if cls >= 0 else None,
+               "aspect": aspect.number if aspect is not None else None}
+        return Location(m, found.depth, (row,))
+    from fivebar_cli.analyses.locate import aspect_of, configurations, row
+
+    space, value = ("workspace", pose) if pose is not None else ("jointspace", joints)
+    rows = tuple(row(m, c, aspect_of(found.analysis.aspects, c), 1)
+                 for c in configurations(m, tuple(map(float, value)), space))
+    return Location(m, found.depth, rows)
+
+
+def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = False,
+         assembly_mode: str | None = None, folder=None) -> Path_:
+    """A certified singularity-free motion from `start` to `goal` (NoPath, a FivebarError, when none
+    is found at this depth, with the reason).
+
+    Five-bar and 2-RPR: each endpoint is `{"joints": (th1, th2)}` (in the assembly mode
+    `assembly_mode`) or `{"pose": (x, y), "working_mode": "++"}`; with `allow_serial` the motion
+    may cross serial singularities, never parallel ones. 3-RPR: each endpoint is a pose
+    (x, y, phi_deg). `folder`: an `aspects` output folder whose trees are reused.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> p = fb.path(fb.load("m1"), {"pose": (4, 5), "working_mode": "++"},
+    ...             {"pose": (6, 8), "working_mode": "++"}, depth=8)
+    >>> p.points.shape[1]
+    4
+    """
+    import numpy as np
+
+    m = with_aspects(_mechanism(mech), m_name(mech))
+    if m.pose_aspect_model() is not None:
+        from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
+        from fivebar_cli.analyses.pose_paths import check_pose, find_motion, wrap_pose
+
+        space = m.spaces()[m.pose_aspect_model().space]
+        ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
+        for p, label in zip(ends, ("start", "goal")):
+            check_pose(m, p, label, m.name)
+        saved = None
+        if folder is not None:
+            from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
+
+            saved = load_pose_aspects(Path(folder), m, depth)
+        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), m.name, saved)
+        walk = motion.motion.unwrapped()
+        length = float(np.sum(np.linalg.norm(np.diff(walk, axis=0), axis=1)))
+        return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
+                     length, motion)
+    from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_points, resolve
+
+    endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode")) if "pose" in e
+                 else Endpoint("joints", tuple(e["joints"])) for e in (start, goal)]
+    first, last = resolve(m, endpoints, assembly_mode, m.name)
+    result = find_path(m, depth, first, last, allow_serial, Path(folder) if folder else None)
+    return Path_(m, depth, path_columns(m), path_points(result), result.length, result)
+
+
+# ---------------------------------------------------------------- atlas and view
+
+
+def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None = None, depth: int | None = None,
+          tolerance: float | None = None, restart: bool = False, advance=None) -> Table:
+    """An atlas of five-bar designs (the `fivebar-atlas` spec: a YAML file or a mapping): one row
+    per design of the metrics of `atlas.csv`. The parts are kept in `folder` (a temporary folder
+    when None), so a run resumes; `workers` local Dask processes (0: in this process), or an
+    existing `scheduler` address."""
+    import dataclasses
+    import tempfile
+    from contextlib import nullcontext
+
+    from fivebar_cli.analyses.atlas.engine import compute_plan, plan_atlas
+    from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
+    from fivebar_cli.analyses.atlas.spec import check_tolerance, parse_spec, read_spec
+
+    s = parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) else read_spec(spec)
+    if depth is not None:
+        s = dataclasses.replace(s, depth=depth)
+    if tolerance is not None:
+        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, s.name, "tolerance"))
+    with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
+        plan = plan_atlas(s, Path(where), restart)
+        with atlas_runner(workers, scheduler, len(plan.todo)) as runner:
+            compute_plan(plan, runner, advance or (lambda n=1: None))
+        path, table = plan.parts.assemble(Path(where) / ATLAS_CSV)
+    columns = tuple(table)
+    return Table(f"Atlas {s.name}", columns, tuple(zip(*(table[c] for c in columns))))
+
+
+def atlas_runner(workers: int | None, scheduler: str | None, needed: int):
+    """The context of an atlas runner: in this process, a local Dask cluster (no more workers than
+    the `needed` batches), or an existing one."""
+    from contextlib import nullcontext
+
+    from fivebar_cli.analyses.atlas.engine import in_process
+
+    if scheduler is not None and needed:
+        from fivebar_cli.analyses.atlas.cluster import existing_cluster
+
+        return existing_cluster(scheduler)
+    if workers and needed:
+        from fivebar_cli.analyses.atlas.cluster import local_cluster
+
+        return local_cluster(min(workers, needed))
+    return nullcontext(in_process)
+
+
+def view(paths) -> str:
+    """The self-contained HTML page of `fivebar view` for output folders or `.qt` files (its text)."""
+    from fivebar_cli.analyses.view import gather
+    from fivebar_cli.webpage.page import render_page
+
+    return render_page(gather([paths] if isinstance(paths, (str, Path)) else list(paths)))

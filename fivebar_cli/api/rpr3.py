@@ -1,0 +1,529 @@
+"""The 3-RPR studies of Jiang & Gosselin (closed forms, similar base and platform): the exact area of
+the singularity-free workspace (`area`), its sweeps over phi, rho_min or t2 (`sweep`), the leg-range
+synthesis of Table 1 (`synthesize`); and for any 3-RPR the certified check `verify`.
+
+Each returns a `Table` (`rows()`, `save(path)`, `plot(ax)`) whose `notes` are the lines `fivebar
+rpr3 ...` prints and whose `drawings` are the command's figures as (file name, maker)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fivebar_cli.api.values import Table
+from fivebar_cli.errors import InputError
+
+AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
+SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n")
+VERIFY_HEADER = ("name", "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume")
+COUNTEREXAMPLE_HEADER = ("x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j")
+ADVICE = "raise the depth"  # what an undecided `verify` suggests (the CLI names its option)
+DEFAULT_ANGLES = (30.0, 60.0, 90.0, 120.0, 150.0)
+
+
+@dataclass(frozen=True, repr=False)
+class Study(Table):
+    """A table with the lines the command prints (`notes`) and its figures (`drawings`: (file, make))."""
+
+    drawings: tuple = field(default=(), compare=False)
+
+
+def similar(mech):
+    """The similar-form design of a 3-RPR (a path, a mapping, an example's name or an `Rpr3`), for
+    the closed forms (InputError naming the field when it is not of that form)."""
+    from fivebar_cli.api.calls import load, source_name
+    from fivebar_cli.mechanisms.rpr3.model import SimilarDesign
+
+    if isinstance(mech, SimilarDesign):
+        return mech
+    return load(mech, kind="rpr3").closed_form(source_name(mech))
+
+
+def check_phis(values, field: str) -> None:
+    """Orientations (degrees) must be finite and avoid the multiples of 180, where the whole plane
+    is singular (InputError on `field`)."""
+    from fivebar_cli.mechanisms.rpr3.model import reaches_singular_orientation
+
+    if not all(math.isfinite(v) for v in values):
+        raise InputError("", field, "orientations must be finite numbers")
+    if reaches_singular_orientation(min(values), max(values)):
+        raise InputError("", field, "orientations must not reach a multiple of 180 degrees (singular everywhere)")
+
+
+# ---------------------------------------------------------------- area
+
+
+def area(mech) -> Study:
+    """Exact area of the singularity-free workspace W at phi (or at both ends of phi_range): one row
+    per orientation, with rho_max auto when the config says so (figure 2).
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> round(fb.rpr3.area("rpr3-equilateral").rows()[0]["area"], 6) > 0
+    True
+    """
+    from fivebar_cli.mechanisms.rpr3 import closed_form as geo
+    from fivebar_cli.mechanisms.rpr3.model import to_radians
+
+    m = similar(mech)
+    t = m.design
+    _, rho_max, auto = m.leg_range()
+    phis = sorted(set(m.phi_range))
+    notes = [f"{m.name}: base t = ({m.t1:g}, {m.t2:g}, {m.t3:g}), k = {m.k:g}"]
+    if auto:
+        notes.append("  rho_max auto = inf: every point of the singularity circle is within rho_min of some C_i"
+                     if math.isinf(rho_max) else f"  rho_max auto = {rho_max:.9g} (largest singularity-free value)")
+    elif rho_max > m.rho_max_limit():
+        notes.append(f"  note: rho_max {rho_max:g} exceeds the singularity-free limit {m.rho_max_limit():.9g}: "
+                     "the annuli reach the singularity circle, which then bounds W")
+    rows = []
+    for phi_deg in phis:
+        phi = to_radians(phi_deg, m.phi_range[0])
+        (cx, cy), radius = (np.asarray(v).tolist() for v in geo.singularity_circle(*t, phi))
+        a = float(geo.area(*t, phi, m.rho_min, rho_max))
+        arcs_ = geo.boundary(*t, phi, m.rho_min, rho_max)
+        on = sorted({geo.CIRCLE_NAMES[a_.circle] for a_ in arcs_})
+        rows.append((phi_deg, m.rho_min, rho_max, a))
+        notes.append(f"  phi = {phi_deg:g} deg: singularity circle centre ({cx:.6f}, {cy:.6f}), radius {radius:.6f}")
+        notes.append(f"    area of W = {a:.9f}, boundary: {len(arcs_)} arcs on {', '.join(on) if on else '-'}")
+
+    def construction_figure():
+        from fivebar_cli.plotting.rpr3 import construction
+
+        title = f"{m.name}: singularity-free workspace, k = {m.k:g}, phi = {', '.join(f'{p:g}' for p in phis)} deg"
+        return construction(m, phis, m.rho_min, rho_max, title)
+
+    return Study(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
+                 (("singularity-free-workspace.png", construction_figure),))
+
+
+# ---------------------------------------------------------------- sweeps
+
+
+def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_ANGLES, advance=None) -> Study:
+    """Area of W swept over `over` ("phi", "rho_min" or "t2") for one or more bases (a design per
+    sample, rho_max auto): `span` (lo, hi) and `steps` default to the paper's ranges; `angles` are
+    the orientations (degrees) of the t2 sweep.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> s = fb.rpr3.sweep(["rpr3-equilateral"], "rho_min", steps=11)
+    >>> len(s)
+    11
+    """
+    from fivebar_cli.io.layout import sweep_files
+
+    if over not in ("phi", "rho_min", "t2"):
+        raise InputError("", "over", f"expected phi, rho_min or t2, got {over!r}")
+    ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
+    check_span(span)
+    run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
+    header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
+    return Study(f"Sweep over {over}", tuple(header), tuple(rows), tuple(notes),
+                 tuple(zip(sweep_files(over)[1:], drawings)))
+
+
+def check_span(span) -> None:
+    """A swept interval (lo, hi): finite, at most 1e6 in magnitude, lo < hi (InputError on `range`)."""
+    if span is not None and not all(abs(v) <= 1e6 for v in span):
+        raise InputError("", "range", f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}")
+    if span is not None and not span[0] < span[1]:
+        raise InputError("", "range", f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}")
+
+
+def _sweep_phi(mechs, span, steps, angles, advance):
+    from fivebar_cli.mechanisms.rpr3 import sweeps
+
+    lo, hi = span or (0.5, 179.5)
+    check_phis((lo, hi), "range")
+    phis_deg = np.linspace(lo, hi, steps or 359)
+    rows, curves, notes = [], [], []
+    for m in mechs:
+        d = sweeps.sweep_phi(*m.design, m.rho_min, np.radians(phis_deg))
+        curves.append((m.name, d))
+        rows += [(m.name, p, *vals) for p, *vals in zip(phis_deg, d["rho_min"], d["rho_max"], d["area"],
+                                                      d["rho_min_opt"], d["rho_max_opt"], d["area_opt"])]
+        advance(1)
+        best = int(np.argmax(d["area"]))
+        notes.append(f"{m.name}: rho_min = {m.rho_min:g}: largest area {d['area'][best]:.6f} at phi = "
+                     f"{phis_deg[best]:g} deg; optimal rho_min {d['rho_min_opt'].min():.6f} .. "
+                     f"{d['rho_min_opt'].max():.6f}")
+    header = ["config", "phi_deg", "rho_min", "rho_max", "area", "rho_min_opt", "rho_max_opt", "area_opt"]
+    rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
+    small = phis_deg <= lo + (hi - lo) / 6.0
+    figs = [
+        ("area", None, "area of W", f"Area of W vs phi (rho_min = {rho}) [fig. 3]"),
+        ("area", small, "area of W", f"Area of W vs small phi (rho_min = {rho}) [fig. 4]"),
+        ("area_opt", None, "area of W", "Area of W vs phi with the optimal rho_min [fig. 6]"),
+        ("rho_min_opt", None, "optimal rho_min", "Optimal rho_min vs phi [fig. 7]"),
+    ]
+
+    def drawing(key, mask, ylabel, title):
+        from fivebar_cli.plotting.rpr3 import lines
+
+        sel = slice(None) if mask is None else mask
+        series = [(n, phis_deg[sel], d[key][sel]) for n, d in curves]
+        return lambda: lines(series, "phi (degrees)", ylabel, title)
+
+    return header, rows, notes, [drawing(*f) for f in figs]
+
+
+def _sweep_rho_min(mechs, span, steps, angles, advance):
+    from fivebar_cli.mechanisms.rpr3 import closed_form as geo
+    from fivebar_cli.mechanisms.rpr3 import sweeps
+    from fivebar_cli.mechanisms.rpr3.model import to_radians
+
+    limits = [float(geo.rho_min_limit(*m.design, to_radians(m.phi))) for m in mechs]
+    lo, hi = span or (0.0, max(limits))
+    if lo < 0:
+        raise InputError("", "range", f"rho_min must not be negative, got {lo:g}")
+    rhos = np.linspace(lo, hi, steps or 201)
+    rows, series, marks, notes = [], [], [], []
+    for m in mechs:
+        phi = to_radians(m.phi)
+        d = sweeps.sweep_rho_min(*m.design, phi, rhos)
+        rows += [(m.name, m.phi, *vals) for vals in zip(d["rho_min"], d["rho_max"], d["area"])]
+        series.append((f"{m.name} (phi = {m.phi:g})", rhos, d["area"]))
+        r_opt, a_opt, _ = (float(v) for v in geo.optimal_rho_min(*m.design, phi))
+        marks.append((f"{r_opt:.4f}", r_opt, a_opt))
+        notes.append(f"{m.name}: phi = {m.phi:g} deg: optimal rho_min = {r_opt:.6f}, area {a_opt:.6f}")
+    phis = ", ".join(sorted({f"{m.phi:g}" for m in mechs}))
+    title = f"Area of W vs rho_min (phi = {phis} deg) [fig. 5]"
+
+    def drawing():
+        from fivebar_cli.plotting.rpr3 import lines
+
+        return lines(series, "rho_min", "area of W", title, marks)
+
+    return ["config", "phi_deg", "rho_min", "rho_max", "area"], rows, notes, [drawing]
+
+
+def _sweep_t2(mechs, span, steps, angles, advance):
+    from fivebar_cli.mechanisms.rpr3 import sweeps
+
+    try:
+        phis_deg = [float(a) for a in (angles.split(",") if isinstance(angles, str) else angles)
+                    if not isinstance(a, str) or a.strip()]
+    except ValueError:
+        raise InputError("", "angles", f"expected comma-separated degrees, got {angles!r}") from None
+    if not phis_deg:
+        raise InputError("", "angles", "no orientation given")
+    for p in phis_deg:
+        check_phis((p,), "angles")
+    rows, series, notes = [], [], []
+    for m in mechs:
+        lo, hi = span or (-5.0, m.t1 + 5.0)
+        t2s = np.linspace(lo, hi, steps or 233)
+        d = sweeps.sweep_t2(m.t1, m.t3, m.k, m.rho_min, np.radians(phis_deg), t2s)
+        for i, p in enumerate(phis_deg):
+            rows += [(m.name, p, m.t1, t2, m.t3, *vals) for t2, *vals in zip(
+                t2s, d["rho_min"][i], d["rho_max"][i], d["area"][i], d["rho_min_opt"][i], d["rho_max_opt"][i],
+                d["area_opt"][i])]
+            label = f"{m.name}, phi = {p:g}" if len(mechs) > 1 else f"phi = {p:g}"
+            series.append((label, t2s, d["area"][i], m.name))
+            best = int(np.argmax(d["area"][i]))
+            notes.append(f"{m.name}: phi = {p:g} deg: largest area {d['area'][i][best]:.6f} at t2 = "
+                         f"{t2s[best]:.6g} (t1 / 2 = {m.t1 / 2:.6g})")
+        advance(1)
+    header = ["config", "phi_deg", "t1", "t2", "t3", "rho_min", "rho_max", "area", "rho_min_opt", "rho_max_opt",
+              "area_opt"]
+    rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
+    title = f"Area of W vs t2, t1 and t3 fixed (rho_min = {rho}) [fig. 8]"
+
+    def drawing():
+        from fivebar_cli.plotting.rpr3 import lines
+
+        return lines(series, "t2", "area of W", title)
+
+    return header, rows, notes, [drawing]
+
+
+# ---------------------------------------------------------------- synthesis
+
+
+def synthesize(mech) -> Study:
+    """Leg-length range keeping W singularity-free over phi_range (section 4, Table 1): six cases
+    of rho_min, each with the largest rho_max, the areas at both ends, the mean area and its
+    fluctuation; the notes end with the recommended leg range (section 4.2). `comparison` rows
+    (ours beside the paper's) are in `.comparison` for the paper's own setup.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> [r["case"] for r in fb.rpr3.synthesize("rpr3-table1").rows()]  # doctest: +SKIP
+    [1, 2, 3, 4, 5, 6]
+    """
+    from fivebar_cli.mechanisms.rpr3 import paper
+    from fivebar_cli.mechanisms.rpr3.synthesis import OBJECTIVES, synthesize as cases_of
+
+    m = similar(mech)
+    t = m.design
+    p1, p2 = m.phi_range
+    r1, r2 = m.radians
+    before = [f"note: legs.rho_max = {m.rho_max:g} is not used: the synthesis computes rho_max"] if m.rho_max is not None else []
+    cases = cases_of(*t, r1, r2, m.rho_min)
+    notes = before + [f"{m.name}: k = {m.k:g}, base t = ({m.t1:g}, {m.t2:g}, {m.t3:g}), phi in [{p1:g}, {p2:g}] deg"]
+    columns = ("rho_min", "rho_max", "A1", "A2", "|A1-A2|", "A_a", "dA_a")
+    notes.append(f"case  {'objective':<16} " + " ".join(f"{c:<10}" for c in columns) + " n")
+    for c in cases:
+        notes.append(f"{c.number:<5} {c.objective:<16} {c.rho_min:<10.6f} {c.rho_max:<10.6f} {c.a1:<10.6f} "
+                     f"{c.a2:<10.6f} {c.diff_rounded:<10.6f} {c.mean:<10.6f} {c.fluctuation:<10.6f} {c.n}")
+    rows = tuple((c.number, OBJECTIVES[c.number][0], c.rho_min, c.rho_max, c.a1, c.a2, c.diff_rounded, c.mean,
+                  c.fluctuation, c.n) for c in cases)
+    if paper.is_paper_table1(*t, p1, p2, m.rho_min):
+        comparison, worst = paper.table1_comparison(cases)
+        comparison = Table("Table 1 comparison", tuple(paper.COMPARISON_HEADER), tuple(map(tuple, comparison)))
+        notes.append(f"Table 1 at the paper's rho_min: largest difference from the printed cells {worst:.2e}")
+    else:
+        comparison = None
+        notes.append("(not the paper's Table-1 setup: no comparison with the printed values)")
+    notes += [f"  case {c.number}: {c.note}" for c in cases if c.note]
+    best, flat = cases[3], cases[4]
+    notes.append(f"Recommended leg range (section 4.2): [{best.rho_min:.6f}, {best.rho_max:.6f}] for the largest "
+                 f"mean area (case 4),")
+    if flat.note:
+        notes.append(f"  (case 5 is not a recommendation here: {flat.note}); any leg range inside keeps W "
+                     f"singularity-free for phi in [{p1:g}, {p2:g}] deg.")
+    else:
+        notes.append(f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
+                     f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
+    return Synthesis(f"Synthesis {m.name}", SYNTHESIS_HEADER, rows, tuple(notes),
+                     _synthesis_drawings(m, cases), comparison, len(before))
+
+
+@dataclass(frozen=True, repr=False)
+class Synthesis(Study):
+    """The synthesis table, with the paper's comparison (None off its setup); the first `printed`
+    notes are about the config (said before anything is written)."""
+
+    comparison: Table | None = None
+    printed: int = 0
+
+
+def _synthesis_drawings(m, cases) -> tuple:
+    """Figures 10 (area against phi, six cases) and 9 (W at both ends of the range, case 2)."""
+    from fivebar_cli.mechanisms.rpr3 import closed_form as geo
+
+    t = m.design
+    p1, p2 = m.phi_range
+
+    def cases_figure():
+        from fivebar_cli.plotting.rpr3 import lines
+
+        phis_deg = np.linspace(p1, p2, 131)
+        series = [(f"case {c.number}: rho_min = {c.rho_min:.6f}", phis_deg,
+                   geo.area(*t, np.radians(phis_deg), c.rho_min, c.rho_max)) for c in cases]
+        return lines(series, "phi (degrees)", "area of W", f"{m.name}: area of W vs phi, six cases [fig. 10]")
+
+    def case2_figure():
+        from fivebar_cli.plotting.rpr3 import construction
+
+        c2 = cases[1]
+        title = (f"{m.name}: W at phi1 = {p1:g} and phi2 = {p2:g} deg, rho_min optimal at phi1 "
+                 f"({c2.rho_min:.6f}) [fig. 9]")
+        return construction(m, [p1, p2], c2.rho_min, c2.rho_max, title)
+
+    return (("area-vs-phi-cases.png", cases_figure), ("singularity-free-workspace-case2.png", case2_figure))
+
+
+# ---------------------------------------------------------------- octrees
+
+
+@dataclass(frozen=True, repr=False)
+class PaveSet:
+    """The three certified pavings of `rpr3 pave` by region (`reachable`, `singularity-free det J > 0`,
+    `< 0`; `Paving`s), their volumes (the row of volumes.csv) and the lines the command prints."""
+
+    mechanism: object
+    depth: int
+    pavings: dict
+    volumes: dict
+    notes: tuple[str, ...] = ()
+
+    def __repr__(self) -> str:
+        v = self.volumes
+        return (f"<PaveSet {self.mechanism.name}, depth {self.depth}: reachable {v['reachable']:.6g}, det J > 0 "
+                f"{v['det_positive']:.6g}, det J < 0 {v['det_negative']:.6g}>")
+
+    def rows(self) -> list[dict]:
+        return [dict(self.volumes)]
+
+    def save(self, folder, figures: bool = False) -> list:
+        """The files of `rpr3 pave` as one output set: the three pairs and summaries, volumes.csv and
+        (with `figures`) workspace.png and singularity-free.png."""
+        from pathlib import Path
+
+        from fivebar_cli.analyses import spaces
+        from fivebar_cli.io.files import write_csv
+        from fivebar_cli.io.layout import PAVE_SET, VOLUMES_CSV, pave_files, region_stem
+        from fivebar_cli.io.outputs import output_set
+        from fivebar_cli.mechanisms.rpr3 import volumes
+        from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+
+        folder, m = Path(folder), self.mechanism
+        paths = []
+        with output_set(folder, PAVE_SET, pave_files(), "fivebar rpr3 pave"):
+            for region, p in self.pavings.items():
+                own = None if region == REACHABLE else region
+                paths += spaces.write_paving(folder, m, "workspace", p.paving, "exact", p.evaluations, own,
+                                             region_stem("workspace", own))
+            paths.append(write_csv(folder / VOLUMES_CSV, volumes.HEADER, [tuple(self.volumes.values())]))
+            if figures:
+                paths += self._figures(folder)
+        return paths
+
+    def _figures(self, folder) -> list:
+        from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+        from fivebar_cli.plotting.rpr3 import figure_singularity_free
+        from fivebar_cli.plotting.saving import draw_and_save
+        from fivebar_cli.plotting.trees import figure_paving
+
+        m, space = self.mechanism, self.mechanism.spaces()["workspace"]
+        reach = self.pavings[REACHABLE].paving
+        plus, minus = (self.pavings[r].inside for r in m.regions("workspace")[1:])
+        title = f"{m.name}: singularity-free workspace by sign of det J, depth {self.depth}"
+        return [draw_and_save(lambda: figure_paving(m.name, space, reach.inside, reach.outside,
+                                                    reach.undetermined_tree(), False), folder / "workspace.png"),
+                draw_and_save(lambda: figure_singularity_free(title, space, plus, minus, reach.outside,
+                                                              m.phi_range, m.closed_form_or_none()),
+                              folder / "singularity-free.png")]
+
+
+def pave(mech, depth: int = 7, on_level=None, jobs: int | None = 1) -> PaveSet:
+    """Certified octree over (x, y, phi) of a 3-RPR's workspace and of its two singularity-free
+    parts (any geometry), with their volumes (exact ones too for a similar platform); the three
+    pavings on `jobs` processes (None: one per core), the same result for any.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> s = fb.rpr3.pave("rpr3-general", 3)
+    >>> sorted(s.pavings) == sorted(s.mechanism.regions("workspace"))
+    True
+    """
+    from fivebar_cli.analyses.spaces import pave_regions
+    from fivebar_cli.api.values import Paving
+
+    m = bounded(mech)
+    whole = m.spaces()["workspace"].region
+    pavings = {r: Paving(m, "workspace", depth, "exact", None if r == whole else r, p, p.evaluations)
+               for r, p in pave_regions(m, "workspace", depth, on_level=on_level, jobs=jobs).items()}
+    return pave_set(m, pavings)
+
+
+def pave_set(m, pavings: dict, saved: int | None = None) -> PaveSet:
+    """The pave set of these pavings (by region), its volumes row and report lines."""
+    from fivebar_cli.mechanisms.rpr3 import volumes
+    from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+
+    space = m.spaces()["workspace"]
+    depth = pavings[REACHABLE].depth
+    v = volumes.volumes(m, {r: p.paving for r, p in pavings.items()})
+    v["evaluations"] = sum(p.evaluations for p in pavings.values())
+    unit = "area" if space.dim == 2 else "volume (x y deg)"
+    notes = [f"{m.name}: workspace {'quadtree' if space.dim == 2 else 'octree'} depth {depth}, "
+             f"{v['evaluations']} evaluations; {unit}:",
+             f"  reachable {v['reachable']:.8g}, unreachable {v['unreachable']:.8g}, "
+             f"undetermined {v['undetermined']:.4g} (root {v['root']:.8g})",
+             f"  singularity-free det J > 0: {v['det_positive']:.8g}, det J < 0: {v['det_negative']:.8g}, "
+             f"singular or undetermined: {v['singular_or_undetermined']:.4g}"]
+    if v["exact_reachable"] != "":
+        notes.append(f"  closed form: reachable {v['exact_reachable']:.8g}, det J > 0 {v['exact_det_positive']:.8g}, "
+                     f"det J < 0 {v['exact_det_negative']:.8g}")
+    return PaveSet(m, depth, pavings, v, tuple(notes))
+
+
+def refine_pave_set(source, m, old_depth: int, depth: int, on_level=None) -> tuple[PaveSet, int]:
+    """The three pairs of an `rpr3 pave` run in folder `source` deepened together to `depth`, and
+    the evaluations saved by not retesting."""
+    from pathlib import Path
+
+    from fivebar_cli.analyses import spaces
+    from fivebar_cli.api.values import Paving
+    from fivebar_cli.io.layout import region_stem
+    from fivebar_cli.mechanisms.rpr3.model import REACHABLE
+
+    pavings, saved_total = {}, 0
+    for region in m.regions("workspace"):
+        path = Path(source) / f"{region_stem('workspace', None if region == REACHABLE else region)}.qt"
+        saved = spaces.load_saved(path)
+        if saved.mechanism != m or saved.inside.tree.grid.depth != old_depth:
+            raise InputError(str(path), "mechanism", "does not belong to the same rpr3 pave run")
+        p = spaces.refine_saved(saved, depth, on_level)
+        pavings[region] = Paving(m, "workspace", depth, saved.procedure, saved.region, p, saved.evaluations + p.evaluations)
+        saved_total += saved.evaluations
+    return pave_set(m, pavings), saved_total
+
+
+# ---------------------------------------------------------------- verify
+
+
+def bounded(mech):
+    """A 3-RPR whose legs are bounded (a workspace to pave or verify); InputError otherwise."""
+    from fivebar_cli.api.calls import load, source_name
+
+    m = load(mech, kind="rpr3")
+    if "workspace" not in m.spaces():
+        raise InputError(source_name(mech), "legs.rho_max", "'auto' is unbounded here (every point of the "
+                         "singularity circle is within rho_min of some C_i): give rho_max to pave or verify")
+    return m
+
+
+def verify(mech, depth: int = 14) -> Study:
+    """Can the robot reach a singular pose over its orientation range and leg ranges? One row of
+    `verify.csv`: `status` is 'certified singularity-free', 'singular pose found' (the pose in
+    `.result.pose`, its row in `counterexample`) or 'undecided' at `depth`.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> fb.rpr3.verify("rpr3-verify/table1-legs-1-1.5").rows()[0]["status"]
+    'certified singularity-free'
+    """
+    from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify as run
+
+    m = bounded(mech)
+    result = run(m, depth)
+    a, b = m.leg_limits()
+    legs = ", ".join(f"[{lo:.8g}, {hi:.8g}]" for lo, hi in zip(a, b))
+    p1, p2 = m.phi_range
+    notes = [f"{m.name}: legs {legs}, phi in [{p1:g}, {p2:g}] deg",
+             f"  {result.status} (depth {result.depth} of {result.max_depth}, {result.evaluations} boxes tested)"]
+    pose, counterexample, drawings = result.pose, None, ()
+    if result.status == SINGULAR:
+        x, y, phi = (*pose.pose, m.phi_range[0])[:3]  # one orientation: the pose is (x, y)
+        notes.append(f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
+                     f"{', '.join(f'{v:.12g}' for v in pose.joints)}, det J = {pose.value:.3g}")
+        counterexample = Table("Singular pose", COUNTEREXAMPLE_HEADER, ((x, y, phi, *pose.joints, pose.value),))
+
+        def pose_figure():
+            from fivebar_cli.plotting.rpr3 import figure_pose
+
+            return figure_pose(m, (x, y, phi), pose.joints, f"{m.name}: a reachable singular pose (det J = "
+                               f"{pose.value:.2g})")
+
+        drawings = (("counterexample.png", pose_figure),)
+    if result.status == UNDECIDED:
+        advice = result.note or ADVICE
+        notes.append(f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
+                     f"{result.depth}: {advice}")
+    row = (m.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
+           result.undecided_volume, result.root_volume)
+    return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes), drawings, result, counterexample)
+
+
+@dataclass(frozen=True, repr=False)
+class Verification(Study):
+    """`verify`'s row, with the library's result (`status`, `exit_code`, `pose`) and the singular
+    pose as a one-row table (None when none is found)."""
+
+    result: object = field(default=None, compare=False)
+    counterexample: Table | None = None
+
+    @property
+    def status(self) -> str:
+        return self.result.status

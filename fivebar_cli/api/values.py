@@ -1,0 +1,449 @@
+"""The results of the public API: immutable values with a one-line repr, their CSV rows (`rows()`),
+their files (`save(folder)`, the same files the commands write) and a figure on the caller's axes
+(`plot(ax=None)`, never switching matplotlib's backend)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from fivebar_cli.mechanisms.base import Mechanism, plural
+from fivebar_cli.paving.tree import Tree
+
+
+def _frozen(array) -> np.ndarray:
+    """A read-only copy of an array (results are values: nothing in them can be changed)."""
+    out = np.array(array, dtype=float)
+    out.flags.writeable = False
+    return out
+
+
+def axes_of(ax):
+    """The caller's axes, or new ones from pyplot on the current backend (never switched)."""
+    if ax is not None:
+        return ax
+    import matplotlib.pyplot as plt
+
+    return plt.subplots()[1]
+
+
+def _rows(header, rows) -> list[dict]:
+    return [dict(zip(header, row)) for row in rows]
+
+
+# ---------------------------------------------------------------- pavings
+
+
+@dataclass(frozen=True, repr=False)
+class Paving:
+    """A certified paving of one space (or one region of it) of a mechanism.
+
+    `inside` holds only valid points, `outside` only invalid ones; the rest (`undetermined_area`)
+    is undecided at this depth. `evaluations` counts the box tests.
+    """
+
+    mechanism: Mechanism
+    space: str
+    depth: int
+    procedure: str
+    region: str | None
+    paving: object = field(compare=False)  # the engine's Paving (trees and undetermined cells)
+    evaluations: int = 0
+    files: str | None = None  # the stem of its files when read from them (`refine`), else derived
+
+    @property
+    def inside(self) -> Tree:
+        return self.paving.inside
+
+    @property
+    def outside(self) -> Tree:
+        return self.paving.outside
+
+    @property
+    def inside_area(self) -> float:
+        return float(self.paving.inside.area)
+
+    @property
+    def outside_area(self) -> float:
+        return float(self.paving.outside.area)
+
+    @property
+    def undetermined_area(self) -> float:
+        return float(self.paving.undetermined_area + self.paving.band.area)
+
+    @property
+    def stem(self) -> str:
+        """The files' stem: the space's name, or the region's file name for another region."""
+        from fivebar_cli.io.layout import region_stem
+
+        return self.files or region_stem(self.space, self.region)
+
+    def __repr__(self) -> str:
+        where = self.space + (f" ({self.region})" if self.region else "")
+        return (f"<Paving {self.mechanism.name} {where}, depth {self.depth}: inside {self.inside_area:.6g}, "
+                f"undetermined {self.undetermined_area:.4g}, {self.evaluations} evaluations>")
+
+    def rows(self) -> list[dict]:
+        """The summary row of `<space>.csv`, as a dict by column name."""
+        from fivebar_cli.analyses.spaces import SUMMARY_HEADER, summary_row
+
+        return _rows(SUMMARY_HEADER, [summary_row(self.mechanism, self.space, self.procedure, self.paving,
+                                                  self.evaluations, self.region)])
+
+    def summary(self, evaluations: int | None = None) -> str:
+        """The line `fivebar workspace|jointspace|refine` prints: evaluations (those given: a refined
+        paving's own), K and the areas."""
+        from fivebar_cli.analyses.spaces import has_band, k_ratio
+
+        m, p = self.mechanism, self.paving
+        dim, depth = p.grid.dim, p.grid.depth
+        n = self.evaluations if evaluations is None else evaluations
+        head = (f"{m.name} {self.space}, depth {depth} ({self.procedure} tests): {n} evaluations "
+                f"(K = {k_ratio(n, dim, depth):.4%}), ")
+        if has_band(m):
+            possible = float(p.grid.size.prod()) - p.outside.area
+            exact = m.exact_measure(self.space)
+            return head + (f"robust area {p.inside.area:.10g}, possible area {possible:.10g} "
+                           f"(uncertain band {p.band.area:.4g}, undetermined {p.undetermined_area:.4g})"
+                           + (f", nominal exact area {exact:.10g}" if exact is not None else ""))
+        return head + (f"certified inside {'area' if dim == 2 else 'volume'} {p.inside.area:.10g}, "
+                       f"undetermined {p.undetermined_area:.4g}")
+
+    def save(self, folder: str | Path, figures: bool = False, command: str | None = None) -> list[Path]:
+        """The `.qt` pair (and band) and the summary CSV, as `fivebar workspace|jointspace` writes them,
+        with `figures` the two PNG figures too (on the backend in use); returns the paths written."""
+        from fivebar_cli.io.layout import paving_files
+        from fivebar_cli.io.outputs import output_set
+
+        with output_set(folder, self.stem, paving_files(self.stem), command or f"fivebar {self.space}"):
+            return self.write(Path(folder), figures)
+
+    def write(self, folder: Path, figures: bool = False) -> list[Path]:
+        """The files, inside an output set the caller opened (the command adds its GeoJSON to it)."""
+        from fivebar_cli.analyses.spaces import write_paving
+
+        m, p = self.mechanism, self.paving
+        paths = write_paving(folder, m, self.space, p, self.procedure, self.evaluations, self.region, self.stem)
+        if figures:
+            from fivebar_cli.plotting.saving import draw_and_save
+            from fivebar_cli.plotting.trees import figure_paving
+
+            und, s = p.undetermined_tree(), m.spaces()[self.space]
+            marks = m.marks(self.space)
+            for complement, suffix in ((False, ""), (True, ".complement")):
+                paths.append(draw_and_save(lambda: figure_paving(m.name, s, p.inside, p.outside, und, complement,
+                                                                 p.band, self.region, marks),
+                                           folder / f"{self.stem}{suffix}.png"))
+        return paths
+
+    def plot(self, ax=None):
+        """Inside in black, undetermined in red, outside in grey on `ax` (a 3-D paving: its slice at
+        the middle of the last axis); returns the axes."""
+        from fivebar_cli.plotting.trees import draw_paving
+
+        ax = axes_of(ax)
+        draw_paving(ax, self.mechanism, self.mechanism.spaces()[self.space], self.paving)
+        return ax
+
+
+# ---------------------------------------------------------------- aspects
+
+
+@dataclass(frozen=True, repr=False)
+class Aspect:
+    """One generalized aspect. Five-bar and 2-RPR: `working_mode` and `assembly_mode` ('+-', '+'),
+    its certified cells in both spaces (`workspace`, `jointspace` trees and their areas), a
+    configuration inside it (`pose`, `joints`) and its largest certified `circle` (x, y, r) and
+    `square` (x, y, side). 3-RPR: `modes` (its sign class, e.g. {'det_sign': '+'}) and its octree
+    of poses in `workspace` (`workspace_area` is its volume); no joint-space tree."""
+
+    number: int
+    modes: dict
+    workspace: Tree
+    jointspace: Tree | None
+    pose: tuple[float, ...]
+    joints: tuple[float, ...]
+    certified: bool
+    circle: tuple[float, float, float] | None = None
+    square: tuple[float, float, float] | None = None
+
+    @property
+    def working_mode(self) -> str | None:
+        return self.modes.get("working_mode")
+
+    @property
+    def assembly_mode(self) -> str | None:
+        return self.modes.get("assembly_mode")
+
+    @property
+    def workspace_area(self) -> float:
+        return float(self.workspace.area)
+
+    @property
+    def jointspace_area(self) -> float | None:
+        return None if self.jointspace is None else float(self.jointspace.area)
+
+    def __repr__(self) -> str:
+        modes = ", ".join(f"{k} {v}" for k, v in self.modes.items())
+        return (f"<Aspect {self.number}: {modes}, workspace {self.workspace_area:.6g}"
+                + ("" if self.certified else ", not certified") + ">")
+
+
+@dataclass(frozen=True, repr=False)
+class Aspects:
+    """The generalized aspects of a mechanism at a depth: iterable of `Aspect`; `count` and whether it
+    is `certified`, its `bounds` (L, U) otherwise; `adjacency`: the crossings (aspect a, aspect b,
+    assembly mode, the serial singularity between them)."""
+
+    mechanism: Mechanism
+    depth: int
+    analysis: object = field(compare=False)  # the library's AspectAnalysis (or PoseAspectAnalysis)
+    aspects: tuple[Aspect, ...] = ()
+    fates: tuple = ()  # with compare=True and interval lengths: what each nominal aspect becomes
+    split: tuple | None = None  # with compare=True and constraints: each aspect's unconstrained aspect
+    free: object = field(default=None, compare=False)  # the unconstrained analysis (constraints only)
+
+    @property
+    def count(self) -> int:
+        return len(self.aspects)
+
+    @property
+    def certified(self) -> bool:
+        return bool(self.analysis.certified)
+
+    @property
+    def bounds(self) -> tuple[int, int]:
+        return (self.count, self.count) if self.certified else (self.analysis.lower, self.analysis.upper)
+
+    @property
+    def adjacency(self) -> tuple[tuple, ...]:
+        from fivebar_cli.analyses.aspects import signs_text
+
+        return tuple((c.a, c.b, signs_text(c.assembly), c.singularity) for c in self.analysis.crossings)
+
+    @property
+    def evaluations(self) -> int:
+        return int(self.analysis.evaluations)
+
+    @property
+    def headline(self) -> str:
+        """The line `fivebar aspects` prints first."""
+        return self.analysis.headline()
+
+    def lines(self) -> list[str]:
+        """What `fivebar aspects` prints after the headline for each aspect and crossing."""
+        from fivebar_cli.analyses.aspects import signs_text
+
+        if self._pose_kind():
+            return []
+        out = []
+        for a in self.analysis.aspects:
+            shapes = (f", largest circle r {a.circle.r:.6g}, square side {a.square.side:.6g}"
+                      if a.circle is not None and a.square is not None else "")
+            out.append(f"  aspect {a.number:2d}: working mode {signs_text(a.working)}, det A {signs_text(a.assembly)}, "
+                       f"workspace area {a.workspace.area:.6g}, joint-space area {a.jointspace.area:.6g}{shapes}"
+                       + ("" if a.certified else " (not certified)"))
+        for c in self.analysis.crossings:
+            out.append(f"  aspects {c.a} and {c.b} (det A {signs_text(c.assembly)}) touch across {c.singularity} = 0")
+        return out
+
+    def comparisons(self) -> list[str]:
+        """What `fivebar aspects` prints last: the nominal aspects' fates (interval lengths), what the
+        constraints cost, and the crossing graph of each assembly mode (the paper's claim on single
+        working-mode changes for its own mechanisms)."""
+        from fivebar_cli.analyses.aspect_split import cost_text
+        from fivebar_cli.analyses.aspects import signs_text
+        from fivebar_cli.analyses.crossings import crossing_pattern, paper_claim_verdict
+        from fivebar_cli.analyses.tolerance import fate_text
+
+        out = [f"  nominal aspect {f.number:2d}: {fate_text(f)}" for f in self.fates]
+        if self.split is not None:
+            out.append(f"  {cost_text(list(self.split), self.free)}")
+        if self.mechanism.kind == "fivebar":
+            from fivebar_cli.mechanisms.fivebar.paper import is_paper_mechanism
+
+            a = self.analysis
+            for am in a.model.assembly_modes:
+                if is_paper_mechanism(self.mechanism):
+                    verdict = paper_claim_verdict(a.aspects, a.crossings, am)
+                    out.append(f"  paper's claim on single working-mode changes (det A {signs_text(am)}): {verdict}")
+                elif a.aspects:
+                    out.append(f"  crossing graph (det A {signs_text(am)}): {crossing_pattern(a.aspects, a.crossings, am)}")
+        return out
+
+    def __iter__(self):
+        return iter(self.aspects)
+
+    def __len__(self) -> int:
+        return len(self.aspects)
+
+    def __getitem__(self, k: int) -> Aspect:
+        return self.aspects[k]
+
+    def __repr__(self) -> str:
+        what = "certified" if self.certified else "not certified: bounds {}..{}".format(*self.bounds)
+        return f"<Aspects {self.mechanism.name}, depth {self.depth}: {plural(self.count, 'aspect')} ({what})>"
+
+    def _pose_kind(self) -> bool:
+        return self.analysis.crossings == [] and hasattr(self.analysis.model, "classes")
+
+    def rows(self) -> list[dict]:
+        """The rows of `aspects.csv`, as dicts by column name."""
+        if self._pose_kind():
+            from fivebar_cli.analyses.pose_aspect_files import aspect_header, aspect_rows
+        else:
+            from fivebar_cli.analyses.aspect_files import aspect_header, aspect_rows
+        return _rows(aspect_header(self.mechanism), aspect_rows(self.analysis))
+
+    def save(self, folder: str | Path) -> list[Path]:
+        """The files `fivebar aspects` writes (without figures): aspects.csv, the adjacency table,
+        the aspect trees (and GeoJSON, or PLY surfaces for octrees)."""
+        from fivebar_cli.analyses.aspect_files import aspect_set
+
+        with aspect_set(Path(folder)):
+            return self.write(Path(folder))
+
+    def write(self, folder: Path, jobs: int | None = 1) -> list[Path]:
+        """The files, inside an output set the caller opened (the command adds its figures to it);
+        the aspects' files are made on `jobs` processes (the same bytes for any)."""
+        from fivebar_cli.analyses.aspect_files import write_aspects
+        from fivebar_cli.analyses.aspect_split import write_split
+        from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
+
+        if self._pose_kind():
+            return write_pose_aspects(folder, self.analysis)
+        return write_aspects(folder, self.analysis, jobs) + write_split(folder, None if self.split is None else list(self.split))
+
+    def plot(self, ax=None):
+        """Every aspect's certified workspace cells in its colour, with its number (a 3-D space: the
+        slice at the middle of the last axis); returns the axes."""
+        from fivebar_cli.plotting.aspects import draw_aspects
+
+        ax = axes_of(ax)
+        draw_aspects(ax, self.mechanism, [(a.number, a.workspace) for a in self.aspects])
+        return ax
+
+
+# ---------------------------------------------------------------- locate and path
+
+
+@dataclass(frozen=True, repr=False)
+class Location:
+    """Every configuration at a pose or at joint values, with its modes and its aspect (the rows of
+    `fivebar locate --csv`)."""
+
+    mechanism: Mechanism
+    depth: int
+    configurations: tuple[dict, ...]
+
+    def rows(self) -> list[dict]:
+        return [dict(c) for c in self.configurations]
+
+    def __repr__(self) -> str:
+        aspects = ", ".join(str(c["aspect"]) for c in self.configurations if c.get("aspect") is not None)
+        return (f"<Location {self.mechanism.name}, depth {self.depth}: "
+                f"{plural(len(self.configurations), 'configuration')}" + (f" in aspects {aspects}" if aspects else "")
+                + ">")
+
+
+@dataclass(frozen=True, repr=False)
+class Path_:
+    """A certified motion: `points` (joints then pose per waypoint, the columns of path.csv),
+    `length` in the joint space (five-bar, 2-RPR) or in the scaled space of poses (3-RPR)."""
+
+    mechanism: Mechanism
+    depth: int
+    columns: tuple[str, ...]
+    points: np.ndarray
+    length: float
+    result: object = field(compare=False)  # the library's PathResult (or pose motion)
+
+    def __post_init__(self):
+        object.__setattr__(self, "points", _frozen(self.points))
+
+    def __repr__(self) -> str:
+        return f"<Path {self.mechanism.name}, depth {self.depth}: {len(self.points)} waypoints, length {self.length:.6g}>"
+
+    def rows(self) -> list[dict]:
+        return [dict(zip(self.columns, map(float, p))) for p in self.points]
+
+    def save(self, folder: str | Path) -> list[Path]:
+        """path.csv, as `fivebar path` writes it (shortest exact floats)."""
+        from fivebar_cli.analyses.paths import path_csv
+        from fivebar_cli.io.files import write_text
+        from fivebar_cli.io.layout import PATH_CSV, PATH_FILES
+        from fivebar_cli.io.outputs import output_set
+
+        with output_set(folder, "path", PATH_FILES, "fivebar path"):
+            return [write_text(Path(folder) / PATH_CSV, path_csv(self.columns, self.points))]
+
+    def plot(self, ax=None):
+        """The motion as a polyline in its first two joint coordinates; returns the axes."""
+        ax = axes_of(ax)
+        ax.plot(self.points[:, 0], self.points[:, 1], "-o", ms=2.5, color="black")
+        ax.set_xlabel(self.columns[0])
+        ax.set_ylabel(self.columns[1])
+        return ax
+
+
+# ---------------------------------------------------------------- tables
+
+
+@dataclass(frozen=True, repr=False)
+class Table:
+    """A table of results (an atlas, a sweep, a synthesis): `columns`, and `rows()` as dicts."""
+
+    what: str
+    columns: tuple[str, ...]
+    data: tuple[tuple, ...]
+    notes: tuple[str, ...] = ()  # what the command reports besides the table (a recommendation, a limit)
+
+    def rows(self) -> list[dict]:
+        return _rows(self.columns, self.data)
+
+    def column(self, name: str) -> list:
+        k = self.columns.index(name)
+        return [row[k] for row in self.data]
+
+    def __len__(self) -> int:
+        return len(self.data)
+
+    def __repr__(self) -> str:
+        return f"<{self.what}: {plural(len(self.data), 'row')} of {', '.join(self.columns[:6])}" + (
+            ", ...>" if len(self.columns) > 6 else ">")
+
+    def save(self, path: str | Path) -> Path:
+        """The table as CSV at `path`."""
+        from fivebar_cli.io.files import write_csv
+
+        return write_csv(Path(path), self.columns, self.data)
+
+    def plot(self, ax=None, *, x: str | None = None, y: str | None = None, by: str | None = None):
+        """Column `y` against column `x` (default: the first two numeric columns), one line per value
+        of column `by` (e.g. `config`); returns the axes."""
+        numeric = [c for c, v in zip(self.columns, self.data[0] if self.data else ()) if _number(v) is not None]
+        x = x or numeric[0]
+        y = y or next(c for c in numeric if c != x)
+        ax = axes_of(ax)
+        groups = {} if by is None else dict.fromkeys(self.column(by))
+        for value in groups or [None]:
+            rows = [r for r in self.rows() if by is None or r[by] == value]
+            ax.plot([_number(r[x]) for r in rows], [_number(r[y]) for r in rows], ".-", lw=1,
+                    label=None if by is None else str(value))
+        ax.set_xlabel(x)
+        ax.set_ylabel(y)
+        if by is not None:
+            ax.legend(fontsize=7)
+        return ax
+
+
+def _number(v) -> float | None:
+    """A cell as a number (atlas cells are text), None for other text."""
+    if isinstance(v, bool):
+        return None
+    try:
+        return float(v)
+    except (TypeError, ValueError):
+        return None

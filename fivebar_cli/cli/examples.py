@@ -1,0 +1,38 @@
+"""`fivebar examples`: the papers' mechanisms shipped with the package, listed or copied out."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from fivebar_cli.cli.options import report, wrote
+
+
+@click.command(short_help="List the shipped example mechanisms, or copy them into a folder.")
+@click.option("--copy", "copy_to", type=click.Path(file_okay=False, path_type=Path), default=None, metavar="DIR",
+              help="Copy every example (YAML files, in their subfolders) into DIR, to edit them or to run "
+                   "`fivebar reproduce --configs DIR`.")
+@click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
+def examples(copy_to, quiet):
+    """The mechanisms of both papers, shipped with the package (the repository's configs/): M1 and
+    M2 (five-bars), with joint limits and an obstacle, the 3-RPR designs, the 2-RPR and the atlas
+    specs. Prints each example's name and file; with --copy DIR, copies them into DIR (files of
+    the same name are replaced). They work from any folder after a plain `pip install`: in
+    Python, `fivebar_cli.load("m1")`; `fivebar reproduce` uses them when ./configs does not exist.
+
+    \b
+    Examples:
+      fivebar examples
+      fivebar examples --copy out/configs
+    """
+    from fivebar_cli.api import examples as shipped
+    from fivebar_cli.io.files import check_writable_dir, write_text
+
+    found = shipped()
+    if copy_to is None:
+        for name, path in found.items():
+            report(quiet, f"{name:<34} {path}")
+        return
+    folder = check_writable_dir(copy_to)
+    wrote(quiet, [write_text(folder / f"{name}.yaml", path.read_text(encoding="utf-8")) for name, path in found.items()])

@@ -1,0 +1,119 @@
+"""`fivebar path` for a kind whose aspects live in one space of poses: a certified singularity-free
+motion between two poses, or two assembly modes of the same joints (reached through `cli/dispatch.py`)."""
+
+from __future__ import annotations
+
+import click
+
+from fivebar_cli.analyses.pose_aspect_files import joint_columns, load_pose_aspects, pose_columns
+from fivebar_cli.analyses.pose_aspects import sheet_of
+from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
+from fivebar_cli.cli.numbers import NUMBER
+from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
+from fivebar_cli.cli.poses import (
+    CONFIG, load_pose_kind, numbers, pose_depth_option, sheets_chosen, solve_joints, working_mode_option,
+)
+from fivebar_cli.io.files import csv_text, write_text
+from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG, output_dir
+from fivebar_cli.io.outputs import output_set
+
+def path_rows(result) -> list[tuple]:
+    return [(*p, *j) for p, j in zip(result.poses, result.joints)]
+
+
+def _exact(value: float) -> str:
+    v = float(value)
+    return "0" if v == 0 else repr(v)
+
+
+@click.command("path", short_help="A certified singularity-free motion between two poses (3-RPR, 3-RRR).")
+@click.argument("config_path", metavar="CONFIG", type=CONFIG)
+@click.option("--pose", "poses", type=(NUMBER, NUMBER, NUMBER), multiple=True, metavar="X Y PHI",
+              help="An endpoint (phi in degrees); twice, in the order of the motion.")
+@click.option("--legs", type=(NUMBER, NUMBER, NUMBER), default=None, metavar="R1 R2 R3",
+              help="A 3-RPR's leg lengths whose assembly modes --modes I J are the endpoints (as --joints).")
+@click.option("--joints", type=(NUMBER, NUMBER, NUMBER), default=None, metavar="J1 J2 J3",
+              help="Joint values whose assembly modes --modes I J are the endpoints (3-RRR: degrees).")
+@click.option("--modes", type=(int, int), default=None, metavar="I J",
+              help="With --joints (--legs): from assembly mode I to mode J (numbered as in dkp.csv).")
+@working_mode_option
+@pose_depth_option
+@common_options
+def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out, no_plot, quiet):
+    """A certified singularity-free motion of a 3-RPR or a 3-RRR between two poses, or between two
+    assembly modes of the same joint values (a non-singular change of assembly mode, for a cuspidal
+    robot). A 3-RRR's poses are taken in the working mode of --working-mode (required with --pose).
+
+    The motion is a polyline in (x, y, phi) through certified cells of one class (every pose in
+    them valid, with one sign of det J; one working mode and one sign of det A), each segment
+    proven in exact arithmetic to lie in the cells; so both ends are in one aspect. Writes path.csv
+    (x,y,phi_deg and the joints, rho1,rho2,rho3 or theta1_deg,theta2_deg,theta3_deg, per waypoint;
+    the first and last rows are the endpoints, phi wrapped into a full turn's range, each step the
+    short way round) and path.png (the robot along the motion, the joints against the path
+    parameter). Exit 1 with the reason when no motion exists (different classes, different
+    certified aspects) or none is found at --depth ("not decided at depth D"); exit 2 for a pose
+    outside the ranges, joints that give no pose, modes out of range.
+
+    \b
+    Examples:
+      fivebar path configs/rpr3-caro.yaml --legs 14.98 15.38 12 --modes 1 2 --depth 6 -o out/caro
+      fivebar path configs/rpr3-caro.yaml --pose -5.4962 -13.9353 -2.7121 --pose 8 -9 -5.6 --depth 6 -o out/caro
+    """
+    if legs is not None and joints is not None:
+        raise click.UsageError("give --joints or --legs, not both")
+    option = "--legs" if legs is not None else "--joints"
+    legs = legs if legs is not None else joints
+    if legs is None and modes is not None:
+        raise click.UsageError("--modes needs --legs R1 R2 R3 or --joints J1 J2 J3")
+    if legs is not None and (modes is None or poses):
+        raise click.UsageError(f"give {option} with --modes I J, or two --pose X Y PHI")
+    if legs is None and len(poses) != 2:
+        raise click.UsageError("give exactly two endpoints: --pose X Y PHI twice (or --joints with --modes)")
+    m = load_pose_kind(config_path, poses=True, depth=depth)
+    model = m.pose_aspect_model()
+    space = m.spaces()[model.space]
+    if legs is not None:
+        result = solve_joints(m, legs, str(config_path), option)
+        count = len(result.solutions)
+        for mode in modes:
+            if not 1 <= mode <= count:
+                raise click.BadParameter(f"mode {mode} is out of range: {option[2:]} ({numbers(legs)}) have {count} "
+                                         "assembly modes" + ("" if result.certified else " certified"),
+                                         param_hint="--modes")
+        ends = [result.solutions[k - 1].pose for k in modes]
+        sheets = tuple(sheet_of(model, result.solutions[k - 1].cls) if result.solutions[k - 1].cls >= 0 else 0
+                       for k in modes)
+        labels = tuple(f"assembly mode {k}" for k in modes)
+    else:
+        chosen = sheets_chosen(m, working_mode)
+        if len(chosen) > 1:
+            raise click.BadParameter(f"a {m.kind} pose is reached in {len(chosen)} working modes: say which one "
+                                     "(e.g. --working-mode " + dict(model.sheets[0].fields)["working_mode"] + ")",
+                                     param_hint="--working-mode")
+        ends = [wrap_pose(space, p) for p in poses]
+        sheets = (chosen[0], chosen[0])
+        labels = tuple(f"pose ({numbers(p)})" for p in poses)
+    folder = output_dir(out, m.name)
+    saved = load_pose_aspects(folder, m, depth) if folder.is_dir() else None
+    motion = find_motion(m, depth, ends[0], ends[1], labels, str(config_path), saved, sheets)
+    folder = prepare_out(out, m.name)
+    names = [*pose_columns(m), *joint_columns(m)]
+    rows = [[_exact(v) for v in row] for row in path_rows(motion)]
+    with output_set(folder, "path", PATH_FILES, "fivebar path"):
+        paths = [write_text(folder / PATH_CSV, csv_text(names, rows))]
+        if not no_plot:
+            from fivebar_cli.plotting.pose_aspects import figure_motion
+
+            title = (f"{m.name}: a certified singularity-free motion, {model.classes[motion.cls].label}, "
+                     f"{labels[0]} to {labels[1]}, depth {depth}")
+            paths.append(figure(lambda: figure_motion(model, space, motion.motion.unwrapped(), motion.cls, title,
+                                                      labels[0], labels[1]), folder / PATH_PNG))
+    where = (f"aspect {motion.aspect.number}, {'certified' if motion.aspect.certified else 'not certified'}"
+             if motion.aspect is not None else "one generalized aspect")
+    report(quiet, f"{m.name}: singularity-free motion in {where}: {model.classes[motion.cls].label}, depth {depth}")
+    report(quiet, f"  from {labels[0]} to {labels[1]}: {len(motion.poses)} waypoints, length {motion.length:.6g} "
+                  f"({', '.join(a.name for a in space.axes)}); every segment lies in the certified cells "
+                  f"({motion.motion.checked_cells} cells, checked in exact arithmetic)")
+    if saved is not None:
+        report(quiet, f"  aspect trees read from {folder}")
+    wrote(quiet, paths)

@@ -1,0 +1,204 @@
+"""The public Python API (`import fivebar_cli as fb`, docs/python.md): the names work on M1, M2, a
+3-RPR and the 2-RPR and give what the commands give (their files byte for byte, the golden
+references, closed forms); results are immutable with one-line reprs; `import fivebar_cli` is
+light; plots leave matplotlib's backend alone; the docstrings' examples run."""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import doctest
+import io
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import fivebar_cli as fb
+from fivebar_cli.io.files import csv_text
+from tests.cli_helpers import REPO, ok, run_cli
+
+GOLDEN = REPO / "tests" / "golden"
+
+
+@pytest.fixture(scope="module")
+def m1_aspects():
+    return fb.aspects(fb.load("m1"), 10)
+
+
+def _csv(path) -> list[dict]:
+    return list(csv.DictReader(io.StringIO(path.read_text())))
+
+
+def test_import_is_light_and_fast():
+    """`import fivebar_cli` imports neither click, matplotlib, shapely nor dask (nor numpy), quickly."""
+    code = ("import sys, time; t = time.perf_counter(); import fivebar_cli; t = time.perf_counter() - t; "
+            "print(t, *[m for m in ('click', 'matplotlib', 'shapely', 'dask', 'numpy') if m in sys.modules])")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=REPO).stdout
+    seconds, *loaded = out.split()
+    assert loaded == [] and float(seconds) < 0.15
+    assert set(fb.__all__) <= set(dir(fb))
+    assert all(getattr(fb, name) is not None for name in fb.__all__)
+
+
+def test_load_file_mapping_and_example_agree():
+    m = fb.load(REPO / "configs" / "m1.yaml")
+    assert fb.load("m1") == m
+    assert fb.load({"type": "fivebar", "name": "M1", "lengths": {"L0": 9, "L1": 8, "L2": 5, "L3": 5, "L4": 8}}) == m
+    assert set(fb.examples()) >= {"m1", "m2", "rpr2", "rpr3-caro", "rpr3-verify/table1-case1", "atlas-small"}
+    with pytest.raises(fb.InputError, match="tolerance: an rpr2 has no interval lengths"):
+        fb.load("rpr2", tolerance=0.1)
+    with pytest.raises(fb.InputError, match="type"):
+        fb.load({"type": "nope"})
+
+
+@pytest.mark.parametrize("name, space", [("M1", "workspace"), ("M2", "workspace")])
+def test_pave_equals_the_golden_files(tmp_path, name, space):
+    """The paving at depth 10 writes the golden .qt pair and summary byte for byte; its areas bracket
+    the closed-form area."""
+    p = fb.pave(fb.load(name.lower()), space, 10)
+    written = p.save(tmp_path)
+    assert sorted(f.name for f in written) == sorted([f"{space}.qt", f"{space}.complement.qt", f"{space}.csv"])
+    for f in written:
+        assert f.read_bytes() == (GOLDEN / name / f.name).read_bytes()
+    row = p.rows()[0]
+    assert csv_text(list(row), [list(row.values())]) == (GOLDEN / name / f"{space}.csv").read_text()
+    exact = p.mechanism.exact_measure(space)
+    assert p.inside_area <= exact <= p.inside_area + p.undetermined_area
+    total = float(np.prod(p.inside.grid.size))
+    assert math.isclose(p.inside_area + p.outside_area + p.undetermined_area, total)
+    deeper = fb.refine(fb.pave(fb.load(name.lower()), space, 8), 10)
+    assert deeper.inside_area == p.inside_area and deeper.evaluations < 2 * p.evaluations
+
+
+def test_aspects_of_m1_equal_the_golden_tables(tmp_path, m1_aspects):
+    a = m1_aspects
+    assert (a.count, a.certified, a.bounds) == (10, True, (10, 10))
+    assert [r["aspect"] for r in a.rows()] == [int(r["aspect"]) for r in _csv(GOLDEN / "M1" / "aspects.csv")]
+    a.save(tmp_path)
+    for name in ("aspects.csv", "aspects-adjacency.csv"):
+        assert (tmp_path / name).read_bytes() == (GOLDEN / "M1" / name).read_bytes()
+    for f in (GOLDEN / "M1" / "aspects").iterdir():
+        assert (tmp_path / "aspects" / f.name).read_bytes() == f.read_bytes()
+    adjacency = _csv(GOLDEN / "M1" / "aspects-adjacency.csv")
+    assert a.adjacency == tuple((int(r["aspect_a"]), int(r["aspect_b"]), r["assembly_mode"], r["singularity"])
+                                for r in adjacency)
+    first = a[0]
+    assert first.working_mode in ("++", "+-", "-+", "--") and first.assembly_mode in ("+", "-")
+    assert first.workspace_area == first.workspace.area and first.jointspace_area == first.jointspace.area
+    x, y, r = first.circle
+    assert r > 0 and len(first.pose) == 2 and len(first.joints) == 2
+
+
+def test_locate_and_path_on_m1(tmp_path, m1_aspects):
+    """locate gives the rows of `fivebar locate --csv`; path writes the path.csv `fivebar path` writes."""
+    m = fb.load("m1")
+    loc = fb.locate(m, pose=(4, 5), depth=10, aspects=m1_aspects)
+    cli = ok(run_cli("locate", "configs/m1.yaml", "--pose", "4", "5", "--csv", "-o", str(tmp_path / "none")))
+    rows = list(csv.DictReader(io.StringIO(cli.stdout)))
+    assert [r["working_mode"] for r in loc.rows()] == [r["working_mode"] for r in rows]
+    assert [str(r["aspect"]) for r in loc.rows()] == [r["aspect"] for r in rows]
+    p = fb.path(m, {"pose": (4, 5), "working_mode": "++"}, {"pose": (6, 8), "working_mode": "++"}, depth=10)
+    assert p.columns == ("theta1", "theta2", "x", "y")
+    assert tuple(p.points[0, 2:]) == (4.0, 5.0) and tuple(p.points[-1, 2:]) == (6.0, 8.0)
+    p.save(tmp_path / "api")
+    ok(run_cli("path", "configs/m1.yaml", "--pose", "4", "5", "--pose", "6", "8", "--working-mode", "++",
+               "-o", str(tmp_path / "cli"), "--no-plot", "-q"))
+    assert (tmp_path / "api" / "path.csv").read_bytes() == (tmp_path / "cli" / "path.csv").read_bytes()
+    assert math.isclose(p.length, float(np.sum(np.hypot(*np.diff(p.points[:, :2], axis=0).T))))
+    with pytest.raises(fb.FivebarError, match="no:|different"):
+        fb.path(m, {"pose": (4, 5), "working_mode": "++"}, {"pose": (4, 5), "working_mode": "--"}, depth=8)
+
+
+def test_rpr2_and_3rpr(tmp_path):
+    r = fb.load("rpr2")
+    p = fb.pave(r, "workspace", 8)
+    assert p.inside_area <= r.exact_measure("workspace") <= p.inside_area + p.undetermined_area
+    a = fb.aspects(r, 6)
+    assert (a.count, a.certified) == (2, True)
+    caro = fb.aspects("rpr3-caro", 5)
+    assert (caro.count, caro.certified) == (2, True)
+    assert sorted(x.modes["det_sign"] for x in caro) == ["+", "-"] and caro[0].jointspace is None
+    from fivebar_cli.mechanisms.rpr3.boxtests import det_j, leg_lengths
+
+    for x in caro:  # a pose inside each aspect has det J of its class's sign and the legs of the row
+        pose = np.array([x.pose])
+        assert np.sign(det_j(caro.mechanism, pose))[0] == (1 if x.modes["det_sign"] == "+" else -1)
+        assert np.allclose(leg_lengths(caro.mechanism, pose)[0], x.joints)
+    written = caro.save(tmp_path)
+    assert {f.name for f in written} >= {"aspects.csv", "aspect-01.workspace.qt", "aspect-02.workspace.ply"}
+    where = fb.locate("rpr3-caro", pose=caro[1].pose, depth=5, aspects=caro).rows()[0]
+    assert where["aspect"] == caro[1].number and where["class"] == caro[1].modes
+
+
+def test_rpr3_studies_equal_the_golden_tables():
+    """(The synthesis is `fivebar rpr3 synthesize`'s one call: its golden table is tested through it.)"""
+    area = fb.rpr3.area("rpr3-equilateral")
+    assert area.columns == ("phi_deg", "rho_min", "rho_max", "area")
+    golden = _csv(GOLDEN / "rpr3-equilateral" / "area.csv")
+    assert [r["area"] for r in area.rows()] == pytest.approx([float(r["area"]) for r in golden], rel=1e-9)
+    sweep = fb.rpr3.sweep(["rpr3-equilateral"], "rho_min", span=(0.0, 0.5), steps=6)
+    assert [r["rho_min"] for r in sweep.rows()] == pytest.approx([0, 0.1, 0.2, 0.3, 0.4, 0.5])
+    v = fb.rpr3.verify("rpr3-verify/obtuse-phi1-rule", depth=14)
+    assert v.status == "singular pose found" and v.counterexample.rows()[0]["det_j"] == pytest.approx(0, abs=1e-9)
+    octree = fb.rpr3.pave("rpr3-general", 3)
+    assert octree.volumes["reachable"] <= octree.volumes["root"] and len(octree.pavings) == 3
+    with pytest.raises(fb.InputError, match="range: LO must be smaller than HI"):
+        fb.rpr3.sweep("rpr3-equilateral", "phi", span=(3, 1))
+
+
+def test_atlas_and_view():
+    spec = {"type": "fivebar-atlas", "name": "tiny", "depth": 5,
+            "lengths": {"L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}
+    table = fb.atlas(spec)
+    assert [float(v) for v in table.column("L1")] == [7, 8] and table.column("assemblable") == ["true", "true"]
+    m1 = {float(r["L1"]): r for r in table.rows()}[8.0]
+    assert int(m1["aspects"]) == fb.aspects("m1", 5).count
+    page = fb.view(GOLDEN / "M1")
+    assert page.startswith("<!DOCTYPE html>") and "aspect-01.workspace.qt" in page
+
+
+def test_results_are_immutable_values_with_one_line_reprs(m1_aspects):
+    p = fb.pave("m1", "workspace", 5)
+    path = fb.path("m1", {"pose": (4, 5), "working_mode": "++"}, {"pose": (6, 8), "working_mode": "++"}, depth=8)
+    for value in (p, m1_aspects, m1_aspects[0], path, fb.rpr3.area("rpr3-equilateral"),
+                  fb.locate("m1", pose=(4, 5), depth=8, aspects=m1_aspects)):
+        assert "\n" not in repr(value) and repr(value).startswith("<")
+        field = dataclasses.fields(value)[0].name
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            setattr(value, field, None)
+    with pytest.raises(ValueError):
+        path.points[0, 0] = 1.0
+
+
+def test_plots_draw_on_the_callers_axes_and_keep_the_backend(m1_aspects):
+    import matplotlib
+
+    before = matplotlib.get_backend()
+    matplotlib.use("svg")
+    try:
+        from matplotlib.figure import Figure
+
+        axes = Figure().subplots(1, 4)
+        assert fb.pave("m1", "workspace", 6).plot(axes[0]) is axes[0] and axes[0].images
+        assert m1_aspects.plot(axes[1]) is axes[1] and len(axes[1].texts) == 10
+        path = fb.path("m1", {"pose": (4, 5), "working_mode": "++"}, {"pose": (6, 8), "working_mode": "++"}, depth=8)
+        assert path.plot(axes[2]).lines
+        assert fb.rpr3.sweep("rpr3-equilateral", "rho_min", steps=5).plot(axes[3], x="rho_min", y="area").lines
+        fb.pave("rpr3-general", "workspace", 3).plot()  # 3-D: a slice, on new axes of the current backend
+        assert matplotlib.get_backend() == "svg"
+    finally:
+        import matplotlib.pyplot as plt
+
+        plt.close("all")
+        matplotlib.use(before)
+
+
+def test_docstring_examples_run():
+    from fivebar_cli.api import calls, rpr3
+
+    for module in (calls, rpr3):
+        result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+        assert result.failed == 0 and result.attempted > 0

@@ -1,0 +1,75 @@
+"""A built wheel, not the editable install: the package data (the shipped examples, the page of
+`fivebar view`) is in it, and from a folder outside the repository the examples load, a command
+runs on them and `fivebar reproduce` finds them."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+import zipfile
+
+import pytest
+
+from fivebar_cli.cli import reproduce as reproduce_module
+from tests.cli_helpers import REPO, ok, run_cli
+
+
+@pytest.fixture(scope="module")
+def installed(tmp_path_factory):
+    """The wheel built from a copy of the sources (the checkout stays clean), unpacked by pip into a
+    target folder: (wheel, target)."""
+    root = tmp_path_factory.mktemp("wheel")
+    source = root / "src"
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc")
+    shutil.copytree(REPO / "fivebar_cli", source / "fivebar_cli", symlinks=True, ignore=ignore)
+    shutil.copytree(REPO / "configs", source / "configs", ignore=ignore)
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(REPO / name, source / name)
+    pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "-q"]
+    subprocess.run([*pip, "wheel", str(source), "--no-deps", "--no-build-isolation", "-w", str(root / "dist")],
+                   check=True, capture_output=True, cwd=root)
+    (wheel,) = (root / "dist").glob("fivebar-*.whl")
+    subprocess.run([*pip, "install", "--no-deps", "--target", str(root / "site"), str(wheel)], check=True,
+                   capture_output=True, cwd=root)
+    return wheel, root / "site"
+
+
+def test_the_wheel_holds_the_examples_and_the_page(installed):
+    wheel, _ = installed
+    names = set(zipfile.ZipFile(wheel).namelist())
+    shipped = {f"fivebar_cli/examples/{p.relative_to(REPO / 'configs').as_posix()}"
+               for p in (REPO / "configs").rglob("*.yaml")}
+    assert shipped <= names and "fivebar_cli/examples/rpr3-verify/table1-case1.yaml" in shipped
+    assert {"fivebar_cli/webpage/page.js", "fivebar_cli/webpage/page.html", "fivebar_cli/webpage/page.css"} <= names
+
+
+def test_the_installed_package_runs_from_any_folder(installed, tmp_path):
+    _, site = installed
+    env = {**{k: v for k, v in os.environ.items() if k != "FIVEBAR_DEBUG"}, "PYTHONPATH": str(site),
+           "MPLBACKEND": "Agg"}
+    code = ("import fivebar_cli as fb; print(fb.__file__); e = fb.examples(); print(len(e)); "
+            "print(fb.load('m2').name, fb.rpr3.area(e['rpr3-equilateral']).rows()[0]['area'])")
+    out = subprocess.run([sys.executable, "-c", code], env=env, cwd=tmp_path, capture_output=True, text=True,
+                         check=True).stdout.split("\n")
+    assert out[0].startswith(str(site)) and int(out[1]) == len(list((REPO / "configs").rglob("*.yaml")))
+    golden = (REPO / "tests" / "golden" / "rpr3-equilateral" / "area.csv").read_text().split("\n")[1].split(",")
+    name, area = out[2].split()
+    assert name == "M2" and float(area) == pytest.approx(float(golden[3]), rel=1e-9)
+    listed = subprocess.run([sys.executable, "-m", "fivebar_cli", "examples", "--copy", "mine"], env=env,
+                            cwd=tmp_path, capture_output=True, text=True, check=True).stdout
+    assert "wrote mine/m1.yaml" in listed and (tmp_path / "mine" / "rpr3-verify" / "table1-case6.yaml").is_file()
+    assert (tmp_path / "mine" / "m1.yaml").read_bytes() == (REPO / "configs" / "m1.yaml").read_bytes()
+
+
+def test_reproduce_reads_the_shipped_examples_outside_the_repository(tmp_path, monkeypatch):
+    """From a folder without configs/, `fivebar reproduce` runs its steps on the shipped examples
+    (here its two cheapest steps: the commands themselves are tested elsewhere)."""
+    steps = [s for s in reproduce_module.REPRODUCTION if s[1][0] == "rpr3" and s[1][1] in ("area", "verify")][:2]
+    monkeypatch.setattr(reproduce_module, "REPRODUCTION", tuple(steps))
+    result = ok(run_cli("reproduce", "-o", "out", "--no-plot", cwd=tmp_path))
+    shipped = REPO / "fivebar_cli" / "examples"
+    assert f"fivebar rpr3 area {shipped.as_posix()}/rpr3-equilateral.yaml" in result.stdout
+    assert (tmp_path / "out" / "rpr3-equilateral" / "area.csv").read_bytes() == \
+        (REPO / "tests" / "golden" / "rpr3-equilateral" / "area.csv").read_bytes()
