@@ -100,10 +100,18 @@ def _unraisable(hook):
     `hook`."""
     def unraisable(info):
         if isinstance(info.exc_value, Interrupted):
-            threading.Timer(0.01, os.kill, (os.getpid(), info.exc_value.signum)).start()
+            threading.Timer(0.01, _send_again, (info.exc_value.signum,)).start()
         elif not isinstance(info.exc_value, KeyboardInterrupt):
             hook(info)
     return unraisable
+
+
+def _send_again(signum: int) -> None:
+    """The signal again, if the command is still running under our handlers: once it has finished
+    (handlers ignored) or the interpreter is shutting down (handlers back to the default, which
+    would kill the process without a word), the run's status stands."""
+    if signal.getsignal(signum) is _on_signal:
+        os.kill(os.getpid(), signum)
 
 
 def _show_warning(previous):
