@@ -226,19 +226,20 @@ class Tree:
         """Fraction of each pixel of the 2^level x 2^level grid covered by the set, indexed [y, x]."""
         if self.grid.dim != 2:
             raise ValueError("coverage rasters are for quadtrees")
-        n = 1 << level
-        image = np.zeros((n, n))
         coords, lev = self.coords, self.level
+        covered, at = np.zeros((1, 1), dtype=bool), 0  # leaves at most `level` deep: whole pixels,
+        finer = []                                       # painted coarse to fine, one upsampling a level
         for leaf_level in np.unique(lev):
             sel = coords[lev == leaf_level]
-            if leaf_level <= level:
-                small = np.zeros((1 << leaf_level, 1 << leaf_level))
-                small[sel[:, 1], sel[:, 0]] = 1.0
-                rep = 1 << (level - leaf_level)
-                image += np.repeat(np.repeat(small, rep, axis=0), rep, axis=1)
-            else:
-                shift = leaf_level - level
-                np.add.at(image, (sel[:, 1] >> shift, sel[:, 0] >> shift), 0.25 ** shift)
+            if leaf_level > level:
+                finer.append((leaf_level - level, sel))
+                continue
+            covered = _upsample(covered, leaf_level - at)
+            covered[sel[:, 1], sel[:, 0]] = True  # leaves are disjoint
+            at = leaf_level
+        image = _upsample(covered, level - at).astype(float)
+        for shift, sel in finer:
+            np.add.at(image, (sel[:, 1] >> shift, sel[:, 0] >> shift), 0.25 ** shift)
         return image
 
     # -- slices (an octree seen at one value of an axis)
@@ -367,3 +368,11 @@ def union_find(n: int, i: np.ndarray, j: np.ndarray, parent: np.ndarray | None =
             return parent
         i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
         np.minimum.at(parent, np.maximum(ri, rj), np.minimum(ri, rj))
+
+
+def _upsample(image: np.ndarray, levels: int) -> np.ndarray:
+    """Each pixel as a block of 2^levels x 2^levels pixels."""
+    if levels == 0:
+        return image
+    rep = 1 << levels
+    return np.repeat(np.repeat(image, rep, axis=0), rep, axis=1)

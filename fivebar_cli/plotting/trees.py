@@ -26,8 +26,10 @@ def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> 
     n = 1 << level
     image = np.tile(WHITE, (n, n, 1))
     for tree, colour in layers:
-        cover = np.clip(tree.coverage(level), 0, 1)[..., None]
-        image = image * (1 - cover) + np.asarray(colour) * cover
+        cover = np.clip(tree.coverage(level), 0, 1)
+        where = np.nonzero(cover)  # elsewhere the blend leaves the pixel as it is
+        c = cover[where][:, None]
+        image[where] = image[where] * (1 - c) + np.asarray(colour) * c
     return image
 
 
