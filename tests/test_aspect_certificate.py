@@ -18,7 +18,7 @@ from fivebar_cli.analyses.aspects import _Count, analyse_aspects
 from fivebar_cli.io.qtfile import read_qt
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
-SEEDS = range(8)
+SEEDS = range(6)
 
 
 def design(seed: int) -> tuple[float, ...]:

@@ -190,13 +190,13 @@ def test_fuzz_config_reader_on_random_structures(fuzz_file, data):
     load_or_config_error(fuzz_file, yaml.safe_dump(data, allow_unicode=True).encode())
 
 
-@settings(FUZZ, max_examples=1000)
+@settings(FUZZ, max_examples=400)
 @given(mutated_configs())
 def test_fuzz_config_reader_on_mutated_configs(fuzz_file, text):
     load_or_config_error(fuzz_file, text.encode())
 
 
-@settings(FUZZ, max_examples=1000)
+@settings(FUZZ, max_examples=400)
 @given(edited_texts())
 def test_fuzz_config_reader_on_edited_files(fuzz_file, text):
     load_or_config_error(fuzz_file, text.encode())
@@ -289,7 +289,7 @@ def assert_well_formed(text: str, tree, fields: dict) -> None:
     assert again.tree == tree and again.fields == fields
 
 
-@settings(FUZZ, max_examples=1000)
+@settings(FUZZ, max_examples=400)
 @given(qt_edits())
 def test_fuzz_qt_reader_on_edited_real_files(real_qt, edits):
     index, ops = edits
