@@ -18,6 +18,7 @@ import numpy as np
 
 from fivebar_cli.numerics import arcs
 from fivebar_cli.numerics.ranges import circle_intersections, point_box_distance2
+from fivebar_cli.numerics.verdict import verdict
 
 Annulus = tuple[float, float, float]  # (centre x, inner radius, outer radius); centre (cx, 0)
 
@@ -64,7 +65,7 @@ def reach_status(annuli, lo: np.ndarray, hi: np.ndarray, ranges, anchor_points, 
                 & (lo[idx, 1] - eta <= py) & (py <= hi[idx, 1] + eta)
             )
         outside[idx[~meets]] = True
-    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+    return verdict(inside, outside)
 
 
 def box_meets(annuli, lo, hi, delta, eta) -> np.ndarray:

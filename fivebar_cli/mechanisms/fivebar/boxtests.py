@@ -14,6 +14,7 @@ import numpy as np
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics import annuli as ring
 from fivebar_cli.numerics.ranges import angle_inside, circle_intersections, sinusoid_range
+from fivebar_cli.numerics.verdict import verdict
 
 DELTA_REL = 1e-12  # safety margin on squared lengths, relative to the squared scale
 ETA_REL = 1e-9  # safety margin on lengths along box edges, relative to the scale
@@ -88,7 +89,7 @@ def assembly_status(m, dmin: np.ndarray, dmax: np.ndarray) -> np.ndarray:
     dmin, dmax = dmin - delta, dmax + delta
     inside = (dmin >= lo2) & (dmax <= hi2) & (dmin > 0)
     outside = (dmax < lo2) | (dmin > hi2)
-    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+    return verdict(inside, outside)
 
 
 # ---------------------------------------------------------------- workspace

@@ -39,6 +39,7 @@ from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, box_trig, joint_spa
 from fivebar_cli.mechanisms.fivebar.constraints import LINKS
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics.ranges import ANGLE_MARGIN, cos_sin_ranges, direction_range, triangle_angle_range
+from fivebar_cli.numerics.verdict import verdict
 from fivebar_cli.paving.engine import pave
 
 TWO_PI = 2.0 * np.pi
@@ -58,7 +59,7 @@ def arc_status(lo, hi, arc_lo: float, arc_hi: float, margin: float = ANGLE_MARGI
     inside = (arc_lo + k * TWO_PI <= lo) & (hi - lo < TWO_PI)
     j = np.floor((lo - arc_hi) / TWO_PI)
     outside = (lo > arc_hi + j * TWO_PI) & (hi < arc_lo + (j + 1) * TWO_PI)
-    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+    return verdict(inside, outside)
 
 
 def _triangle(s, adjacent, opposite):

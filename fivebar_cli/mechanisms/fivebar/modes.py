@@ -19,6 +19,7 @@ from fivebar_cli.mechanisms.fivebar.boxtests import (
 )
 from fivebar_cli.mechanisms.fivebar.kinematics import dkp, ikp, mode_values, scale
 from fivebar_cli.numerics.ranges import direction_range, sin_sign, sinusoid_range, triangle_angle_range
+from fivebar_cli.numerics.verdict import verdict
 
 WORKING_MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
 ASSEMBLY_MODES = (1, -1)
@@ -129,7 +130,7 @@ def parallel_free_joint_test(m):
         dmin, dmax = crank_distance2_range(m, lo, hi)
         status = assembly_status(m, dmin, dmax)
         strict = _strict(dmin, dmax, r, big, delta)
-        return np.where(strict, 1, np.where(status == -1, -1, 0)).astype(np.int8)
+        return verdict(strict, status == -1)
 
     return test
 

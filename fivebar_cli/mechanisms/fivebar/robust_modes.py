@@ -18,6 +18,7 @@ import numpy as np
 from fivebar_cli.mechanisms.fivebar import modes, robust
 from fivebar_cli.mechanisms.fivebar.boxtests import box_trig
 from fivebar_cli.numerics.ranges import direction_range, sin_sign
+from fivebar_cli.numerics.verdict import verdict
 from fivebar_cli.paving.engine import BAND
 
 
@@ -45,7 +46,7 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
         g2 = robust.triangle_angle_range3(*_clip(d2, p2_in, p2_out, delta), m.bounds[4], m.bounds[2])
         t3 = (a1[0] + g1[0], a1[1] + g1[1]) if su > 0 else (a1[0] - g1[1], a1[1] - g1[0])
         t4 = (a2[0] + g2[0], a2[1] + g2[1]) if sv > 0 else (a2[0] - g2[1], a2[1] - g2[0])
-        status = np.where(reach, 1, np.where(impossible, -1, 0)).astype(np.int8)
+        status = verdict(reach, impossible)
         return status, strict, sin_sign(t4[0] - t3[1], t4[1] - t3[0])
 
     return classify
@@ -73,7 +74,7 @@ def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
     strict, _ = robust.joint_status(m, bounds["low"], bounds["high"], strict=True)
     tri = coupler_triangle(m, lo, hi, trig, bounds)
     u, v = modes.serial_signs(assembly, lo, hi, tri.b, tri.a, tri.e)
-    status = np.where(reach, 1, np.where(impossible, -1, 0)).astype(np.int8)
+    status = verdict(reach, impossible)
     if with_band:
         return status, strict, u, v, robust.joint_band(m, bounds, possible_too=False)
     return status, strict, u, v
@@ -113,7 +114,7 @@ def parallel_free_joint_test(m):
     def test(lo, hi):
         b = robust.crank_distance_bounds(m, lo, hi)
         black, impossible = robust.joint_status(m, b["low"], b["high"], strict=True)
-        return np.where(black, 1, np.where(impossible, -1, 0)).astype(np.int8)
+        return verdict(black, impossible)
 
     return test
 

@@ -12,6 +12,7 @@ import numpy as np
 
 from fivebar_cli.mechanisms.rpr2.kinematics import scale
 from fivebar_cli.numerics import annuli as ring
+from fivebar_cli.numerics.verdict import verdict
 
 DELTA_REL = 1e-12
 ETA_REL = 1e-9
@@ -55,7 +56,7 @@ def joint_space_test(m):
 
     def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         inside, outside = _triangle(m, lo, hi, strict=False)
-        return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+        return verdict(inside, outside)
 
     return test
 
@@ -66,7 +67,7 @@ def assembly_joint_test(m):
 
     def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         inside, outside = _triangle(m, lo, hi, strict=True)
-        return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+        return verdict(inside, outside)
 
     return test
 
@@ -79,7 +80,7 @@ def working_workspace_test(m):
     def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         status = reach(lo, hi)
         off_line = (lo[:, 1] - eta > 0) | (hi[:, 1] + eta < 0)
-        return np.where(status == -1, -1, np.where((status == 1) & off_line, 1, 0)).astype(np.int8)
+        return verdict((status == 1) & off_line, status == -1)
 
     return test
 

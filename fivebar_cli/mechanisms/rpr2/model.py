@@ -21,6 +21,7 @@ from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields, description_numbers
 from fivebar_cli.mechanisms.rpr2 import boxtests, kinematics
 from fivebar_cli.numerics import annuli as ring
+from fivebar_cli.numerics.verdict import verdict
 
 
 @dataclass(frozen=True)
@@ -141,7 +142,7 @@ class Rpr2Modes:
     def workspace_signs(self, working, lo, hi):
         status = boxtests.workspace_test(self.m)(lo, hi)
         _, eta = boxtests.margins(self.m)
-        side = np.where(lo[:, 1] - eta > 0, 1, np.where(hi[:, 1] + eta < 0, -1, 0)).astype(np.int8)
+        side = verdict(lo[:, 1] - eta > 0, hi[:, 1] + eta < 0)
         return status != -1, side[:, None]
 
     def jointspace_signs(self, assembly, lo, hi):

@@ -31,6 +31,7 @@ import numpy as np
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.platform import ETA_REL, D2R, Platform  # noqa: F401 (ETA_REL: the margin, as before)
+from fivebar_cli.numerics.verdict import verdict
 
 REACHABLE = "reachable"  # the regions a box test decides (the `region:` of the .qt files)
 PLUS = "singularity-free det J > 0"
@@ -70,7 +71,7 @@ def reach_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         near, far = np.maximum(near - g.eta, 0.0), far + g.eta
         inside &= (near >= a) & (far <= b)
         outside |= (far < a) | (near > b)
-    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+    return verdict(inside, outside)
 
 
 # ---------------------------------------------------------------- det J
@@ -123,14 +124,14 @@ def det_enclosure(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarr
 def det_sign(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """+1 / -1 where det J is certified positive / negative on the whole box, else 0."""
     dlo, dhi = det_enclosure(g, lo, hi)
-    return np.where(dlo > 0, 1, np.where(dhi < 0, -1, 0)).astype(np.int8)
+    return verdict(dlo > 0, dhi < 0)
 
 
 def det_point_sign(g: Geometry, poses: np.ndarray) -> np.ndarray:
     """Certified sign of det J at poses (m, 3) (0 where rounding cannot tell)."""
     poses = g.poses(poses)
     d = _det3(*_columns(g, *(Interval.point(poses[:, k]) for k in range(3)))[:3])
-    return np.where(d.lo > 0, 1, np.where(d.hi < 0, -1, 0)).astype(np.int8)
+    return verdict(d.lo > 0, d.hi < 0)
 
 
 def _legs_and_arms(m, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -34,6 +34,7 @@ from fivebar_cli.numerics import gradients as gr
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.platform import D2R, ETA_REL, Platform  # noqa: F401 (ETA_REL: the margin)
+from fivebar_cli.numerics.verdict import verdict
 
 _D2R = Interval(D2R * (1.0 - 4e-16), D2R * (1.0 + 4e-16))  # encloses pi / 180
 WORKING_MODES = tuple("".join(s) for s in itertools.product("+-", repeat=3))  # +++, ++-, ..., ---
@@ -82,7 +83,7 @@ def valid_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         near, far = near - g.eta, far + g.eta
         inside &= (near > a) & (far < b)
         outside |= (far < a) | (near > b)
-    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+    return verdict(inside, outside)
 
 
 # ---------------------------------------------------------------- det A
@@ -147,7 +148,7 @@ def det_sign(g: Geometry, signs, lo: np.ndarray, hi: np.ndarray, valid: np.ndarr
     """+1 / -1 where det A (working mode `signs`) is certified positive / negative at every valid
     pose of the box, else 0 (`valid` as in `det_enclosure`)."""
     d_lo, d_hi = det_enclosure(g, signs, lo, hi, valid)
-    return np.where(d_lo > 0, 1, np.where(d_hi < 0, -1, 0)).astype(np.int8)
+    return verdict(d_lo > 0, d_hi < 0)
 
 
 def class_status(g: Geometry, signs, want: int, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
