@@ -39,6 +39,7 @@ from fivebar_cli.errors import FivebarError
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, chunked, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
+from fivebar_cli.paving.morton import finest_order
 from fivebar_cli.paving.tree import Tree, union_find
 
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
@@ -399,8 +400,7 @@ class _Count:
                 located = np.full(len(points), -1, np.int64)
                 if ok.any():
                     cells = t.cells
-                    order = np.argsort(cells.code << (cells.grid.dim * (cells.grid.depth - cells.level)),
-                                       kind="stable")
+                    order = finest_order(cells.code, cells.level, cells.grid.dim, cells.grid.depth)
                     leaf = cells.tree().locate(images[ok])
                     located[np.flatnonzero(ok)] = np.where(leaf >= 0, order[np.maximum(leaf, 0)], -1)
                 for g in missing:

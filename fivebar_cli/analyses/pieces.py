@@ -29,7 +29,7 @@ import numpy as np
 
 from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
-from fivebar_cli.paving.morton import deinterleave, interleave
+from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
 from fivebar_cli.paving.tree import Tree, union_find
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
@@ -72,7 +72,7 @@ class CellSet:
     def tree(self, mask: np.ndarray | None = None) -> Tree:
         """The selected cells as a tree (their own leaves, sorted, not merged)."""
         level, code = (self.level, self.code) if mask is None else (self.level[mask], self.code[mask])
-        order = np.argsort(code << (self.grid.dim * (self.grid.depth - level)), kind="stable")
+        order = finest_order(code, level, self.grid.dim, self.grid.depth)
         return Tree(self.grid, level[order], code[order], canonical=True)
 
     def undetermined_coords(self) -> np.ndarray:
@@ -87,7 +87,7 @@ def components(cells: CellSet, mask: np.ndarray | None = None) -> tuple[np.ndarr
     code = cells.code if mask is None else cells.code[mask]
     if len(level) == 0:
         return np.zeros(0, np.int64), 0
-    order = np.argsort(code << (cells.grid.dim * (cells.grid.depth - level)), kind="stable")
+    order = finest_order(code, level, cells.grid.dim, cells.grid.depth)
     tree = Tree(cells.grid, level[order], code[order], canonical=True)
     labels, count = tree.components(corners=True)
     out = np.empty_like(labels)
@@ -379,7 +379,7 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
     level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
     code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
-    order = np.argsort(code << (grid.dim * (grid.depth - level)), kind="stable")
+    order = finest_order(code, level, grid.dim, grid.depth)
     everything = Tree(grid, level[order], code[order], canonical=True)
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
@@ -398,7 +398,7 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
 def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:
     """Mask of the cells not in `inside` that touch (share a point with) a cell in it."""
     tree = cells.tree()
-    order = np.argsort(cells.code << (cells.grid.dim * (cells.grid.depth - cells.level)), kind="stable")
+    order = finest_order(cells.code, cells.level, cells.grid.dim, cells.grid.depth)
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     i, j = tree.adjacency(corners=True)
@@ -483,9 +483,9 @@ def _enumerate(a_lo, a_hi, k: int, n: int, pad: int, periodic):
 def _position(cells: CellSet, level: np.ndarray, code: np.ndarray) -> np.ndarray:
     """Index in `cells` of each of the given cells (which are among them, with the same level)."""
     dim, depth = cells.grid.dim, cells.grid.depth
-    keys = cells.code << (dim * (depth - cells.level))
+    keys = finest_key(cells.code, cells.level, dim, depth)
     order = np.argsort(keys, kind="stable")
-    return order[np.searchsorted(keys[order], code << (dim * (depth - level)))]
+    return order[np.searchsorted(keys[order], finest_key(code, level, dim, depth))]
 
 
 def _same_label_pairs(labels: np.ndarray, anchors: np.ndarray) -> list[tuple[int, int]]:

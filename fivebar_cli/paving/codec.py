@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from fivebar_cli.paving.morton import finest_key
+
 
 class BodyError(ValueError):
     """A malformed B/W/G body; `position` is the 0-based index of the offending letter."""
@@ -35,8 +37,8 @@ def encode(tree) -> str:
     g_level, g_code = np.concatenate(grey_level), np.concatenate(grey_code)
     child_level = np.repeat(g_level + 1, k)
     child_code = (np.repeat(g_code, k) << dim) | np.tile(np.arange(k, dtype=np.int64), g_code.size)
-    key_grey = g_code << (dim * (depth - g_level))
-    key_child = child_code << (dim * (depth - child_level))
+    key_grey = finest_key(g_code, g_level, dim, depth)
+    key_child = finest_key(child_code, child_level, dim, depth)
     # children that are neither grey nor black are white
     is_grey = _member(child_level, child_code, g_level, g_code, depth, dim)
     is_black = _member(child_level, child_code, tree.level, tree.code, depth, dim)
@@ -54,8 +56,8 @@ def _member(level, code, set_level, set_code, depth, dim) -> np.ndarray:
     """Whether each (level, code) node belongs to the node set (set_level, set_code)."""
     if set_code.size == 0:
         return np.zeros(level.size, dtype=bool)
-    key = (code << (dim * (depth - level))) * (depth + 1) + level
-    set_key = np.sort((set_code << (dim * (depth - set_level))) * (depth + 1) + set_level)
+    key = finest_key(code, level, dim, depth) * (depth + 1) + level
+    set_key = np.sort(finest_key(set_code, set_level, dim, depth) * (depth + 1) + set_level)
     pos = np.minimum(np.searchsorted(set_key, key), set_key.size - 1)
     return set_key[pos] == key
 

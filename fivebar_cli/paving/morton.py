@@ -63,6 +63,16 @@ def deinterleave(code: np.ndarray, level: int | np.ndarray, dim: int) -> np.ndar
     return coords
 
 
+def finest_key(code: np.ndarray, level: np.ndarray | int, dim: int, depth: int) -> np.ndarray:
+    """The first finest-level (depth) Morton index of each cell: cells at mixed levels in Z-order."""
+    return code << (dim * (depth - level))
+
+
+def finest_order(code: np.ndarray, level: np.ndarray | int, dim: int, depth: int) -> np.ndarray:
+    """The permutation that sorts cells at mixed levels by `finest_key` (stable: ties keep order)."""
+    return np.argsort(finest_key(code, level, dim, depth), kind="stable")
+
+
 def floor_log2(x: np.ndarray) -> np.ndarray:
     """floor(log2(x)) for positive integers below 2**53 (exact through frexp)."""
     return np.frexp(x.astype(np.float64))[1].astype(np.int64) - 1

@@ -16,7 +16,7 @@ import numpy as np
 
 from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
-from fivebar_cli.paving.morton import deinterleave, floor_log2, interleave, step, trailing_zeros
+from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, floor_log2, interleave, step, trailing_zeros
 
 __all__ = ["Tree", "BodyError", "union_find"]
 
@@ -73,7 +73,7 @@ class Tree:
     @cached_property
     def start(self) -> np.ndarray:
         """First depth-D Morton index of each leaf."""
-        return self.code << (self.grid.dim * (self.grid.depth - self.level))
+        return finest_key(self.code, self.level, self.grid.dim, self.grid.depth)
 
     @cached_property
     def end(self) -> np.ndarray:
@@ -289,7 +289,7 @@ def _canonical(grid: Grid, level: np.ndarray, code: np.ndarray) -> tuple[np.ndar
     if level.max() > grid.depth:
         raise ValueError("leaf deeper than the grid depth")
     shift = grid.dim * (grid.depth - level)
-    start = code << shift
+    start = finest_key(code, level, grid.dim, grid.depth)
     end = start + (np.int64(1) << shift)
     order = np.argsort(start, kind="stable")
     start, end = start[order], end[order]
@@ -329,7 +329,7 @@ def _blocks(grid: Grid, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray,
     if not levels:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     level, code = np.concatenate(levels), np.concatenate(codes)
-    order = np.argsort(code << (dim * (depth - level)), kind="stable")
+    order = finest_order(code, level, dim, depth)
     return level[order], code[order]
 
 
