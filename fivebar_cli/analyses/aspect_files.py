@@ -6,7 +6,6 @@ a folder holds exactly one run's set, and read back, when they are of one comple
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -14,7 +13,7 @@ from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis, signs_text
 from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
 from fivebar_cli.analyses.jobs import run_tasks
-from fivebar_cli.io.files import write_csv, write_text
+from fivebar_cli.io.files import read_csv_table, write_csv, write_text
 from fivebar_cli.io.geojson import feature, geojson_text
 from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
 from fivebar_cli.io.outputs import of_complete_runs, output_set
@@ -32,10 +31,14 @@ CROSSING_HEADER = (
 def aspect_header(m: Mechanism) -> tuple[str, ...]:
     """`aspects.csv` columns; the configuration columns are named after the axes of the two spaces
     (x, y, theta1, theta2 for the five-bar)."""
-    spaces = m.spaces()
-    axes = [a.name for s in SPACES for a in spaces[s].axes]
     return ("aspect", "working_mode", "assembly_mode", "workspace_area", "jointspace_area",
-            "workspace_cells", "jointspace_cells", *axes, "certified", *SHAPE_COLUMNS)
+            "workspace_cells", "jointspace_cells", *_axis_columns(m), "certified", *SHAPE_COLUMNS)
+
+
+def _axis_columns(m: Mechanism) -> list[str]:
+    """The configuration columns: the workspace's axes, then the joint space's."""
+    spaces = m.spaces()
+    return [a.name for s in SPACES for a in spaces[s].axes]
 
 
 def _shape_cells(a: Aspect) -> tuple:
@@ -131,20 +134,22 @@ def read_aspect_table(folder: Path, m: Mechanism) -> list[SavedRow] | None:
     if not table.is_file():
         return None
     try:
-        with open(table, newline="", encoding="utf-8") as fh:
-            rows = list(csv.reader(fh))
-        if tuple(rows[0]) != aspect_header(m):
+        header, rows = read_csv_table(table)
+        if tuple(header) != aspect_header(m):
             return None
+        axes = _axis_columns(m)
         out = []
-        for row in rows[1:]:
-            if row[11] not in ("true", "false") or not set(row[1]) <= {"+", "-"} or row[2] not in ("+", "-"):
+        for _, row in rows:
+            working, assembly, certified = row["working_mode"], row["assembly_mode"], row["certified"]
+            if certified not in ("true", "false") or not set(working) <= {"+", "-"} or assembly not in ("+", "-"):
                 return None
-            values = [float(v) for v in row[7:11]]
-            circle, square = _read_shapes(row[12:18])
-            out.append(SavedRow(int(row[0]), tuple(1 if c == "+" else -1 for c in row[1]), 1 if row[2] == "+" else -1,
-                                tuple(values[:2]), tuple(values[2:]), row[11] == "true", circle, square))
+            values = [float(row[c]) for c in axes]
+            circle, square = _read_shapes([row[c] for c in SHAPE_COLUMNS])
+            out.append(SavedRow(int(row["aspect"]), tuple(1 if c == "+" else -1 for c in working),
+                                1 if assembly == "+" else -1, tuple(values[:2]), tuple(values[2:]),
+                                certified == "true", circle, square))
         return out
-    except (OSError, ValueError, IndexError, UnicodeDecodeError):
+    except (InputError, ValueError):
         return None
 
 

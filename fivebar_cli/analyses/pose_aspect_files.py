@@ -9,12 +9,11 @@ degrees: `x,y,phi_deg`), its joints (`rho1,rho2,rho3`) and `certified`.
 
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 from fivebar_cli.analyses.pose_aspects import PoseAspect, PoseAspectAnalysis, pose_model
 from fivebar_cli.errors import InputError
-from fivebar_cli.io.files import write_csv
+from fivebar_cli.io.files import read_csv_table, write_csv
 from fivebar_cli.io.layout import ASPECTS_CSV, aspect_mesh_path, aspect_path
 from fivebar_cli.io.mesh import write_ply
 from fivebar_cli.io.outputs import of_complete_runs
@@ -85,27 +84,26 @@ def load_pose_aspects(folder: Path | None, m: Mechanism, depth: int) -> list[Pos
     space = m.spaces()[model.space]
     header = aspect_header(m)
     try:
-        with open(folder / ASPECTS_CSV, newline="", encoding="utf-8") as fh:
-            rows = list(csv.reader(fh))
-        if not rows or tuple(rows[0]) != header:
+        found, rows = read_csv_table(folder / ASPECTS_CSV)
+        if tuple(found) != header:
             return None
-        nf, nd = len(model.classes[0].fields), space.dim
-        files = [folder / ASPECTS_CSV, *(aspect_path(folder, int(row[0]), space.name) for row in rows[1:])]
+        names, nd = [k for k, _ in model.classes[0].fields], space.dim
+        files = [folder / ASPECTS_CSV, *(aspect_path(folder, int(row["aspect"]), space.name) for _, row in rows)]
         if not of_complete_runs(folder, files, "the aspects are computed"):
             return None
         aspects = []
-        for row in rows[1:]:
-            number, fields = int(row[0]), tuple(row[1:1 + nf])
+        for _, row in rows:
+            number, fields = int(row["aspect"]), tuple(row[k] for k in names)
             cls = next(k for k, c in enumerate(model.classes) if tuple(v for _, v in c.fields) == fields)
-            values = [float(v) for v in row[3 + nf:-1]]
+            values = [float(row[c]) for c in (*pose_columns(m), *joint_columns(m))]
             qt = read_qt(aspect_path(folder, number, space.name))
             tree = qt.tree
             expected = {**dict(model.classes[cls].fields), "mechanism": m.describe(), "region": f"aspect {number}"}
             if tree.grid != space.grid(depth) or any(qt.get(k) != v for k, v in expected.items()) \
-                    or row[-1] not in ("true", "false"):
+                    or row["certified"] not in ("true", "false"):
                 return None
             aspects.append(PoseAspect(number, cls, model.classes[cls], tree, tuple(values[:nd]), tuple(values[nd:]),
-                                      row[-1] == "true"))
+                                      row["certified"] == "true"))
         return aspects
     except (OSError, ValueError, IndexError, StopIteration, UnicodeDecodeError, InputError):
         return None

@@ -9,38 +9,15 @@ file, the line and the column.
 
 from __future__ import annotations
 
-import csv
-import io
 import math
 from pathlib import Path
 
 from fivebar_cli.errors import InputError
-from fivebar_cli.io.files import read_user_text
+from fivebar_cli.io.files import read_csv_table
 
 CIRCLE = ("circle_x", "circle_y", "circle_r")
 SQUARE = ("square_x", "square_y", "square_side")
 MAX_PATH_ROWS = 200_000
-
-
-def _rows(path: Path, required: tuple[str, ...]) -> tuple[list[str], list[tuple[int, dict[str, str]]]]:
-    """(header, [(line number, row as a dict)]) of a CSV file; `required` columns must be there."""
-    text = read_user_text(path, InputError, "a CSV table")
-    reader = csv.reader(io.StringIO(text))
-    try:
-        header = [h.strip() for h in next(reader)]
-    except StopIteration:
-        raise InputError(str(path), "line 1", "empty table (expected a header row)") from None
-    missing = [c for c in required if c not in header]
-    if missing:
-        raise InputError(str(path), "line 1", f"missing column {missing[0]!r}")
-    rows = []
-    for number, cells in enumerate(reader, start=2):
-        if not cells:
-            continue
-        if len(cells) != len(header):
-            raise InputError(str(path), f"line {number}", f"{len(cells)} cells, the header has {len(header)}")
-        rows.append((number, {h: c.strip() for h, c in zip(header, cells)}))
-    return header, rows
 
 
 def _number(path: Path, line: int, column: str, text: str, integer: bool = False) -> float | int:
@@ -64,7 +41,7 @@ def _optional_shape(path: Path, line: int, row: dict[str, str], columns: tuple[s
 def read_aspect_table(path: Path) -> list[dict]:
     """One entry per row of `aspects.csv`: number, modes, certificate, optional circle and square,
     and every cell as text (shown by the page)."""
-    header, rows = _rows(path, ("aspect",))
+    header, rows = read_csv_table(path, ("aspect",))
     out = []
     for line, row in rows:
         number = _number(path, line, "aspect", row["aspect"], integer=True)
@@ -85,7 +62,7 @@ def read_aspect_table(path: Path) -> list[dict]:
 
 def read_crossing_table(path: Path) -> list[dict]:
     """The edges of the crossings graph from `aspects-adjacency.csv`."""
-    _, rows = _rows(path, ("aspect_a", "aspect_b", "singularity"))
+    _, rows = read_csv_table(path, ("aspect_a", "aspect_b", "singularity"))
     return [{"a": _number(path, line, "aspect_a", row["aspect_a"], integer=True),
              "b": _number(path, line, "aspect_b", row["aspect_b"], integer=True),
              "singularity": row["singularity"], "assembly_mode": row.get("assembly_mode", "")}
@@ -94,7 +71,7 @@ def read_crossing_table(path: Path) -> list[dict]:
 
 def read_path_table(path: Path) -> dict:
     """`path.csv`: its numeric columns (named after the axes they run along) and rows."""
-    header, rows = _rows(path, ())
+    header, rows = read_csv_table(path)
     if len(rows) > MAX_PATH_ROWS:
         raise InputError(str(path), f"line {MAX_PATH_ROWS + 2}", f"more than {MAX_PATH_ROWS} rows")
     values = [[_number(path, line, h, row[h]) for h in header] for line, row in rows]

@@ -11,6 +11,8 @@ directory, so CI can diff outputs byte for byte.
 
 from __future__ import annotations
 
+import csv
+import io
 import os
 import secrets
 import stat
@@ -46,6 +48,30 @@ def read_user_text(path: str | Path, error: type[InputError], what: str) -> str:
     if "\x00" in text:
         raise error(source, "", f"not {what} (binary data: NUL bytes)")
     return text
+
+
+def read_csv_table(path: str | Path, required: Sequence[str] = ()) -> tuple[list[str], list[tuple[int, dict[str, str]]]]:
+    """(header, [(line number, row as a dict by column name)]) of a CSV file, cells stripped and
+    blank lines skipped; InputError naming the file and line for a missing `required` column or a
+    row whose cells do not match the header. Readers take columns by name, so that tables with
+    extra or reordered columns still read."""
+    text = read_user_text(path, InputError, "a CSV table")
+    reader = csv.reader(io.StringIO(text))
+    try:
+        header = [h.strip() for h in next(reader)]
+    except StopIteration:
+        raise InputError(str(path), "line 1", "empty table (expected a header row)") from None
+    missing = [c for c in required if c not in header]
+    if missing:
+        raise InputError(str(path), "line 1", f"missing column {missing[0]!r}")
+    rows = []
+    for number, cells in enumerate(reader, start=2):
+        if not cells:
+            continue
+        if len(cells) != len(header):
+            raise InputError(str(path), f"line {number}", f"{len(cells)} cells, the header has {len(header)}")
+        rows.append((number, {h: c.strip() for h, c in zip(header, cells)}))
+    return header, rows
 
 
 def ensure_dir(path: str | Path) -> Path:
