@@ -113,9 +113,10 @@ def containing_leaves(tree: Tree, point: np.ndarray) -> list[int]:
     return sorted(held)
 
 
-def _wrapped_delta(delta: np.ndarray, grid) -> np.ndarray:
+def wrapped_delta(delta: np.ndarray, grid) -> np.ndarray:
+    """Lattice differences the short way round every periodic axis of `grid`."""
     n = float(1 << grid.depth)
-    out = delta.copy()
+    out = np.array(delta, float)
     for axis, wrap in enumerate(grid.periodic):
         if wrap:
             out[..., axis] = (out[..., axis] + n / 2) % n - n / 2
@@ -125,7 +126,7 @@ def _wrapped_delta(delta: np.ndarray, grid) -> np.ndarray:
 # ---------------------------------------------------------------- 1. chain
 
 
-def _neighbours(cells: Tree) -> tuple[np.ndarray, np.ndarray]:
+def face_neighbours(cells: Tree) -> tuple[np.ndarray, np.ndarray]:
     """Edge-sharing neighbours as CSR: leaf k's are targets[first[k]:first[k + 1]], in Morton order."""
     i, j = cells.adjacency(corners=False)
     return csr(len(cells), np.concatenate([i, j]), np.concatenate([j, i]))
@@ -133,7 +134,7 @@ def _neighbours(cells: Tree) -> tuple[np.ndarray, np.ndarray]:
 
 def face_component(cells: Tree, start: int) -> np.ndarray:
     """The leaves joined to `start` by chains of cells sharing edges (sorted leaf indices)."""
-    first, targets = _neighbours(cells)
+    first, targets = face_neighbours(cells)
     reached = np.zeros(len(cells), bool)
     reached[start] = True
     frontier = np.array([start])
@@ -151,12 +152,12 @@ def find_chain(cells: Tree, start: int, end: int, start_point: np.ndarray) -> Ch
     """A chain of edge-sharing cells from leaf `start` to leaf `end` by A* on the distances between
     cell centres (torus-aware), or None when no chain joins them. Ties break by Morton order and
     only the start's component is explored, so the chain depends on that component alone."""
-    first, targets = _neighbours(cells)
+    first, targets = face_neighbours(cells)
     lo, hi = lattice_boxes(cells)
     centre = 0.5 * (lo + hi).astype(float) * cell_size(cells)
     scale = cell_size(cells)
     path = astar(first, targets, centre, start, end,
-                  lambda d: _wrapped_delta(d / scale, cells.grid) * scale)
+                  lambda d: wrapped_delta(d / scale, cells.grid) * scale)
     if path is None:
         return None
     leaves = np.array(path, np.int64)

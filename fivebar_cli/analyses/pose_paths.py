@@ -24,15 +24,14 @@ rational arithmetic, to lie in cells whose every pose is valid and non-singular 
 
 from __future__ import annotations
 
-import heapq
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
 
-from fivebar_cli.analyses.channel import from_lattice, lattice_boxes, to_lattice
+from fivebar_cli.analyses.channel import face_neighbours, from_lattice, lattice_boxes, to_lattice, wrapped_delta
 from fivebar_cli.analyses.pose_aspects import PoseAspect, analyse_pose_aspects, aspect_at, class_region, pose_model
-from fivebar_cli.analyses.slabs import csr
+from fivebar_cli.analyses.slabs import astar
 from fivebar_cli.errors import FivebarError, InputError
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
@@ -81,53 +80,19 @@ def containing_leaves(tree: Tree, point: np.ndarray) -> list[int]:
     return sorted(int(k) for k in leaves[leaves >= 0] if np.all(lo[k] - 1e-7 <= u) and np.all(u <= hi[k] + 1e-7))
 
 
-def _wrapped(delta: np.ndarray, grid) -> np.ndarray:
-    n = float(1 << grid.depth)
-    out = np.array(delta, float)
-    for axis, wrap in enumerate(grid.periodic):
-        if wrap:
-            out[..., axis] = (out[..., axis] + n / 2) % n - n / 2
-    return out
-
-
 # ---------------------------------------------------------------- 1-2. the chain
-
-
-def _neighbours(cells: Tree) -> tuple[np.ndarray, np.ndarray]:
-    """Face-sharing neighbours as CSR: leaf k's are targets[first[k]:first[k + 1]]."""
-    i, j = cells.adjacency(corners=False)
-    return csr(len(cells), np.concatenate([i, j]), np.concatenate([j, i]))
 
 
 def find_chain(cells: Tree, start: int, end: int, start_point: np.ndarray) -> Chain | None:
     """A chain of face-sharing cells from leaf `start` to leaf `end` (A*, ties by Morton order),
     or None when none joins them."""
-    first, targets = _neighbours(cells)
+    first, targets = face_neighbours(cells)
     lo, hi = lattice_boxes(cells)
     centre = 0.5 * (lo + hi).astype(float)
-    guess = np.linalg.norm(_wrapped(centre - centre[end], cells.grid), axis=1).tolist()
-    best, parent = {start: 0.0}, {start: -1}
-    heap, done = [(guess[start], 0.0, start)], set()
-    while heap:
-        _, g, node = heapq.heappop(heap)
-        if node in done:
-            continue
-        done.add(node)
-        if node == end:
-            break
-        near = targets[first[node]:first[node + 1]]
-        steps = np.linalg.norm(_wrapped(centre[near] - centre[node], cells.grid), axis=1)
-        for other, step in zip(near.tolist(), steps.tolist()):
-            cost = g + step
-            if other not in done and cost < best.get(other, np.inf):
-                best[other], parent[other] = cost, node
-                heapq.heappush(heap, (cost + guess[other], cost, other))
-    if end not in done:
+    path = astar(first, targets, centre, start, end, lambda d: wrapped_delta(d, cells.grid))
+    if path is None:
         return None
-    chain = [end]
-    while parent[chain[-1]] >= 0:
-        chain.append(parent[chain[-1]])
-    leaves = np.array(chain[::-1], np.int64)
+    leaves = np.array(path, np.int64)
     return Chain(cells, leaves, _unwrap(cells, leaves, start_point))
 
 

@@ -29,7 +29,7 @@ def astar(first: np.ndarray, targets: np.ndarray, centre: np.ndarray, start: int
     """A* from node `start` to node `end` of a graph in CSR form, by the distances between node
     centres (`delta` maps centre differences, e.g. to the torus's short way); ties break by node
     order, so the result depends on the start's component alone. None when no path joins them."""
-    guess = np.hypot(*delta(centre - centre[end]).T).tolist()
+    guess = _lengths(delta(centre - centre[end])).tolist()
     best = {start: 0.0}
     parent = {start: -1}
     heap = [(guess[start], 0.0, start)]
@@ -42,7 +42,7 @@ def astar(first: np.ndarray, targets: np.ndarray, centre: np.ndarray, start: int
         if node == end:
             break
         near = targets[first[node]:first[node + 1]]
-        steps = np.hypot(*delta(centre[near] - centre[node]).T)
+        steps = _lengths(delta(centre[near] - centre[node]))
         for other, step in zip(near.tolist(), steps.tolist()):
             cost = g + step
             if other not in done and cost < best.get(other, np.inf):
@@ -55,6 +55,11 @@ def astar(first: np.ndarray, targets: np.ndarray, centre: np.ndarray, start: int
     while parent[path[-1]] >= 0:
         path.append(parent[path[-1]])
     return path[::-1]
+
+
+def _lengths(d: np.ndarray) -> np.ndarray:
+    """Euclidean lengths of the rows of `d` (hypot in the plane, as the 2-D paths always measured)."""
+    return np.hypot(*d.T) if d.shape[1] == 2 else np.linalg.norm(d, axis=1)
 
 
 class Slabs:
