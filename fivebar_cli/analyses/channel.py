@@ -106,7 +106,7 @@ def containing_leaves(tree: Tree, point: np.ndarray) -> list[int]:
     held = []
     for k in leaves:
         one = np.array([k], np.int64)
-        chain = Chain(tree, one, _unwrap(tree, one, np.asarray(point, float)))
+        chain = Chain(tree, one, unwrap_shifts(tree, one, np.asarray(point, float)))
         at = Waypoint(np.asarray(point, float), (0,) * grid.dim)
         if ExactCells(chain).covers(at, at):
             held.append(int(k))
@@ -161,19 +161,19 @@ def find_chain(cells: Tree, start: int, end: int, start_point: np.ndarray) -> Ch
     if path is None:
         return None
     leaves = np.array(path, np.int64)
-    return Chain(cells, leaves, _unwrap(cells, leaves, start_point))
+    return Chain(cells, leaves, unwrap_shifts(cells, leaves, start_point))
 
 
 # ---------------------------------------------------------------- 2. unwrap
 
 
-def _unwrap(cells: Tree, leaves: np.ndarray, start_point: np.ndarray) -> np.ndarray:
+def unwrap_shifts(cells: Tree, leaves: np.ndarray, start_point: np.ndarray) -> np.ndarray:
     """Whole periods per cell so that the first holds the start point and consecutive cells touch."""
     grid = cells.grid
     n = 1 << grid.depth
     lo, hi = lattice_boxes(cells)
     lo, hi = lo[leaves], hi[leaves]
-    u = to_lattice(cells, start_point[None, :])[0]
+    u = to_lattice(cells, np.asarray(start_point, float)[None, :])[0]
     shifts = np.zeros((len(leaves), grid.dim), np.int64)
     for axis, wrap in enumerate(grid.periodic):
         if wrap:  # the cell holds the start point wrapped: the shift is the nearest whole period

@@ -29,7 +29,9 @@ from fractions import Fraction
 
 import numpy as np
 
-from fivebar_cli.analyses.channel import face_neighbours, from_lattice, lattice_boxes, to_lattice, wrapped_delta
+from fivebar_cli.analyses.channel import (
+    Chain, face_neighbours, from_lattice, lattice_boxes, shifted_boxes, to_lattice, unwrap_shifts, wrapped_delta,
+)
 from fivebar_cli.analyses.pose_aspects import PoseAspect, analyse_pose_aspects, aspect_at, class_region, pose_model
 from fivebar_cli.analyses.slabs import astar
 from fivebar_cli.errors import FivebarError, InputError
@@ -37,15 +39,6 @@ from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
 
 STEP = 0.45  # on a periodic axis, consecutive written waypoints differ by less than this many periods
-
-
-@dataclass(frozen=True)
-class Chain:
-    """Cells of a tree joined face to face (start first), with the whole periods each is shifted by."""
-
-    cells: Tree
-    leaves: np.ndarray
-    shifts: np.ndarray  # (k, dim) integers (0 on non-periodic axes)
 
 
 @dataclass(frozen=True)
@@ -93,33 +86,7 @@ def find_chain(cells: Tree, start: int, end: int, start_point: np.ndarray) -> Ch
     if path is None:
         return None
     leaves = np.array(path, np.int64)
-    return Chain(cells, leaves, _unwrap(cells, leaves, start_point))
-
-
-def _unwrap(cells: Tree, leaves: np.ndarray, start_point: np.ndarray) -> np.ndarray:
-    """Whole periods per cell so that the first holds the start point and consecutive cells touch."""
-    grid = cells.grid
-    n = 1 << grid.depth
-    lo, hi = lattice_boxes(cells)
-    lo, hi = lo[leaves], hi[leaves]
-    u = to_lattice(cells, np.asarray(start_point, float)[None, :])[0]
-    shifts = np.zeros((len(leaves), grid.dim), np.int64)
-    for axis in np.flatnonzero(grid.periodic):
-        shifts[0, axis] = int(np.round((u[axis] - 0.5 * (lo[0, axis] + hi[0, axis])) / n))
-        for k in range(1, len(leaves)):
-            a0 = lo[k - 1, axis] + shifts[k - 1, axis] * n
-            a1 = hi[k - 1, axis] + shifts[k - 1, axis] * n
-            shifts[k, axis] = next(shifts[k - 1, axis] + s for s in (0, -1, 1)
-                                   if lo[k, axis] + (shifts[k - 1, axis] + s) * n <= a1
-                                   and hi[k, axis] + (shifts[k - 1, axis] + s) * n >= a0)
-    return shifts
-
-
-def shifted_boxes(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
-    """Integer bounds of the chain's cells in the unwrapped chart."""
-    n = 1 << chain.cells.grid.depth
-    lo, hi = lattice_boxes(chain.cells)
-    return lo[chain.leaves] + chain.shifts * n, hi[chain.leaves] + chain.shifts * n
+    return Chain(cells, leaves, unwrap_shifts(cells, leaves, start_point))
 
 
 def face_centres(chain: Chain) -> np.ndarray:
