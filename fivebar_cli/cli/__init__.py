@@ -10,28 +10,23 @@ import signal
 
 __all__ = ["cli", "main"]
 
-INTERRUPTED = "fivebar: error: interrupted (no output was left half-written)\n"
-
-
 def main(argv: list[str] | None = None) -> None:
     """The console script `fivebar`: `fivebar_cli.cli.main.main` once the commands are imported."""
-    default = signal.getsignal(signal.SIGINT) is signal.default_int_handler
-    if default:
-        signal.signal(signal.SIGINT, _early)  # until main.main installs the handlers
-    try:
-        module = _commands()
-    except KeyboardInterrupt:
-        import sys
-
-        sys.stderr.write(INTERRUPTED)
-        sys.exit(130)
-    if default:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-    module.main(argv)
+    held = None
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        held = HeldSignals()
+        signal.signal(signal.SIGINT, held)  # until main.main installs the handlers
+    _commands().main(argv, held)
 
 
-def _early(signum, frame):
-    raise KeyboardInterrupt
+class HeldSignals(list):
+    """The start-up handler: notes the signal, raises nothing. An exception raised by a handler
+    while a module is being compiled can be lost (the import goes on and the run completes), and a
+    caught KeyboardInterrupt still made CPython kill the process with SIGINT at exit (status -2,
+    not 130); `main.main` acts on a held signal as soon as its own handlers are in place."""
+
+    def __call__(self, signum, frame) -> None:
+        self.append(signum)
 
 
 def _commands():

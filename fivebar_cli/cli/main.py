@@ -79,14 +79,15 @@ def _on_signal(signum, frame):
     raise Interrupted(f"{SIGNAL_WORDS[signum]} (no output was left half-written)", signum)
 
 
-def install_signal_handlers() -> dict:
-    """`_on_signal` for every interruption whose handler is still the default one (a process
-    started with a signal ignored, as `nohup` does, keeps ignoring it); returns the previous handlers.
-    Done first thing, before the commands are imported, so that a Ctrl-C at start-up is one line too."""
+def install_signal_handlers(held=None) -> dict:
+    """`_on_signal` for every interruption whose handler is still the default one or `held`, the
+    start-up handler of cli/__init__.py (a process started with a signal ignored, as `nohup` does,
+    keeps ignoring it); returns the previous handlers."""
     previous = {}
     for sig in INTERRUPTS:
         handler = signal.getsignal(sig)
-        if handler is signal.default_int_handler or handler == signal.SIG_DFL:
+        ours = held is not None and handler is held
+        if ours or handler is signal.default_int_handler or handler == signal.SIG_DFL:
             previous[sig] = handler
             signal.signal(sig, _on_signal)
     return previous
@@ -124,14 +125,17 @@ def _show_warning(previous):
     return show
 
 
-def main(argv: list[str] | None = None) -> None:
+def main(argv: list[str] | None = None, held: list[int] | None = None) -> None:
     """Entry point of the console script: run the CLI and map every error to one line and an exit
     status (docs/formats.md, "Exit statuses"). With `argv` None (the console script), signals that
-    arrive once the command has finished are ignored: the run completed, its status stands."""
-    previous = install_signal_handlers()
+    arrive once the command has finished are ignored: the run completed, its status stands. `held`:
+    the signals that arrived while the commands were being imported (cli/__init__.py)."""
+    previous = install_signal_handlers(held)
     hook = sys.unraisablehook
     sys.unraisablehook = _unraisable(hook)
     try:
+        if held:
+            _on_signal(held[0], None)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # numpy noise must not break the one-line promise
             warnings.simplefilter("always", FivebarWarning)
