@@ -22,15 +22,29 @@ SLICES = 4  # panels of a 3-D paving: slices at the centres of this many equal p
 
 
 def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> np.ndarray:
-    """RGB image: white, with each tree's coverage blended in its colour."""
+    """RGB image: white, with each tree's coverage blended in its colour, layer after layer.
+
+    A layer covering a pixel wholly replaces its colour, so a pixel that no layer covers in part
+    takes the colour of the last layer covering it (white if none): one gather. Only the pixels
+    some layer covers in part (cells finer than a pixel) are blended, layer by layer."""
     n = 1 << level
-    image = np.tile(WHITE, (n, n, 1))
-    for tree, colour in layers:
-        cover = np.clip(tree.coverage(level), 0, 1)
-        where = np.nonzero(cover)  # elsewhere the blend leaves the pixel as it is
-        c = cover[where][:, None]
-        image[where] = image[where] * (1 - c) + np.asarray(colour) * c
-    return image
+    last = np.zeros(n * n, dtype=np.int32)  # 0: white; k: the k-th layer covers it wholly, last
+    mixed = np.zeros(n * n, dtype=bool)
+    for k, (tree, _) in enumerate(layers, 1):
+        cover = tree.coverage(level).ravel()
+        last[cover >= 1] = k
+        if len(tree) and tree.level.max() > level:  # cells finer than a pixel
+            mixed |= (cover > 0) & (cover < 1)
+    palette = np.array([WHITE, *(colour for _, colour in layers)], dtype=float)
+    image = palette[last]
+    blend = np.flatnonzero(mixed)
+    if len(blend):
+        pixels = np.tile(WHITE, (len(blend), 1))
+        for tree, colour in layers:
+            c = np.clip(tree.coverage(level).ravel()[blend], 0, 1)[:, None]
+            pixels = pixels * (1 - c) + np.asarray(colour) * c
+        image[blend] = pixels
+    return image.reshape(n, n, 3)
 
 
 def _outlines(ax, trees: list[Tree]) -> None:

@@ -1,0 +1,65 @@
+"""The raster of the figures (plotting.trees.paint) against the blend it stands for, written here
+pixel by pixel: white, then each layer's coverage (the fraction of the pixel its cells cover)
+blended in its colour, in order. Layers overlap and have cells finer than a pixel, so both the
+whole-pixel shortcut and the blended pixels are exercised; the image must be the same to the bit
+(the PNGs of the commands depend on it)."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from conftest import cells_of
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree
+from fivebar_cli.plotting.trees import paint
+
+GRID = Grid(((0.0, 1.0), (0.0, 1.0)), 6, (False, False))
+
+
+def random_tree(rng: np.random.Generator) -> Tree:
+    """A random set of cells at levels 2 to 6 (disjoint: drawn at the finest level, merged)."""
+    level = int(rng.integers(2, 7))
+    arr = rng.random((1 << level, 1 << level)) < rng.uniform(0.05, 0.7)
+    fine = np.repeat(np.repeat(arr, 1 << (6 - level), 0), 1 << (6 - level), 1)
+    fine &= rng.random(fine.shape) < rng.uniform(0.5, 1.0)  # some pixels only partly covered
+    return Tree.from_cells(GRID, 6, cells_of(fine))
+
+
+def reference(layers, level: int) -> np.ndarray:
+    n = 1 << level
+    image = np.ones((n, n, 3))
+    for tree, colour in layers:
+        cover = np.zeros((n, n))
+        centres = tree.centres()
+        area = 0.25 ** (tree.level - level).clip(0)  # a cell finer than a pixel covers this much of it
+        for (x, y), lev, a in zip(centres, tree.level, area):
+            i, j = int(x * n), int(y * n)
+            if lev >= level:
+                cover[j, i] += a
+            else:
+                span = n >> lev
+                i0, j0 = i - i % span, j - j % span
+                cover[j0:j0 + span, i0:i0 + span] = 1.0
+        for j in range(n):
+            for i in range(n):
+                c = min(cover[j, i], 1.0)
+                if c > 0:
+                    image[j, i] = image[j, i] * (1 - c) + np.asarray(colour) * c
+    return image
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), layers=st.integers(0, 4), level=st.integers(2, 5))
+def test_paint_is_the_layer_by_layer_blend_to_the_bit(seed, layers, level):
+    rng = np.random.default_rng(seed)
+    stack = [(random_tree(rng), tuple(rng.random(3))) for _ in range(layers)]
+    assert np.array_equal(paint(stack, level), reference(stack, level))
+
+
+def test_a_layer_covering_a_pixel_wholly_replaces_what_was_under_it():
+    full, red, blue = Tree.full(GRID), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
+    half = Tree.from_cells(GRID, 1, np.array([[0, 0], [1, 0]]))  # the lower half
+    image = paint([(full, red), (half, blue)], 3)
+    assert (image[:4] == blue).all() and (image[4:] == red).all()
