@@ -312,10 +312,11 @@ for _name in FIVEBAR_COMMANDS:
 for _name in RPR3_COMMANDS:
     add(f"wrong-type/{_name}", config_case(_name, M1.read_text(), "type"))
 
-# A bad file found half-way through `reproduce` (steps 1-7 have written their outputs, which stay whole).
-add("reproduce/bad-rpr3-config-mid-run",
-    config_case("reproduce", rp(phi_range=DROP, extra="phi: 180\n"), "phi", check="whole",
-                config_file="rpr3-equilateral.yaml"))
+# A bad file found half-way through `reproduce` (steps 1-9 have written their outputs, which stay whole):
+# the first file of the constrained steps, read at step 10 (the cheapest mid-run point).
+add("reproduce/bad-config-mid-run",
+    config_case("reproduce", fb(extra="limits:\n  P: [90, -90]\n"), "limits.P", check="whole",
+                config_file="m1-passive-limit.yaml"))
 
 
 def option_case(args: Callable[[Path], list], status: int, *needles: str, seed: str | None = None,
@@ -674,12 +675,12 @@ def test_bad_input_one_line_and_nothing_written(batch, case_id):
 
 
 def test_reproduce_failing_mid_run_keeps_the_earlier_outputs(batch):
-    """The bad file is read at step 8: the outputs of steps 1-7 are there (and whole, see above)."""
-    case, r = batch["reproduce/bad-rpr3-config-mid-run"]
+    """The bad file is read at step 10: the outputs of steps 1-9 are there (and whole, see above)."""
+    case, r = batch["reproduce/bad-config-mid-run"]
     out = case.cwd / "out"
     for rel in ("kratio.csv", "M1/workspace.qt", "M2/aspects.csv"):
         assert (out / rel).is_file(), rel
-    assert not (out / "rpr3-equilateral").exists()
+    assert not (out / "M1-passive-limit").exists() and not (out / "rpr3-equilateral").exists()
 
 
 # ---------------------------------------------------------------- read-only folders (skipped as root)
