@@ -1,14 +1,17 @@
 """Every example of every `--help` text runs as pasted (issue 20): in one temporary copy of the
 repository, in the order the help texts give them (the group's, then each command's); see
-tests/examples.py. A command added later is walked like the others.
+tests/examples.py. A command added later is walked like the others. A line the README also shows
+is run once, by tests/test_readme.py (which checks what it prints, too).
 """
 
 from __future__ import annotations
 
 import pytest
-from examples import ELSEWHERE, check, help_examples, run, sandbox
+from examples import ELSEWHERE, check, help_examples, readme_blocks, run, sandbox
 
 EXAMPLES = help_examples()
+IN_README = {c.line for b in readme_blocks() if b.not_run is None for c in b.commands}
+ELSEWHERE = {**{line: "tests/test_readme.py" for line in IN_README}, **ELSEWHERE}
 
 
 @pytest.fixture(scope="module")
