@@ -25,6 +25,8 @@ M2_YAML = CONFIGS / "m2.yaml"
 # the suite already runs one test per core (xdist): commands run their pavings in process unless a
 # test asks for workers (--jobs N)
 os.environ["FIVEBAR_JOBS"] = "1"
+# the suite's outputs are scratch files: written atomically as always, but not flushed to the disk
+os.environ["FIVEBAR_FSYNC"] = "0"
 
 if str(REPO) not in sys.path:  # the package is installed editable; this only helps a bare checkout
     sys.path.insert(0, str(REPO))

@@ -284,3 +284,18 @@ def test_the_out_default_each_help_shows_is_where_the_command_writes(tmp_path):
         ok(run_cli(*args, "--no-plot", "-q", cwd=tmp_path))
         assert (tmp_path / written).is_file(), written
     assert read_qt(tmp_path / "outputs" / "M1" / "workspace.qt").tree.grid.depth == 4
+
+
+@pytest.mark.parametrize("setting, flushed", [(None, True), ("1", True), ("0", False)])
+def test_text_is_flushed_to_the_disk_before_the_rename_unless_fivebar_fsync_is_0(tmp_path, monkeypatch,
+                                                                                  setting, flushed):
+    synced = []
+    real = os.fsync
+    monkeypatch.setattr(os, "fsync", lambda fd: (synced.append(os.fstat(fd).st_size), real(fd)))
+    if setting is None:
+        monkeypatch.delenv("FIVEBAR_FSYNC", raising=False)
+    else:
+        monkeypatch.setenv("FIVEBAR_FSYNC", setting)
+    write_text(tmp_path / "a.csv", "x,y\n1,2\n")
+    assert synced == ([8] if flushed else [])  # the whole file, before it takes the name
+    assert (tmp_path / "a.csv").read_text() == "x,y\n1,2\n" and os.listdir(tmp_path) == ["a.csv"]

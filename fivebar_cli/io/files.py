@@ -160,14 +160,16 @@ def _discard(tmp: Path) -> None:
 
 
 def write_text(path: str | Path, text: str) -> Path:
-    """Atomically write UTF-8 text with `\\n` line ends."""
+    """Atomically write UTF-8 text with `\\n` line ends, flushed to the disk before the rename
+    (unless FIVEBAR_FSYNC=0: scratch files need not survive a power cut)."""
     data = text.encode("utf-8")
 
     def write(tmp: Path) -> None:
         with open(tmp, "wb") as fh:
             fh.write(data)
             fh.flush()
-            os.fsync(fh.fileno())
+            if os.environ.get("FIVEBAR_FSYNC") != "0":  # see docs/formats.md, "Output layout"
+                os.fsync(fh.fileno())
 
     return atomic_write(path, write)
 
