@@ -31,7 +31,6 @@ import numpy as np
 from fivebar_cli.paving.tree import Tree
 
 TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
-CHUNK = 1 << 20  # centre-box pairs per vectorised distance evaluation
 MAX_ROUNDS = 60
 BIG_LEVEL = 6  # complement cells above this level are few: looked at for every centre
 NEAR = 1e-6  # complement cells within this relative margin of the radius are checked exactly
@@ -103,18 +102,32 @@ class _Obstacles:
         xs = self.x0[:self.n_small]
         first = np.searchsorted(xs, centres[:, 0] - bounds - self.widest, side="left")
         last = np.searchsorted(xs, centres[:, 0] + bounds, side="right")
-        spans = [(first[k], last[k]) for k in range(len(centres))]
-        for k, (a, z) in enumerate(spans):
+        self._nearest_big(centres, bounds, out)
+        for k in range(len(centres)):  # the small cells of its span (about a hundred each)
+            a, z = first[k], last[k]
             (cx, cy), b = centres[k], bounds[k]
-            for part in (slice(a, z), slice(self.n_small, len(self.x0))):
-                x0, x1, y0, y1 = self.x0[part], self.x1[part], self.y0[part], self.y1[part]
-                near = np.flatnonzero((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))
-                if len(near):
-                    gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
-                    gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
-                    d = np.hypot(gx, gy) if self.metric == "l2" else np.maximum(gx, gy)
-                    out[k] = min(out[k], float(d.min()))
+            x0, x1, y0, y1 = self.x0[a:z], self.x1[a:z], self.y0[a:z], self.y1[a:z]
+            near = np.flatnonzero((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))
+            if len(near):
+                gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
+                gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
+                d = np.hypot(gx, gy) if self.metric == "l2" else np.maximum(gx, gy)
+                out[k] = min(out[k], float(d.min()))
         return out
+
+    def _nearest_big(self, centres, bounds, out) -> None:
+        """Lower `out` to the distance of the nearest big cell (a few, looked at for every centre,
+        all at once) that the centre's bound does not rule out by its extent alone."""
+        big = slice(self.n_small, len(self.x0))
+        if big.start == big.stop:
+            return
+        cx, cy, b = centres[:, :1], centres[:, 1:], bounds[:, None]
+        x0, x1, y0, y1 = self.x0[big], self.x1[big], self.y0[big], self.y1[big]
+        gx = np.maximum(np.maximum(x0 - cx, cx - x1), 0.0)
+        gy = np.maximum(np.maximum(y0 - cy, cy - y1), 0.0)
+        d = np.hypot(gx, gy) if self.metric == "l2" else np.maximum(gx, gy)
+        d[~((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))] = np.inf
+        np.minimum(out, d.min(axis=1), out=out)
 
     def near(self, centre, radius: float) -> np.ndarray:
         """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
