@@ -44,8 +44,8 @@ def check_bounds(a) -> None:
 @pytest.fixture(scope="module")
 def random_runs():
     """For each seeded design: its analyses at depths 8 and 10, and the grid reference."""
-    return {seed: ({d: analyse_aspects(five_bar(design(seed)), d) for d in (8, 10)}, ref.stable_count(design(seed)))
-            for seed in SEEDS}
+    return {seed: ({d: analyse_aspects(five_bar(design(seed)), d, shapes=False) for d in (8, 10)},
+                   ref.stable_count(design(seed))) for seed in SEEDS}
 
 
 @pytest.mark.parametrize("seed", SEEDS)
@@ -69,13 +69,13 @@ def test_the_issues_design_is_certified_12_like_the_reference():
     lengths = (3, 5, 2, 2, 5)
     assert ref.stable_count(lengths) == 12
     for depth in (8, 10):
-        a = analyse_aspects(five_bar(lengths), depth)
+        a = analyse_aspects(five_bar(lengths), depth, shapes=False)
         assert a.certified and len(a.aspects) == 12, (depth, a.headline())
 
 
 def test_thin_workspace_is_undecided_then_certified_never_an_error():
     """L0 = 25.99 against L1 + L3 = L2 + L4 = 13: the workspace is a lens 0.01 wide."""
-    results = {d: analyse_aspects(five_bar((25.99, 8, 5, 5, 8)), d) for d in range(6, 13)}
+    results = {d: analyse_aspects(five_bar((25.99, 8, 5, 5, 8)), d, shapes=False) for d in range(6, 13)}
     for d, a in results.items():
         check_bounds(a)
         assert a.lower <= 8 <= a.upper, (d, a.headline())
@@ -105,20 +105,20 @@ def test_small_aspects_of_1_6_6_2_2_are_real():
     """12 certified aspects from depth 11, four of them tiny (too small for the coarse reference);
     zoomed grids confirm each tiny one is a component of its own; shallower runs stay honest."""
     lengths = (1, 6, 6, 2, 2)
-    a = analyse_aspects(five_bar(lengths), 11)
+    a = analyse_aspects(five_bar(lengths), 11, shapes=False)
     assert a.certified and len(a.aspects) == 12
     tiny = [x for x in a.aspects if x.jointspace.area < 1e-3]
     assert len(tiny) == 4
     for x in tiny:
         assert _isolated_in_zoom(lengths, x, 3.0)
     for depth in (8, 9, 10):
-        b = analyse_aspects(five_bar(lengths), depth)
+        b = analyse_aspects(five_bar(lengths), depth, shapes=False)
         check_bounds(b)
         assert not b.certified and b.lower <= 12 <= b.upper
 
 
 def test_no_budget_gives_bounds_not_an_error():
-    a = analyse_aspects(five_bar((3, 5, 2, 2, 5)), 8, budget=0)
+    a = analyse_aspects(five_bar((3, 5, 2, 2, 5)), 8, budget=0, shapes=False)
     check_bounds(a)
     assert a.refinement_evaluations == 0
     assert a.lower <= 12 <= a.upper
@@ -193,7 +193,7 @@ def test_a_component_also_holding_a_partner_group_is_never_taken_as_separated(mo
     separated = []
     separate = _Count._separate
     monkeypatch.setattr(_Count, "_separate", lambda self, *a: separated.append(separate(self, *a)) or separated[-1])
-    assert analyse_aspects(m, 8).certified and separated and all(separated)
+    assert analyse_aspects(m, 8, shapes=False).certified and separated and all(separated)
 
     partners = _Count._partners
 
@@ -210,5 +210,5 @@ def test_a_component_also_holding_a_partner_group_is_never_taken_as_separated(mo
 
     monkeypatch.setattr(_Count, "_partners", with_stranger)
     separated.clear()
-    analysis = analyse_aspects(m, 8)
+    analysis = analyse_aspects(m, 8, shapes=False)
     assert not analysis.certified and separated == []

@@ -179,7 +179,7 @@ def grid_aspects(name: str, tol: float = 1e-6):
 
 @lru_cache(maxsize=None)
 def analysis(name: str, depth: int = DEPTH) -> asp.AspectAnalysis:
-    return asp.analyse_aspects(MECHS[name], depth)
+    return asp.analyse_aspects(MECHS[name], depth, shapes=False)  # the shapes: test_inscribed.py
 
 
 def aspect_samples(tree, n, rng):
@@ -226,7 +226,7 @@ def test_aspect_count_is_stable_from_depth_8_to_12(name):
 
 
 def test_numbering_is_deterministic():
-    again = asp.analyse_aspects(M1, DEPTH)
+    again = asp.analyse_aspects(M1, DEPTH, shapes=False)
     first = analysis("M1")
     assert aspect_files.aspect_rows(again) == aspect_files.aspect_rows(first)
     assert aspect_files.crossing_rows(again) == aspect_files.crossing_rows(first)
@@ -243,7 +243,7 @@ def test_no_component_is_dropped_silently(name):
     m = MECHS[name]
     for depth in range(3, 11):
         try:
-            a = analysis(name, depth) if depth in (8, 10) else asp.analyse_aspects(m, depth)
+            a = analysis(name, depth) if depth in (8, 10) else asp.analyse_aspects(m, depth, shapes=False)
         except asp.AspectError as exc:
             assert "counterpart" in str(exc)
             continue

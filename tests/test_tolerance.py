@@ -253,7 +253,7 @@ def test_robust_area_at_depth_12_is_at_least_98_percent_of_the_exact_one(name, t
 @pytest.mark.parametrize("name, t", [("M1", 0.05), ("M2", 0.01)])
 def test_robust_aspects_hold_for_every_length_vector(name, t):
     m = widened(name, t)
-    analysis = analyse_aspects(m, 8)
+    analysis = analyse_aspects(m, 8, shapes=False)
     assert analysis.aspects
     rng = np.random.default_rng(11)
     vectors = length_vectors(m.bounds, rng, 8)
@@ -273,7 +273,7 @@ def test_robust_aspects_hold_for_every_length_vector(name, t):
 def test_small_tolerance_keeps_m1s_ten_aspects_certified_and_smaller(tmp_path):
     out = ok(run_cli("aspects", M1_YAML, "--depth", "9", "--tolerance", "0.02", "--no-plot", "-o", tmp_path)).stdout
     assert "M1: 10 robust generalized aspects at depth 9 (certified;" in out
-    nominal = analyse_aspects(mechanism("M1"), 9)
+    nominal = analyse_aspects(mechanism("M1"), 9, shapes=False)
     robust_rows = list(csv.DictReader((tmp_path / "aspects.csv").open()))
     assert len(robust_rows) == 10
     for a, row in zip(nominal.aspects, robust_rows):
@@ -317,7 +317,7 @@ def test_tolerance_study_rows_are_ordered_and_bracket_the_nominal_areas(tmp_path
 
 def test_study_fates_agree_with_a_direct_robust_analysis():
     study = tolerance_study(mechanism("M2"), [0.0, 0.02], 8)
-    direct = analyse_aspects(widened("M2", 0.02), 8)
+    direct = analyse_aspects(widened("M2", 0.02), 8, shapes=False)
     kept = [r for f in study.fates[0.02] for r in f.robust]
     assert sorted(kept) == [a.number for a in direct.aspects]  # each robust aspect in one nominal aspect
     for f in study.fates[0.02]:
