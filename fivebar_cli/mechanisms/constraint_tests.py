@@ -58,6 +58,37 @@ def plus(a, s: int, g):
     return (a[0] + g[0], a[1] + g[1]) if s > 0 else (a[0] - g[1], a[1] - g[0])
 
 
+def included_angle_range(s, a, b):
+    """Exact range of the angle between sides a and b (bounds) of a triangle whose opposite side is
+    s (range): arccos((a^2 + b^2 - s^2) / (2 a b)). The cosine decreases in s; for a fixed s its
+    extremes over the (a, b) rectangle lie at corners or at a* = sqrt(b^2 - s^2), b* = sqrt(a^2 - s^2)
+    on the edges (no interior critical point for s > 0). Cosines are clipped to [-1, 1] where the
+    triangle cannot close."""
+    if a[0] == a[1] and b[0] == b[1]:  # exact lengths: monotone in s
+        x, y = a[0], b[0]
+        return (np.arccos(np.clip((x * x + y * y - s[0] * s[0]) / (2 * x * y), -1, 1)),
+                np.arccos(np.clip((x * x + y * y - s[1] * s[1]) / (2 * x * y), -1, 1)))
+
+    def cosines(z):
+        values = []
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for x in a:
+                for y in b:
+                    values.append((x * x + y * y - z * z) / (2 * x * y))
+            for fixed, other in ((a, b), (b, a)):
+                for x in fixed:
+                    star = np.sqrt(np.maximum(x * x - z * z, 0.0))
+                    inside = (x > z) & (other[0] <= star) & (star <= other[1])
+                    y = np.where(inside, star, other[0])
+                    values.append(np.where(inside, (x * x + y * y - z * z) / (2 * x * y), np.nan))
+        return np.stack(values)
+
+    with np.errstate(invalid="ignore"):
+        cmax = np.nanmax(cosines(s[0]), axis=0)
+        cmin = np.nanmin(cosines(s[1]), axis=0)
+    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
+
+
 def constraint_status(c, angles: dict, links, eta: float) -> np.ndarray:
     """1 / -1 / 0 per box for the constraints `c`: `angles[name]` = (lo, hi) radians of each limited
     angle the kind's space does not handle itself (a limit without a range is skipped), `links` the
