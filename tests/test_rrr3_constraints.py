@@ -10,6 +10,9 @@ segment crossings and even-odd containment, nothing from fivebar_cli.
 
 from __future__ import annotations
 
+import csv
+import io
+
 import numpy as np
 import pytest
 import yaml
@@ -310,3 +313,58 @@ def test_bad_constraints_are_one_line_and_exit_2(tmp_path, change, field, words)
 
 def test_the_limited_config_runs(tmp_path):
     ok(run_cli("workspace", LIMITED, "--depth", "5", "--no-plot", "-o", tmp_path))
+
+
+# ---------------------------------------------------------------- verify, locate, path
+
+
+def test_verify_looks_only_at_the_poses_within_its_working_modes_constraints():
+    """B1 limited to [10, 170] leaves no pose in a working mode whose first elbow sign is -: such a
+    mode is then vacuously singularity-free (without the limit it is singular); in +-- the
+    singular pose found is within the constraints (reference) with det A at rounding level."""
+    from fivebar_cli.analyses.pose_verify import FREE, SINGULAR, verify
+
+    spec = yaml.safe_load(LIMITED.read_text())
+    spec["limits"] = {**spec["limits"], "B1": [10, 170]}
+    m = Rrr3.parse(spec, "B1 limited")
+    assert verify(m, 8, WORKING_MODES.index("-+-")).status == FREE
+    assert verify(m.unconstrained(), 8, WORKING_MODES.index("-+-")).status == SINGULAR
+    found = verify(m, 10, WORKING_MODES.index("+--"))
+    assert found.status == SINGULAR
+    pose = np.array([[*found.pose.pose, 0.0]])
+    assert configuration_ok(m, spec, pose, (1, -1, -1))[1][0]
+    assert abs(ref.det_a(m.base, m.platform, m.proximal, m.distal, pose, (1, -1, -1))[0]) < 1e-6
+
+
+@pytest.fixture(scope="module")
+def limited_range(tmp_path_factory):
+    """The limited robot over phi in [-10, 10] degrees, as a config file."""
+    data = {k: v for k, v in yaml.safe_load(LIMITED.read_text()).items() if k != "phi"}
+    path = tmp_path_factory.mktemp("limited") / "limited-range.yaml"
+    path.write_text(yaml.safe_dump({**data, "name": "limited-range", "phi_range": [-10, 10]}))
+    return path, data
+
+
+def test_locate_names_the_constraints_a_pose_violates_in_each_working_mode(limited_range, tmp_path):
+    path, spec = limited_range
+    result = ok(run_cli("locate", path, "--pose", "5", "1.5", "0", "--depth", "2", "--budget", "0", "--csv",
+                        "-o", tmp_path))
+    rows = list(csv.DictReader(io.StringIO(result.stdout)))
+    m = load_config(path)
+    assert [r["working_mode"] for r in rows] == list(WORKING_MODES)
+    for r in rows:
+        good = configuration_ok(m, spec, np.array([[5.0, 1.5, 0.0]]), signs_of(r["working_mode"]))[1][0]
+        assert r["violates"] == ("" if good else "obstacle 1")
+    assert {r["violates"] for r in rows} == {"", "obstacle 1"}
+
+
+def test_a_path_stays_within_the_constraints_and_refuses_a_violating_endpoint(limited_range, tmp_path):
+    path, spec = limited_range
+    one_line(run_cli("path", path, "--pose", "5", "1.5", "0", "--pose", "6", "2", "5", "--working-mode", "+++",
+                     "--depth", "4", "-o", tmp_path / "refused"), 1, "violates the obstacle 1", "working_mode +++")
+    ok(run_cli("path", path, "--pose", "5", "1.5", "0", "--pose", "6", "2", "5", "--working-mode", "+--",
+               "--depth", "5", "--no-plot", "-o", tmp_path))
+    rows = np.loadtxt(tmp_path / "path.csv", delimiter=",", skiprows=1)
+    a, b = rows[:-1, :3], rows[1:, :3]
+    dense = (a[:, None] + np.linspace(0, 1, 200)[None, :, None] * (b - a)[:, None]).reshape(-1, 3)
+    assert configuration_ok(load_config(path), spec, dense, (1, -1, -1))[1].all()
