@@ -303,11 +303,10 @@ def test_figures_and_view_marks():
     ({"clearance": -1}, "clearance", ""),
 ])
 def test_bad_constraints_are_one_line_and_exit_2(tmp_path, change, field, words):
-    data = yaml.safe_load(LIMITED.read_text())
-    data.update(change)
+    """Through `verify` (the workspace command's bad configs are tested in test_rrr3.py)."""
     path = tmp_path / "bad.yaml"
-    path.write_text(yaml.safe_dump(data))
-    one_line(run_cli("workspace", path, "--depth", "2", "-o", tmp_path / "out"), 2, "bad.yaml", field, words)
+    path.write_text(yaml.safe_dump({**yaml.safe_load(LIMITED.read_text()), **change}))
+    one_line(run_cli("verify", path, "-o", tmp_path / "out"), 2, "bad.yaml", field, words)
     assert not (tmp_path / "out").exists()
 
 

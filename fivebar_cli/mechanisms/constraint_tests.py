@@ -10,6 +10,8 @@ kind's margin `eta` (ETA_REL times the size of the mechanism and its obstacles).
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from fivebar_cli.numerics.ranges import ANGLE_MARGIN, cos_sin_ranges
@@ -123,3 +125,17 @@ def restricted(base: np.ndarray, constraint) -> np.ndarray:
         c = constraint(todo)
         out[todo] = np.where(c == -1, -1, np.where(c == 1, out[todo], 0))
     return out.astype(np.int8)
+
+
+def empty_problem(m, leaves_nothing, what: str) -> tuple[str, str] | None:
+    """(field, message) when the constraints of `m` are certified to leave no configuration
+    (`leaves_nothing(model)`: the kind's small certified paving), naming the constraint that alone
+    empties it (or all of them together), else None; `what` names the kind in the message."""
+    c = m.constraints
+    if not c or not leaves_nothing(m):
+        return None
+    fields = c.fields()
+    for k, label in enumerate(c.labels()):
+        if leaves_nothing(replace(m, constraints=c.only(k))):
+            return fields[k], f"the {label} alone leaves no configuration of this {what}"
+    return "limits", f"the limits and obstacles together leave no configuration of this {what}"

@@ -205,6 +205,19 @@ def _obstacle(item, source: str, field: str) -> Disc | Polygon:
     return Polygon(vertices)
 
 
+def base_problem(c: Constraints, joints, link: str) -> tuple[str, str] | None:
+    """(field, message) when an obstacle comes within the clearance of a base joint (`joints`:
+    name -> (x, y)); every configuration then collides, the `link` there always touching it."""
+    for k, o in enumerate(c.obstacles):
+        for name, (x, y) in joints.items():
+            sd = float(o.point_distance(np.array([x]), np.array([y]))[0])
+            if sd <= c.clearance:
+                where = "covers" if sd <= 0 else f"comes within the clearance {c.clearance!r} of"
+                return (f"obstacles[{k}]", f"{where} the base joint {name} = ({x:g}, {y:g}): the {link} at {name} "
+                        "always touches it, so no configuration is left")
+    return None
+
+
 # ---------------------------------------------------------------- configurations
 
 

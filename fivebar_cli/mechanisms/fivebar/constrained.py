@@ -30,17 +30,18 @@ ETA_REL times the scale of the mechanism and its obstacles.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
+from fivebar_cli.mechanisms.constraint_tests import (  # noqa: F401 (arc_status, restricted: the five-bar's names too)
+    arc_box, arc_status, constraint_status, included_angle_range, meet, plus, restricted,
+)
+from fivebar_cli.mechanisms.constraint_tests import empty_problem as shared_empty_problem
 from fivebar_cli.mechanisms.fivebar import modes, robust, robust_modes
 from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, box_trig, joint_space_test
 from fivebar_cli.mechanisms.fivebar.constraints import LINKS
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
-from fivebar_cli.mechanisms.constraint_tests import (  # noqa: F401 (arc_status, restricted: the five-bar's names too)
-    arc_box, arc_status, constraint_status, included_angle_range, meet, plus, restricted,
-)
 from fivebar_cli.numerics.ranges import direction_range, triangle_angle_range
 from fivebar_cli.paving.engine import pave
 
@@ -233,12 +234,4 @@ def leaves_nothing(m, depth: int = EMPTY_DEPTH) -> bool:
 def empty_problem(m) -> tuple[str, str] | None:
     """(field, message) when the constraints are certified to leave no configuration, naming the
     constraint that alone empties it (or all of them together), else None."""
-    c = m.constraints
-    if not c or not leaves_nothing(m):
-        return None
-    fields = c.fields()
-    for k, label in enumerate(c.labels()):
-        if leaves_nothing(replace(m, constraints=c.only(k))):
-            return fields[k], f"the {label} alone leaves no configuration of this five-bar"
-    return "limits", "the limits and obstacles together leave no configuration of this five-bar"
-
+    return shared_empty_problem(m, leaves_nothing, "five-bar")

@@ -43,14 +43,7 @@ def parse(data: Mapping, source: str) -> Constraints:
 def base_problem(c: Constraints, a2: tuple[float, float]) -> tuple[str, str] | None:
     """(field, message) when an obstacle comes within the clearance of A1 or A2 (every configuration
     then collides: the crank there always touches it), else None."""
-    for k, o in enumerate(c.obstacles):
-        for name, (x, y) in (("A1", (0.0, 0.0)), ("A2", a2)):
-            sd = float(o.point_distance(np.array([x]), np.array([y]))[0])
-            if sd <= c.clearance:
-                where = "covers" if sd <= 0 else f"comes within the clearance {c.clearance!r} of"
-                return (f"obstacles[{k}]", f"{where} the base joint {name} = ({x:g}, {y:g}): the crank at {name} "
-                        "always touches it, so no configuration is left")
-    return None
+    return shared.base_problem(c, {"A1": (0.0, 0.0), "A2": a2}, "crank")
 
 
 # ---------------------------------------------------------------- configurations

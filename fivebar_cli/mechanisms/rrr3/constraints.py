@@ -28,7 +28,6 @@ working mode. Over a box of poses, in working mode s (d_i = C_i - A_i, rho_i = |
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -36,6 +35,7 @@ from fivebar_cli.mechanisms import constraints as shared
 from fivebar_cli.mechanisms.constraint_tests import (
     arc_box, constraint_status, included_angle_range, meet, plus, restricted,
 )
+from fivebar_cli.mechanisms.constraint_tests import empty_problem as shared_empty_problem
 from fivebar_cli.mechanisms.constraints import Constraints
 from fivebar_cli.mechanisms.rrr3.boxtests import ETA_REL, Geometry, elbows, signs_of
 from fivebar_cli.numerics.platform import ANGLE_TOL, D2R
@@ -60,14 +60,7 @@ def description_data(fields, source: str) -> dict:
 def base_problem(c: Constraints, base) -> tuple[str, str] | None:
     """(field, message) when an obstacle comes within the clearance of a base joint A_i (every
     configuration then collides: the proximal link there always touches it), else None."""
-    for k, o in enumerate(c.obstacles):
-        for i, (x, y) in enumerate(base, start=1):
-            sd = float(o.point_distance(np.array([x]), np.array([y]))[0])
-            if sd <= c.clearance:
-                where = "covers" if sd <= 0 else f"comes within the clearance {c.clearance!r} of"
-                return (f"obstacles[{k}]", f"{where} the base joint A{i} = ({x:g}, {y:g}): the proximal link at A{i} "
-                        "always touches it, so no configuration is left")
-    return None
+    return shared.base_problem(c, {f"A{i}": p for i, p in enumerate(base, start=1)}, "proximal link")
 
 
 def obstacle_margin(g: Geometry, c: Constraints) -> float:
@@ -178,11 +171,4 @@ def leaves_nothing(m) -> bool:
 def empty_problem(m) -> tuple[str, str] | None:
     """(field, message) when the constraints are certified to leave no configuration, naming the
     constraint that alone empties it (or all of them together), else None."""
-    c = m.constraints
-    if not c or not leaves_nothing(m):
-        return None
-    fields = c.fields()
-    for k, label in enumerate(c.labels()):
-        if leaves_nothing(replace(m, constraints=c.only(k))):
-            return fields[k], f"the {label} alone leaves no configuration of this 3-RRR"
-    return "limits", "the limits and obstacles together leave no configuration of this 3-RRR"
+    return shared_empty_problem(m, leaves_nothing, "3-RRR")
