@@ -261,7 +261,7 @@ def test_constrained_aspect_count_matches_a_dense_grid():
     resolutions; without its constraints the grid counts another number (they matter here)."""
     m, spec = random_constrained(6, fixed=True)
     m = Rrr3.parse({**spec, "working_mode": "+-+"}, "r", check_empty=False)
-    counts = {grid_count(m, spec, (1, -1, 1), n) for n in (300, 450)}
+    counts = {grid_count(m, spec, (1, -1, 1), n) for n in (250, 350)}
     assert len(counts) == 1, counts
     analysis = analyse_pose_aspects(m, 7, budget=1 << 14)
     assert analysis.certified and len(analysis.aspects) == counts.pop()
@@ -367,3 +367,32 @@ def test_a_path_stays_within_the_constraints_and_refuses_a_violating_endpoint(li
     a, b = rows[:-1, :3], rows[1:, :3]
     dense = (a[:, None] + np.linspace(0, 1, 200)[None, :, None] * (b - a)[:, None]).reshape(-1, 3)
     assert configuration_ok(load_config(path), spec, dense, (1, -1, -1))[1].all()
+
+
+# ---------------------------------------------------------------- the singularity-free regions as .qt pairs
+
+
+def test_every_working_modes_singularity_free_regions_save_as_distinct_qt_pairs(tmp_path):
+    """The README's generic path (`fb.pave(m, "workspace", depth, region=r).save(folder)` for each
+    region of `m.regions("workspace")`, here four of its 16): distinct .qt pairs of the limited robot,
+    each naming its region; the centres of the black cells of +-- det A < 0 are within the constraints in +-- with
+    det A < 0 (reference), those of its complement are not."""
+    import fivebar_cli as fb
+
+    m = load_config(LIMITED)
+    spec = yaml.safe_load(LIMITED.read_text())
+    assert len(m.regions("workspace")) == 17
+    for w in ("+--", "-++"):
+        for s in "+-":
+            fb.pave(m, "workspace", 5, region=sign_region(w, s)).save(tmp_path)
+    pairs = sorted(p.name for p in tmp_path.glob("singularity-free-*.qt") if ".complement" not in p.name)
+    assert pairs == [f"singularity-free-{w}-det-A-{s}.qt" for w in ("+--", "-++") for s in ("minus", "plus")]
+    stem = "singularity-free-+---det-A-minus"
+    for colour, name in ((1, f"{stem}.qt"), (-1, f"{stem}.complement.qt")):
+        qt = fb.read_qt(tmp_path / name)
+        assert qt.fields["region"] == sign_region("+--", "-")
+        centres = qt.tree.centres()
+        poses = np.column_stack([centres, np.zeros(len(centres))])
+        inside = configuration_ok(m, spec, poses, (1, -1, -1))[1] & (
+            ref.det_a(m.base, m.platform, m.proximal, m.distal, poses, (1, -1, -1)) < 0)
+        assert len(centres) > 10 and np.all(inside == (colour == 1))

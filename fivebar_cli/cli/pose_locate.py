@@ -90,8 +90,8 @@ def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, o
         click.echo(f"location {k}: {what}")
         for r in mine:
             sheet = model.sheets[r["sheet"]].label
-            label = (model.classes[r["cls"]].label if r["cls"] >= 0 else (f"{sheet}: " if sheet else "")
-                     + (f"violates the {r['violates']}" if r["violates"] else "on or near a singularity (no certified sign)"))
+            why = f"violates the {r['violates']}" if r["violates"] else "on or near a singularity (no certified sign)"
+            label = model.classes[r["cls"]].label if r["cls"] >= 0 else (f"{sheet}: " if sheet else "") + why
             a = r["aspect"]
             where = (f"aspect {a.number}" + ("" if a.certified else " (not certified at this depth)") if a else
                      "in no certified cell at this depth" if r["cls"] >= 0 else "in no aspect")

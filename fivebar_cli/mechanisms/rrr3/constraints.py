@@ -122,7 +122,8 @@ def ranges(g: Geometry, c: Constraints, signs, lo: np.ndarray, hi: np.ndarray):
         theta = plus(alpha, -s, triangle_angle_range(*rho, l1, l2))
         angles[f"theta{i + 1}"] = theta
         if f"B{i + 1}" in limited:  # s (pi - the angle at B_i), an exact function of rho_i
-            angles[f"B{i + 1}"] = plus((np.full(n, math.pi * s),) * 2, -s, included_angle_range(rho, (l1, l1), (l2, l2)))
+            at_b = included_angle_range(rho, (l1, l1), (l2, l2))
+            angles[f"B{i + 1}"] = plus((np.full(n, math.pi * s),) * 2, -s, at_b)
         if c.obstacles:
             distal = plus(alpha, s, triangle_angle_range(*rho, l2, l1))
             c_box = (d_lo + g.base[i], d_hi + g.base[i])
