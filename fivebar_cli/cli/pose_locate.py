@@ -31,7 +31,9 @@ def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, o
     det A of a 3-RRR) a pose has; with --joints (--legs for a 3-RPR), every pose of those joint
     values (its assembly modes) and theirs. A 3-RRR pose is located in every working mode, or in
     the one of --working-mode. With two or more locations, says which can be joined without
-    crossing a singularity (they share an aspect).
+    crossing a singularity (they share an aspect). With joint limits or obstacles (a 3-RRR), a
+    pose that violates one in a working mode is in no aspect there: the report says which, and
+    --csv adds a violates column.
 
     \b
     Examples:
