@@ -232,7 +232,7 @@ def aspect_at(aspects: list[PoseAspect], model: PoseAspectModel, pose: np.ndarra
     """(class, aspect) of a pose in a sheet: the class certified at that point (-1: on or near a
     singularity, or not a valid pose) and the aspect whose cells hold it (None: in no certified cell)."""
     pose = np.asarray(pose, float)[None, :]
-    if not model.valid(pose)[0]:
+    if not model.valid(pose, sheet)[0]:
         return -1, None
     cls = int(model.classes_of_boxes(pose, pose, sheet)[0])
     if cls < 0:

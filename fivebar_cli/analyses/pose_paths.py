@@ -298,9 +298,11 @@ class PoseMotion:
         return float(np.sum(np.linalg.norm(np.diff(self.motion.unwrapped(), axis=0), axis=1)))
 
 
-def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str) -> None:
+def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: int | None = None) -> None:
     """InputError (exit 2) when a requested pose is outside the root box on a non-periodic axis
-    (the orientation range of a 3-RPR) or not valid (a joint out of its range)."""
+    (the orientation range of a 3-RPR) or not valid (a joint out of its range); NoMotion (exit 1)
+    when it violates a joint limit or an obstacle in `sheet` (a 3-RRR's working mode), as a
+    five-bar's path endpoint does."""
     model = pose_model(m)
     space = m.spaces()[model.space]
     for axis, value in zip(space.axes, pose):
@@ -308,19 +310,24 @@ def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str) -> None:
             what = "orientation range" if axis.unit == "deg" else "root box"
             raise InputError(source, "--pose", f"{label}: {axis.name} = {value:g} is outside the {what} "
                                                f"[{axis.lo:g}, {axis.hi:g}]")
-    if not model.valid(pose[None, :])[0]:
+    free = pose_model(m.unconstrained()) if m.constraints else model
+    if not free.valid(pose[None, :])[0]:
         joints, exists = model.ikp(pose[None, :], 0)
         if not exists[0]:
             raise InputError(source, "--pose", f"{label} is not a valid pose: no joint values reach it (a leg cannot "
                                                "reach it, or only stretched or folded)")
         names = ", ".join(f"{a.name} = {v:.6g} in [{a.lo:g}, {a.hi:g}]" for a, v in zip(model.joint_axes, joints[0]))
         raise InputError(source, "--pose", f"{label} is not a valid pose: {names} (a joint out of its range)")
+    if sheet is not None and not model.valid(pose[None, :], sheet)[0]:
+        labels = model.violated_constraints(pose[None, :], sheet)[0]
+        raise NoMotion(f"{label} violates the {' and the '.join(labels)} ({model.sheets[sheet].label}): no motion "
+                       "within the constraints starts or ends there")
 
 
 def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: int = 0) -> int:
     """The class of a requested endpoint in a sheet (`check_pose` first); NoMotion when it is on or
     near a singularity (the class's signs are not certified there)."""
-    check_pose(m, pose, label, source)
+    check_pose(m, pose, label, source, sheet)
     cls = int(pose_model(m).classes_of_boxes(pose[None, :], pose[None, :], sheet)[0])
     if cls < 0:
         raise NoMotion(f"{label} is on or near a singularity (its signs are not certified there): no "

@@ -3,8 +3,9 @@ certified yes or no, for any kind with a `PoseAspectModel` (the 3-RPR over its o
 a 3-RRR in one working mode).
 
 Breadth-first over the space of poses, level by level up to a maximum depth, every box is decided
-as soon as possible, from the model's validity test (`valid_test`) and the class it certifies on
-the box in the sheet (`classes_of_boxes`):
+as soon as possible, from the model's validity test in the sheet (`valid_test`: with a 3-RRR's
+limits and obstacles, those of its working mode) and the class it certifies on the box in the
+sheet (`classes_of_boxes`):
 
 - **free**: no pose of the box is valid, or one class (one sign of det J, of det A) is certified on it;
 - **singular**: every pose of the box is valid and two of its corners or its centre are certified
@@ -71,7 +72,7 @@ def verify(m: Mechanism, max_depth: int, sheet: int = 0, on_level=None) -> Verif
     find a valid singular pose."""
     model = pose_model(m)
     grid = m.spaces()[model.space].grid(max_depth)
-    valid_test = model.valid_test()
+    valid_test = model.valid_test(sheet)
     pad = box_pad(grid)
     coords = np.zeros((1, grid.dim), dtype=np.int64)
     per_level = []
@@ -137,7 +138,7 @@ def _singular_pose(model, sheet: int, lo: np.ndarray, hi: np.ndarray) -> Singula
     first = pts[b, np.argmax(cls[b] == low[b])]
     other = pts[b, np.argmax((cls[b] >= 0) & (cls[b] != low[b]))]
     pose = bisect(model, sheet, int(low[b]), first, other)
-    if not model.valid(pose[None])[0]:  # the box is certified valid
+    if not model.valid(pose[None], sheet)[0]:  # the box is certified valid
         raise ArithmeticError(f"the singular pose {pose} found in a valid box is not valid")
     joints, _ = model.ikp(pose[None], int(low[b]))
     return SingularPose(tuple(float(v) for v in pose), tuple(float(v) for v in joints[0]),

@@ -31,7 +31,9 @@ def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, o
     det A of a 3-RRR) a pose has; with --joints (--legs for a 3-RPR), every pose of those joint
     values (its assembly modes) and theirs. A 3-RRR pose is located in every working mode, or in
     the one of --working-mode. With two or more locations, says which can be joined without
-    crossing a singularity (they share an aspect).
+    crossing a singularity (they share an aspect). With joint limits or obstacles (a 3-RRR), a
+    pose that violates one in a working mode is in no aspect there: the report says which, and
+    --csv adds a violates column.
 
     \b
     Examples:
@@ -66,14 +68,18 @@ def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, o
             if known is not None and cls != known:  # the joints decided: a certified class elsewhere, or none
                 cls, aspect = known, None if known < 0 else aspect
             joints_at, _ = model.ikp(pose[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
+            violates = "; ".join(model.violated_constraints(pose[None, :], sheet)[0]) if m.constraints else ""
             rows.append({"input": k, "location": f"{kind} {' '.join(f'{v:g}' for v in value)}", "pose": pose,
-                         "joints": joints_at[0], "cls": cls, "sheet": sheet, "aspect": aspect})
+                         "joints": joints_at[0], "cls": cls, "sheet": sheet, "aspect": aspect, "violates": violates})
     fields = [k for k, _ in model.classes[0].fields]
     if as_csv:
-        header = ("input", "location", *pose_columns(m), *joint_columns(m), *fields, "aspect", "aspect_certified")
+        violates = ("violates",) if m.constraints else ()
+        header = ("input", "location", *pose_columns(m), *joint_columns(m), *fields, "aspect", "aspect_certified",
+                  *violates)
         table = [(r["input"], r["location"], *r["pose"], *r["joints"], *class_values(model, r["cls"], r["sheet"]),
                   r["aspect"].number if r["aspect"] else "",
-                  ("true" if r["aspect"].certified else "false") if r["aspect"] else "") for r in rows]
+                  ("true" if r["aspect"].certified else "false") if r["aspect"] else "",
+                  *((r["violates"],) if violates else ())) for r in rows]
         click.echo(csv_text(header, table), nl=False)
         return
     click.echo(f"{m.name}: aspects at depth {depth} {source}")
@@ -86,8 +92,8 @@ def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, o
         click.echo(f"location {k}: {what}")
         for r in mine:
             sheet = model.sheets[r["sheet"]].label
-            label = (model.classes[r["cls"]].label if r["cls"] >= 0 else
-                     (f"{sheet}: " if sheet else "") + "on or near a singularity (no certified sign)")
+            why = f"violates the {r['violates']}" if r["violates"] else "on or near a singularity (no certified sign)"
+            label = model.classes[r["cls"]].label if r["cls"] >= 0 else (f"{sheet}: " if sheet else "") + why
             a = r["aspect"]
             where = (f"aspect {a.number}" + ("" if a.certified else " (not certified at this depth)") if a else
                      "in no certified cell at this depth" if r["cls"] >= 0 else "in no aspect")

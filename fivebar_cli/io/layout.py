@@ -84,11 +84,16 @@ REGION_STEMS = {"singularity-free det J > 0": "singularity-free.plus",
 
 def region_stem(space: str, region: str | None) -> str:
     """The stem of a paving's files: the space's name for its own region (None), else the region's
-    stem (`singularity-free.plus`), else the region's name with every run of other characters
-    than letters, digits, '.' and '-' made one '-'."""
+    stem (`singularity-free.plus`), else the region's name with '> 0' and '< 0' spelled `plus` and
+    `minus` and every run of other characters than letters, digits, '.', '+' and '-' made one '-'
+    (a 3-RRR's `singularity-free +-+ det A > 0`: `singularity-free-+-+-det-A-plus`, one stem per
+    working mode and sign)."""
     if region is None:
         return space
-    return REGION_STEMS.get(region) or re.sub(r"[^A-Za-z0-9.-]+", "-", region).strip("-")
+    if region in REGION_STEMS:
+        return REGION_STEMS[region]
+    words = region.replace("> 0", "plus").replace("< 0", "minus")
+    return re.sub(r"[^A-Za-z0-9.+-]+", "-", words).strip("-")
 
 
 def paving_files(stem: str) -> tuple[str, ...]:

@@ -388,15 +388,21 @@ class PoseAspectModel(Protocol):
     def class_test(self, k: int) -> BoxTest:
         """1: every pose of the box is valid, non-singular and of class k; -1: none is."""
 
-    def valid_test(self) -> BoxTest:
-        """1: every pose of the box is valid (joints in range, no serial singularity); -1: none is."""
+    def valid_test(self, sheet: int | None = None) -> BoxTest:
+        """1: every pose of the box is valid (joints in range, no serial singularity, within the
+        constraints of `sheet`, or of some sheet when None); -1: none is."""
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
         """The class of `sheet` whose signs hold at every pose of each box, validity aside (the
         joint limits are not checked), certified; -1 where the signs are not certified constant."""
 
-    def valid(self, poses: np.ndarray) -> np.ndarray:
-        """Whether poses (n, d) satisfy every constraint (joints in range), floating point."""
+    def valid(self, poses: np.ndarray, sheet: int | None = None) -> np.ndarray:
+        """Whether poses (n, d) satisfy every constraint (joints in range; joint limits and
+        obstacles in `sheet`, or in some sheet when None), floating point."""
+
+    # Optional, for a kind with joint limits or obstacles (`Mechanism.constraints`): per pose, the
+    # labels of the constraints it violates in a sheet ('B1 limit', 'obstacle 2'), for `locate`.
+    # def violated_constraints(self, poses: np.ndarray, sheet: int) -> list[list[str]]: ...
 
     def ikp(self, poses: np.ndarray, k: int) -> tuple[np.ndarray, np.ndarray]:
         """Joint values (n, j) of poses in class k, and where they exist."""

@@ -25,7 +25,7 @@ def _colour(number: int):
 def figure_aspect_slices(analysis):
     """One row per aspect (the first MAX_ROWS), one column per slice along the last axis of a 3-D
     space (one panel for a 2-D space): the aspect's cells in its colour over the other aspects'
-    in grey."""
+    in grey; obstacles in blue."""
     plt = pyplot()
     space = analysis.mechanism.spaces()[analysis.model.space]
     shown = analysis.aspects[:MAX_ROWS]
@@ -43,7 +43,7 @@ def figure_aspect_slices(analysis):
             cut = (lambda t: t) if value is None else (lambda t: t.slice(space.dim - 1, value))
             layers = [(cut(b.tree), PALE) for b in analysis.aspects if b.number != a.number]
             layers.append((cut(a.tree), _colour(a.number)))
-            draw_layers(ax, layers, space.axes[:2], outline=[])
+            draw_layers(ax, layers, space.axes[:2], outline=[], marks=analysis.mechanism.marks(space.name))
             where = "" if value is None else f", {space.axes[-1].name} = {value:.4g} {space.axes[-1].unit}".rstrip()
             ax.set_title(f"aspect {a.number} ({a.signs.label}){where}", fontsize=8)
             ax.tick_params(labelsize=7)
@@ -60,7 +60,7 @@ def figure_aspect_map(analysis):
     """One panel per sheet (a 3-RRR's working mode; one panel for a 3-RPR): every aspect of the
     sheet in its own colour, the cells its classes left undetermined in dark grey (the singularity
     curves and the workspace's boundary), at one orientation (the middle of the range for a 3-D
-    space)."""
+    space); obstacles in blue."""
     from fivebar_cli.analyses.pose_aspects import sheet_classes
 
     plt = pyplot()
@@ -80,7 +80,7 @@ def figure_aspect_map(analysis):
         layers = [(cut(analysis.regions[k].paving.undetermined_tree()), UNDETERMINED) for k in classes]
         mine = [a for a in analysis.aspects if a.cls in classes]
         layers += [(cut(a.tree), _colour(j + 1)) for j, a in enumerate(mine)]
-        draw_layers(ax, layers, space.axes[:2], outline=[])
+        draw_layers(ax, layers, space.axes[:2], outline=[], marks=analysis.mechanism.marks(space.name))
         label = model.sheets[sheet].label
         ax.set_title(f"{label + ': ' if label else ''}{len(mine)} aspects "
                      f"({', '.join(str(a.number) for a in mine) or '-'})", fontsize=8)

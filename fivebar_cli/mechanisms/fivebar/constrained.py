@@ -30,36 +30,25 @@ ETA_REL times the scale of the mechanism and its obstacles.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
+from fivebar_cli.mechanisms.constraint_tests import (  # noqa: F401 (arc_status, restricted: the five-bar's names too)
+    arc_box, arc_status, constraint_status, included_angle_range, meet, plus, restricted,
+)
+from fivebar_cli.mechanisms.constraint_tests import empty_problem as shared_empty_problem
 from fivebar_cli.mechanisms.fivebar import modes, robust, robust_modes
 from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, box_trig, joint_space_test
 from fivebar_cli.mechanisms.fivebar.constraints import LINKS
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
-from fivebar_cli.numerics.ranges import ANGLE_MARGIN, cos_sin_ranges, direction_range, triangle_angle_range
-from fivebar_cli.numerics.verdict import verdict
+from fivebar_cli.numerics.ranges import direction_range, triangle_angle_range
 from fivebar_cli.paving.engine import pave
 
-TWO_PI = 2.0 * np.pi
 EMPTY_DEPTH = 6  # `empty_problem` paves the joint space this deep to find constraints that leave nothing
 
 
 # ---------------------------------------------------------------- ranges
-
-
-def arc_status(lo, hi, arc_lo: float, arc_hi: float, margin: float = ANGLE_MARGIN) -> np.ndarray:
-    """1 where every angle of [lo, hi] has a turn in the closed arc [arc_lo, arc_hi], -1 where none
-    has, 0 otherwise; the range is widened by `margin` first."""
-    if arc_hi - arc_lo >= TWO_PI:
-        return np.ones(np.shape(lo), np.int8)
-    lo, hi = lo - margin, hi + margin
-    k = np.ceil((hi - arc_hi) / TWO_PI)
-    inside = (arc_lo + k * TWO_PI <= lo) & (hi - lo < TWO_PI)
-    j = np.floor((lo - arc_hi) / TWO_PI)
-    outside = (lo > arc_hi + j * TWO_PI) & (hi < arc_lo + (j + 1) * TWO_PI)
-    return verdict(inside, outside)
 
 
 def _triangle(s, adjacent, opposite):
@@ -68,64 +57,6 @@ def _triangle(s, adjacent, opposite):
     if adjacent[0] == adjacent[1] and opposite[0] == opposite[1]:
         return triangle_angle_range(s[0], s[1], adjacent[0], opposite[0])
     return robust.triangle_angle_range3(s[0], s[1], adjacent, opposite)
-
-
-def included_angle_range(s, a, b):
-    """Exact range of the angle between sides a and b (bounds) of a triangle whose opposite side is
-    s (range): arccos((a^2 + b^2 - s^2) / (2 a b)). The cosine decreases in s; for a fixed s its
-    extremes over the (a, b) rectangle lie at corners or at a* = sqrt(b^2 - s^2), b* = sqrt(a^2 - s^2)
-    on the edges (no interior critical point for s > 0). Cosines are clipped to [-1, 1] where the
-    triangle cannot close."""
-    if a[0] == a[1] and b[0] == b[1]:  # exact lengths: monotone in s
-        x, y = a[0], b[0]
-        return (np.arccos(np.clip((x * x + y * y - s[0] * s[0]) / (2 * x * y), -1, 1)),
-                np.arccos(np.clip((x * x + y * y - s[1] * s[1]) / (2 * x * y), -1, 1)))
-
-    def cosines(z):
-        values = []
-        with np.errstate(divide="ignore", invalid="ignore"):
-            for x in a:
-                for y in b:
-                    values.append((x * x + y * y - z * z) / (2 * x * y))
-            for fixed, other in ((a, b), (b, a)):
-                for x in fixed:
-                    star = np.sqrt(np.maximum(x * x - z * z, 0.0))
-                    inside = (x > z) & (other[0] <= star) & (star <= other[1])
-                    y = np.where(inside, star, other[0])
-                    values.append(np.where(inside, (x * x + y * y - z * z) / (2 * x * y), np.nan))
-        return np.stack(values)
-
-    with np.errstate(invalid="ignore"):
-        cmax = np.nanmax(cosines(s[0]), axis=0)
-        cmin = np.nanmin(cosines(s[1]), axis=0)
-    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
-
-
-def _scaled(bounds, f):
-    """Exact range of L * f for L in `bounds` (> 0) and f in the range `f`."""
-    lo, hi = bounds
-    return np.minimum(lo * f[0], hi * f[0]), np.maximum(lo * f[1], hi * f[1])
-
-
-def _arc_box(lo, hi, length, trig=None):
-    """The box of the points `length` (bounds) along the directions [lo, hi]: (lo corner, hi corner)."""
-    c, s = cos_sin_ranges(lo, hi, trig)
-    cx, cy = _scaled(length, c), _scaled(length, s)
-    return np.column_stack([cx[0], cy[0]]), np.column_stack([cx[1], cy[1]])
-
-
-def _meet(a, b):
-    """The intersection of two boxes that both hold every possible point (a point box where they
-    miss each other: no configuration exists there, and any answer is right)."""
-    lo, hi = np.maximum(a[0], b[0]), np.minimum(a[1], b[1])
-    empty = lo > hi
-    mid = 0.5 * (lo + hi)
-    return np.where(empty, mid, lo), np.where(empty, mid, hi)
-
-
-def _plus(a, s: int, g):
-    """The range of a + s g (s = +1 or -1) from the ranges of a and g."""
-    return (a[0] + g[0], a[1] + g[1]) if s > 0 else (a[0] - g[1], a[1] - g[0])
 
 
 @dataclass(frozen=True)
@@ -160,20 +91,20 @@ def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray) -> Ranges:
     wlo, whi = robust.widened(m, lo, hi)
     a1 = direction_range(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1])
     a2 = direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1])
-    th1 = _plus(a1, -su, _triangle(s1, bounds[1], bounds[3]))  # alpha1 - su beta1
-    th2 = _plus(a2, -sv, _triangle(s2, bounds[2], bounds[4]))
-    th3 = _plus(a1, su, _triangle(s1, bounds[3], bounds[1]))  # alpha1 + su gamma1
-    th4 = _plus(a2, sv, _triangle(s2, bounds[4], bounds[2]))
+    th1 = plus(a1, -su, _triangle(s1, bounds[1], bounds[3]))  # alpha1 - su beta1
+    th2 = plus(a2, -sv, _triangle(s2, bounds[2], bounds[4]))
+    th3 = plus(a1, su, _triangle(s1, bounds[3], bounds[1]))  # alpha1 + su gamma1
+    th4 = plus(a2, sv, _triangle(s2, bounds[4], bounds[2]))
     angles = {"theta1": th1, "theta2": th2, "P": (th4[0] - th3[1], th4[1] - th3[0])}
     for name, sign, s, crank, coupler in (("B1", su, s1, bounds[1], bounds[3]), ("B2", sv, s2, bounds[2], bounds[4])):
         if name in limited:  # sign (pi - the angle at B_i), an exact function of |P - A_i|
-            angles[name] = _plus((np.full(len(lo), np.pi * sign),) * 2, -sign, included_angle_range(s, crank, coupler))
+            angles[name] = plus((np.full(len(lo), np.pi * sign),) * 2, -sign, included_angle_range(s, crank, coupler))
     if not m.constraints.obstacles:
         return Ranges(angles, None)
-    coupler1, coupler2 = _arc_box(*th3, bounds[3]), _arc_box(*th4, bounds[4])
-    b1 = _meet(_arc_box(*th1, bounds[1]), (lo - coupler1[1], hi - coupler1[0]))
-    crank2 = _arc_box(*th2, bounds[2])
-    b2 = _meet((crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0]), (lo - coupler2[1], hi - coupler2[0]))
+    coupler1, coupler2 = arc_box(*th3, bounds[3]), arc_box(*th4, bounds[4])
+    b1 = meet(arc_box(*th1, bounds[1]), (lo - coupler1[1], hi - coupler1[0]))
+    crank2 = arc_box(*th2, bounds[2])
+    b2 = meet((crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0]), (lo - coupler2[1], hi - coupler2[0]))
     return Ranges(angles, _ends(m, (lo, hi), b1, b2))
 
 
@@ -189,11 +120,11 @@ def jointspace_ranges(m, assembly: int, lo: np.ndarray, hi: np.ndarray) -> Range
               "P": at_p if assembly > 0 else (-at_p[1], -at_p[0])}
     if not m.constraints.obstacles:
         return Ranges(angles, None)
-    b1 = _arc_box(lo[:, 0], hi[:, 0], bounds[1], trig[0])
-    crank2 = _arc_box(lo[:, 1], hi[:, 1], bounds[2], trig[1])
+    b1 = arc_box(lo[:, 0], hi[:, 0], bounds[1], trig[0])
+    crank2 = arc_box(lo[:, 1], hi[:, 1], bounds[2], trig[1])
     b2 = (crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0])
-    via1, via2 = _arc_box(*th3, bounds[3]), _arc_box(*th4, bounds[4])
-    p = _meet((b1[0] + via1[0], b1[1] + via1[1]), (b2[0] + via2[0], b2[1] + via2[1]))
+    via1, via2 = arc_box(*th3, bounds[3]), arc_box(*th4, bounds[4])
+    p = meet((b1[0] + via1[0], b1[1] + via1[1]), (b2[0] + via2[0], b2[1] + via2[1]))
     return Ranges(angles, _ends(m, p, b1, b2))
 
 
@@ -209,26 +140,8 @@ def obstacle_margin(m) -> float:
 def status(m, ranges: Ranges) -> np.ndarray:
     """1 / -1 / 0 per box: every constraint holds at every configuration / at each some constraint
     fails / cannot tell (module docstring)."""
-    c = m.constraints
-    n = len(next(iter(ranges.angles.values()))[0])
-    all_hold = np.ones(n, bool)
-    some_fails = np.zeros(n, bool)
-    for lim in c.limits:
-        if lim.name not in ranges.angles:
-            continue
-        s = arc_status(*ranges.angles[lim.name], *lim.radians)
-        all_hold &= s == 1
-        some_fails |= s == -1
-    if c.obstacles:
-        eta = obstacle_margin(m)
-        boxes = {k: (0.5 * (lo + hi), 0.5 * (hi - lo)) for k, (lo, hi) in ranges.ends.items()}
-        for start, end in LINK_ENDS.values():
-            (c1, h1), (c2, h2) = boxes[start], boxes[end]
-            for o in c.obstacles:
-                lower, upper = o.bounds(c1, h1, c2, h2, enough=c.clearance + eta)
-                all_hold &= lower > c.clearance + eta
-                some_fails |= upper < c.clearance - eta
-    return np.where(some_fails, -1, np.where(all_hold, 1, 0)).astype(np.int8)
+    links = [(ranges.ends[a], ranges.ends[b]) for a, b in LINK_ENDS.values()] if ranges.ends else []
+    return constraint_status(m.constraints, ranges.angles, links, obstacle_margin(m))
 
 
 def workspace_status(m, working, lo, hi) -> np.ndarray:
@@ -240,19 +153,6 @@ def jointspace_status(m, assembly, lo, hi) -> np.ndarray:
 
 
 # ---------------------------------------------------------------- combined with the existing tests
-
-
-def restricted(base: np.ndarray, constraint) -> np.ndarray:
-    """A test's answers restricted to the constraints: -1 where the constraints fail everywhere,
-    1 and BAND (interval lengths: nowhere robust, possibly valid everywhere) only where the
-    constraints hold everywhere, else 0. `constraint(mask)` gives the constraint status of the
-    boxes selected by `mask` (only those the test did not already answer -1 are evaluated)."""
-    out = base.copy()
-    todo = base != -1
-    if todo.any():
-        c = constraint(todo)
-        out[todo] = np.where(c == -1, -1, np.where(c == 1, out[todo], 0))
-    return out.astype(np.int8)
 
 
 def space_test(m, space: str, base):
@@ -334,12 +234,4 @@ def leaves_nothing(m, depth: int = EMPTY_DEPTH) -> bool:
 def empty_problem(m) -> tuple[str, str] | None:
     """(field, message) when the constraints are certified to leave no configuration, naming the
     constraint that alone empties it (or all of them together), else None."""
-    c = m.constraints
-    if not c or not leaves_nothing(m):
-        return None
-    fields = c.fields()
-    for k, label in enumerate(c.labels()):
-        if leaves_nothing(replace(m, constraints=c.only(k))):
-            return fields[k], f"the {label} alone leaves no configuration of this five-bar"
-    return "limits", "the limits and obstacles together leave no configuration of this five-bar"
-
+    return shared_empty_problem(m, leaves_nothing, "five-bar")

@@ -41,14 +41,14 @@ class Rpr3PoseAspects:
     def class_test(self, k: int):
         return boxtests.region_test(self.m, REGIONS[k])
 
-    def valid_test(self):
+    def valid_test(self, sheet: int | None = None):
         return boxtests.region_test(self.m, boxtests.REACHABLE)
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
         sign = boxtests.det_sign(self.g, np.asarray(lo, float), np.asarray(hi, float))
         return np.where(sign > 0, 0, np.where(sign < 0, 1, -1)).astype(np.int64)
 
-    def valid(self, poses: np.ndarray) -> np.ndarray:
+    def valid(self, poses: np.ndarray, sheet: int | None = None) -> np.ndarray:
         legs = boxtests.leg_lengths(self.g, np.atleast_2d(poses))
         return np.all((legs >= self.g.rho_min) & (legs <= self.g.rho_max), axis=1)
 

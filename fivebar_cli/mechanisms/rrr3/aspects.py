@@ -5,7 +5,15 @@ classes are working mode x sign of det A (16, or 2 with `working_mode:` set), gr
 per working mode: a pose has a class in each sheet. An aspect is a connected component of the
 valid poses (every leg strictly inside its annulus: no serial singularity) of one working mode
 with det A of one sign (no parallel singularity). The joints are the actuated angles theta1..3 in
-degrees (a 3-torus); the direct kinematic problem is |C_i(pose) - B_i(theta_i)|^2 - l2_i^2 = 0.
+degrees (a 3-torus, or an interval per actuated limit); the direct kinematic problem is
+|C_i(pose) - B_i(theta_i)|^2 - l2_i^2 = 0.
+
+Joint limits and obstacles (`constraints.py`) hold per working mode: a class's black cells satisfy
+its mode's constraints at every pose, and a box where they fail everywhere is outside the class,
+so a constraint boundary separates aspects as a singularity does. A pose is valid in a sheet when
+its legs reach it and the sheet's constraints hold (in any sheet: in some working mode). A DKP
+solution certified to violate a constraint is not a configuration and is left out, as a working
+mode the model leaves out is.
 """
 
 from __future__ import annotations
@@ -13,9 +21,9 @@ from __future__ import annotations
 import numpy as np
 
 from fivebar_cli.mechanisms.base import SignClass
-from fivebar_cli.mechanisms.rrr3 import boxtests
+from fivebar_cli.mechanisms.rrr3 import boxtests, constraints
 from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
-from fivebar_cli.mechanisms.rrr3.jointspace import JOINT_AXES
+from fivebar_cli.mechanisms.rrr3.jointspace import joint_axes
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 
@@ -34,18 +42,26 @@ class Rrr3PoseAspects:
         self.modes = m.working_modes
         self.sheets = tuple(SignClass((("working_mode", w),)) for w in self.modes)
         self.classes = tuple(SignClass((("working_mode", w), ("det_sign", s))) for w in self.modes for s in "+-")
-        self.joint_axes = JOINT_AXES
+        self.joint_axes = joint_axes(m.constraints)
         self.length_scale = self.g.eta / boxtests.ETA_REL
 
     def _signs(self, k: int) -> tuple[int, int, int]:
         return signs_of(self.modes[k // 2])
 
+    def _modes(self, sheet: int | None) -> tuple[str, ...]:
+        return self.modes if sheet is None else (self.modes[sheet],)
+
+    def _constrained(self, test, modes):
+        if not self.m.constraints:
+            return test
+        return constraints.constrained_test(test, self.g, self.m.constraints, modes)
+
     def class_test(self, k: int):
         signs, want = self._signs(k), 1 if k % 2 == 0 else -1
-        return lambda lo, hi: boxtests.class_status(self.g, signs, want, lo, hi)
+        return self._constrained(lambda lo, hi: boxtests.class_status(self.g, signs, want, lo, hi), self._modes(k // 2))
 
-    def valid_test(self):
-        return lambda lo, hi: boxtests.valid_status(self.g, lo, hi)
+    def valid_test(self, sheet: int | None = None):
+        return self._constrained(lambda lo, hi: boxtests.valid_status(self.g, lo, hi), self._modes(sheet))
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)
@@ -53,10 +69,20 @@ class Rrr3PoseAspects:
         sign = boxtests.det_sign(self.g, signs_of(self.modes[sheet]), lo, hi, valid)
         return np.where(sign > 0, 2 * sheet, np.where(sign < 0, 2 * sheet + 1, -1)).astype(np.int64)
 
-    def valid(self, poses: np.ndarray) -> np.ndarray:
-        d, _ = self.g.legs_and_arms(np.atleast_2d(np.asarray(poses, float)))
+    def valid(self, poses: np.ndarray, sheet: int | None = None) -> np.ndarray:
+        poses = np.atleast_2d(np.asarray(poses, float))
+        d, _ = self.g.legs_and_arms(poses)
         rho = np.hypot(d[..., 0], d[..., 1])
-        return np.all((rho > self.g.inner) & (rho < self.g.outer), axis=1)
+        reach = np.all((rho > self.g.inner) & (rho < self.g.outer), axis=1)
+        if not self.m.constraints:
+            return reach
+        return reach & np.any([constraints.satisfied(self.m, poses, w) for w in self._modes(sheet)], axis=0)
+
+    def violated_constraints(self, poses: np.ndarray, sheet: int) -> list[list[str]]:
+        """Per pose, the labels of the constraints it violates in `sheet`'s working mode."""
+        labels = self.m.constraints.labels()
+        return [[labels[j] for j in np.flatnonzero(row)]
+                for row in constraints.violated(self.m, poses, self.modes[sheet])]
 
     def ikp(self, poses: np.ndarray, k: int = 0) -> tuple[np.ndarray, np.ndarray]:
         poses = np.atleast_2d(np.asarray(poses, float))
@@ -138,8 +164,9 @@ class DistalSystem:
         return np.stack([v.lo for v in f], -1), np.stack([v.hi for v in f], -1), j_lo, j_hi
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        """The class certified over each box of poses with these joints; -1 where a sign is not
-        certified, OUTSIDE where the working mode is one the model leaves out."""
+        """The class certified over each box of poses with these joints; -1 where a sign (or, with
+        constraints, whether they hold) is not certified, OUTSIDE where the working mode is one the
+        model leaves out or a constraint is certified violated."""
         ex, ey, mm = self._columns(lo, hi)
         signs = []
         for i in range(3):
@@ -154,4 +181,9 @@ class DistalSystem:
                 continue
             mode = "".join("+" if s > 0 else "-" for s in (s1, s2, s3))
             out[k] = 2 * self.model.modes.index(mode) + det_sign[k] if mode in self.model.modes else OUTSIDE
+        c = self.model.m.constraints
+        for sheet in np.unique(out[out >= 0] // 2) if c else ():  # a certified violation: not a configuration
+            at = np.flatnonzero((out >= 0) & (out // 2 == sheet))
+            held = constraints.mode_status(self.g, c, signs_of(self.model.modes[sheet]), lo[at], hi[at])
+            out[at] = np.where(held == -1, OUTSIDE, np.where(held == 1, out[at], -1))
         return out

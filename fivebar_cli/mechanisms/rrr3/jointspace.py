@@ -34,6 +34,7 @@ import numpy as np
 
 from fivebar_cli.mechanisms.base import Axis
 from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry
+from fivebar_cli.mechanisms.rrr3.constraints import ACTUATED
 from fivebar_cli.numerics import gradients as gr
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
@@ -45,6 +46,20 @@ MAX_PER_BOX = 24  # pieces alive for one box (a few per assembly mode): beyond, 
 
 
 JOINT_AXES = tuple(Axis(f"theta{i}", -180.0, 180.0, "deg", periodic=True, label=rf"$\theta_{i}$") for i in (1, 2, 3))
+
+
+def joint_axes(constraints) -> tuple[Axis, ...]:
+    """The joint-space axes under the actuated limits: a limit of less than a turn makes its axis
+    that interval (rounded inward by 4 ulp, so that the paving's widened boxes stay within it)."""
+    axes = []
+    for axis in JOINT_AXES:
+        limit = constraints.limit(axis.name) if constraints else None
+        if limit is None or limit.full_turn:
+            axes.append(axis)
+        else:
+            lo, hi = limit.lo + 4 * abs(float(np.spacing(limit.lo))), limit.hi - 4 * abs(float(np.spacing(limit.hi)))
+            axes.append(Axis(axis.name, lo, hi, "deg", label=axis.label))
+    return tuple(axes)
 ORDERS = ((0, 1, 2), (1, 2, 0), (2, 0, 1))  # (first circle, second circle, third leg): each pairing
 
 
@@ -141,7 +156,12 @@ def _holds_zero(a: Interval) -> np.ndarray:
 
 
 def assembly_test(m):
-    """The joint space's box test (`assembly_status` over the whole orientation range)."""
+    """The joint space's box test (`assembly_status` over the whole orientation range). The actuated
+    limits are the root box (`joint_axes`); passive limits and obstacles are not decided here: a
+    box that assembles is then left undetermined (0), never claimed inside."""
     g = Geometry.of(m)
+    c = m.constraints
+    if c.obstacles or any(lim.name not in ACTUATED and not lim.full_turn for lim in c.limits):
+        return lambda lo, hi: np.minimum(assembly_status(g, m.phi_range, lo, hi), 0).astype(np.int8)
     return lambda lo, hi: assembly_status(g, m.phi_range, lo, hi)
 

@@ -8,6 +8,9 @@ platform: {C1: [-1, -0.577], C2: [1, -0.577], C3: [0, 1.155]}   # platform frame
 legs: {proximal: 5, distal: 5}                                 # or lists of three
 phi_range: [-30, 30]                                            # degrees; or phi: 0; a full turn: [a, a + 360]
 working_mode: "+++"                                             # optional: one of the 8 elbow-sign modes
+limits: {theta1: [-120, 120], B1: [10, 170]}                    # optional: theta1..3, B1..3, degrees
+obstacles: [{disc: {centre: [5, 3], radius: 0.5}}]              # optional: no link or platform edge may touch
+clearance: 0.0                                                  # optional
 ```
 
 The pose (x, y, phi) puts the platform frame's origin at (x, y), turned by phi (degrees in files,
@@ -15,13 +18,15 @@ headers and trees); leg i: B_i = A_i + l1_i (cos theta_i, sin theta_i), |C_i - B
 workspace is paved in (x, y, phi) (an octree; phi periodic over a full turn) or, for one
 orientation, in (x, y) (a quadtree, with the exact area of the intersection of the three annuli
 |l1_i - l2_i| <= |X - (A_i - R(phi) c_i)| <= l1_i + l2_i); the joint space is the 3-torus of the
-actuated angles (theta1, theta2, theta3) in degrees. Conventions and box tests: `boxtests.py`.
+actuated angles (theta1, theta2, theta3) in degrees (an actuated limit of less than a turn makes
+its axis that interval). Conventions and box tests: `boxtests.py`; limits and obstacles:
+`constraints.py` (with them, every test holds only where a working mode's constraints hold).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Mapping
 
 import numpy as np
@@ -30,10 +35,11 @@ from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import (
     Axis, Mechanism, Space, description_numbers, legs_word_value, pair_word, values_word, word_values,
 )
-from fivebar_cli.mechanisms.rrr3 import boxtests
+from fivebar_cli.mechanisms import constraints as shared_constraints
+from fivebar_cli.mechanisms.constraints import NO_CONSTRAINTS, Constraints
+from fivebar_cli.mechanisms.rrr3 import boxtests, constraints
 from fivebar_cli.mechanisms.rrr3.boxtests import WORKING_MODES, signs_of  # noqa: F401 (the model's names too)
 from fivebar_cli.mechanisms.rrr3 import jointspace
-from fivebar_cli.mechanisms.rrr3.jointspace import JOINT_AXES
 from fivebar_cli.numerics import platform as platform_geometry
 
 REACHABLE = "reachable"  # the workspace's own region: every pose of a black cell is reachable
@@ -60,6 +66,7 @@ class Rrr3(Mechanism):
     distal: Legs
     phi_range: tuple[float, float]
     working_mode: str | None = None
+    constraints: Constraints = NO_CONSTRAINTS  # joint limits and obstacles (constraints.py)
 
     kind = "rrr3"
 
@@ -76,12 +83,17 @@ class Rrr3(Mechanism):
     # -- protocol
 
     @classmethod
-    def parse(cls, data: Mapping, source: str = "<config>") -> "Rrr3":
-        return _parse(cls, data, source)
+    def parse(cls, data: Mapping, source: str = "<config>", check_empty: bool = True) -> "Rrr3":
+        """The model of a mapping; optional `limits`, `obstacles`, `clearance` (constraints.py) must
+        keep clear of the base joints and, with `check_empty`, not be certified to leave nothing (a
+        small paving: `.qt` headers, which describe a mechanism a run already took, skip it)."""
+        return _parse(cls, data, source, check_empty)
 
     @classmethod
     def from_description(cls, fields: Mapping[str, str], name: str, source: str) -> "Rrr3":
         fields = dict(fields)
+        limited = {k: fields.pop(k) for k in list(fields) if k in constraints.LIMIT_NAMES or k == "clearance"
+                   or (k.startswith("obstacle") and k[8:].isdigit())}
         words = {key: fields.pop(key, None) for key in ("A1", "A2", "A3", "C1", "C2", "C3", "proximal", "distal")}
         mode = fields.pop("working_mode", None)
         v = description_numbers(fields, ("phi1", "phi2"), source)
@@ -92,14 +104,15 @@ class Rrr3(Mechanism):
         data.update({"phi": v["phi1"]} if v["phi1"] == v["phi2"] else {"phi_range": [v["phi1"], v["phi2"]]})
         if mode is not None:
             data["working_mode"] = mode
-        return cls.parse(data, source)
+        return cls.parse({**data, **constraints.description_data(limited, source)}, source, check_empty=False)
 
     def describe(self) -> str:
         text = self.kind + "".join(f" A{i + 1}={pair_word(p)}" for i, p in enumerate(self.base))
         text += "".join(f" C{i + 1}={pair_word(p)}" for i, p in enumerate(self.platform))
         text += f" proximal={values_word(self.proximal)} distal={values_word(self.distal)}"
         text += f" phi1={float(self.phi_range[0])!r} phi2={float(self.phi_range[1])!r}"
-        return text + (f" working_mode={self.working_mode}" if self.working_mode else "")
+        text += f" working_mode={self.working_mode}" if self.working_mode else ""
+        return text + self.constraints.words()
 
     def spaces(self) -> dict[str, Space]:
         """The workspace (x, y, phi[deg]; (x, y) for one orientation) on a root box holding every
@@ -111,7 +124,7 @@ class Rrr3(Mechanism):
         spaces = {}
         if phi1 < phi2:
             axes += (Axis("phi", phi1, phi2, "deg", periodic=self.full_turn, label=r"$\varphi$"),)
-            spaces["jointspace"] = Space("jointspace", ASSEMBLABLE, JOINT_AXES)
+            spaces["jointspace"] = Space("jointspace", ASSEMBLABLE, jointspace.joint_axes(self.constraints))
         return {"workspace": Space("workspace", REACHABLE, axes), **spaces}
 
     def regions(self, space: str) -> tuple[str, ...]:
@@ -130,17 +143,24 @@ class Rrr3(Mechanism):
             return jointspace.assembly_test(self)
         g = boxtests.Geometry.of(self)
         if region in (None, REACHABLE):
-            return lambda lo, hi: boxtests.valid_status(g, lo, hi)
+            return self._constrained(lambda lo, hi: boxtests.valid_status(g, lo, hi), self.working_modes)
         for w in self.working_modes:
             for s in "+-":
                 if region == sign_region(w, s):
                     signs, want = signs_of(w), 1 if s == "+" else -1
-                    return lambda lo, hi: boxtests.class_status(g, signs, want, lo, hi)
+                    return self._constrained(lambda lo, hi: boxtests.class_status(g, signs, want, lo, hi), (w,))
         raise KeyError(region)
+
+    def _constrained(self, test, modes):
+        """`test` restricted to the constraints of the working modes `modes` (some mode's)."""
+        if not self.constraints:
+            return test
+        return constraints.constrained_test(test, boxtests.Geometry.of(self), self.constraints, modes)
 
     def exact_measure(self, space: str, region: str | None = None) -> float | None:
         """One orientation: the area of the intersection of the three annuli (exact, by arcs)."""
-        if space != "workspace" or region not in (None, REACHABLE) or self.phi_range[0] != self.phi_range[1]:
+        if (space != "workspace" or region not in (None, REACHABLE) or self.phi_range[0] != self.phi_range[1]
+                or self.constraints):
             return None
         return reachable_area(self, self.phi_range[0])
 
@@ -149,6 +169,18 @@ class Rrr3(Mechanism):
         from fivebar_cli.mechanisms.rrr3.aspects import Rrr3PoseAspects
 
         return Rrr3PoseAspects(self)
+
+    def unconstrained(self) -> "Rrr3":
+        """The 3-RRR without its joint limits and obstacles."""
+        return replace(self, constraints=NO_CONSTRAINTS)
+
+    def marks(self, space: str) -> list[dict]:
+        """Obstacles (workspace) and actuated limits (joint space, degrees) for figures and `fivebar view`."""
+        if space == "workspace":
+            return shared_constraints.obstacle_marks(self.constraints)
+        if space == "jointspace":
+            return shared_constraints.limit_marks(self.constraints, constraints.ACTUATED, degrees=True)
+        return []
 
 
 def annuli(m: Rrr3, phi_deg: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -182,9 +214,9 @@ def workspace_root(m: Rrr3) -> tuple[tuple[float, float], tuple[float, float]] |
 # ---------------------------------------------------------------- YAML
 
 
-def _parse(cls, data: Mapping, source: str) -> Rrr3:
-    schema.check_keys(data, {"name", "type", "base", "platform", "legs", "phi", "phi_range", "working_mode"},
-                      {"name", "type", "base", "platform", "legs"}, source)
+def _parse(cls, data: Mapping, source: str, check_empty: bool = True) -> Rrr3:
+    schema.check_keys(data, {"name", "type", "base", "platform", "legs", "phi", "phi_range", "working_mode",
+                             *shared_constraints.KEYS}, {"name", "type", "base", "platform", "legs"}, source)
     name = schema.name_field(data, source)
     points = {}
     for key, letter in (("base", "A"), ("platform", "C")):
@@ -206,6 +238,14 @@ def _parse(cls, data: Mapping, source: str) -> Rrr3:
     if workspace_root(m) is None:
         raise schema.ConfigError(source, "legs", "the three legs can never reach a common pose (no point is within "
                                  "l1 + l2 of all three over the orientation range)")
+    m = replace(m, constraints=constraints.parse(data, source))
+    if not m.constraints:
+        return m
+    problem = constraints.base_problem(m.constraints, m.base)
+    if problem is None and check_empty:
+        problem = constraints.empty_problem(m)
+    if problem is not None:
+        raise schema.ConfigError(source, *problem)
     return m
 
 
