@@ -134,7 +134,7 @@ def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=l
     spaces = ("workspace", "jointspace")
     tasks = [(base.widened(tol), widest.spaces()[space].grid(depth), space) for tol in tolerances for space in spaces]
     space_pavings = iter(run_tasks(_pave_task, tasks, jobs))
-    nominal = analyse_aspects(base, depth, jobs=jobs)
+    nominal = analyse_aspects(base, depth, shapes=False, jobs=jobs)  # the study writes areas, not shapes
     rows, pavings, fates, analyses = [], {}, {}, {}
     for tol in tolerances:
         mt = base.widened(tol)
@@ -144,7 +144,7 @@ def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=l
             possible = float(paving.grid.size.prod()) - paving.outside.area
             rows.append(StudyRow(tol, space, paving.inside.area, possible, nominal_areas[space]))
             advance(1)
-        analyses[tol] = robust = nominal if tol == 0 else analyse_aspects(mt, depth, jobs=jobs)
+        analyses[tol] = robust = nominal if tol == 0 else analyse_aspects(mt, depth, shapes=False, jobs=jobs)
         fates[tol] = aspect_fates(nominal, robust)
         rows += [StudyRow(tol, f"aspect-{f.number:02d}", f.robust_area, None, f.nominal_area) for f in fates[tol]]
         advance(1)
