@@ -37,7 +37,7 @@ import numpy as np
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
-from fivebar_cli.errors import FivebarError
+from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass
 from fivebar_cli.paving.engine import Paving, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
@@ -128,7 +128,7 @@ class PoseAspectAnalysis(AspectAnalysis):
             return super().headline()
         return (f"{self.mechanism.name}: {self.lower} generalized aspects, not certified at depth {self.depth}: "
                 f"{self.lower - len(self.aspects)} of them thinner than its cells, found one level deeper "
-                f"(raise --depth)")
+                f"(raise {param('depth')})")
 
 
 def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,

@@ -1,6 +1,6 @@
 """The public functions: a mechanism in, an immutable result out (`values.py`); the commands of
-`fivebar` call these too. Messages name the Python arguments (`tolerance`), never a command-line
-flag: the CLI passes its own names where it reports an error of its options."""
+`fivebar` call these too. Messages name the Python arguments (`errors.param`: `tolerance`,
+`depth=12`), never a command-line flag: the CLI spells them as its options (`cli/options.as_flags`)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.api.values import Aspect, Aspects, Location, Path_, Paving, Table
-from fivebar_cli.errors import InputError
+from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
 
 DEFAULT_DEPTH = 10
@@ -26,8 +26,7 @@ def examples_folder() -> Path:
     return Path(__file__).resolve().parent.parent / "examples"
 
 
-def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None,
-         field: str = "tolerance") -> Mechanism:
+def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None) -> Mechanism:
     """A mechanism from a YAML file, a mapping with the same schema, or the name of a shipped example.
 
     Parameters
@@ -57,7 +56,7 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
         if not path.exists() and str(source) in examples():
             path = examples()[str(source)]
         m = load_config(path, kind, space)
-    return widened(m, tolerance, source_name(source), field)
+    return widened(m, tolerance, source_name(source))
 
 
 def source_name(source) -> str:
@@ -67,13 +66,13 @@ def source_name(source) -> str:
     return "<mapping>" if isinstance(source, Mapping) else str(source)
 
 
-def widened(m: Mechanism, tolerance: float, source, field: str = "tolerance") -> Mechanism:
+def widened(m: Mechanism, tolerance: float, source) -> Mechanism:
     """The mechanism with its lengths widened by `tolerance` (0: unchanged); InputError for a kind
-    without interval lengths (`field` names the option in the message)."""
+    without interval lengths."""
     if not tolerance:
         return m
     if not m.widens:
-        raise InputError(str(source), field, f"{article(m.kind)} has no interval lengths")
+        raise InputError(str(source), param("tolerance"), f"{article(m.kind)} has no interval lengths")
     return m.widened(tolerance, str(source))
 
 
@@ -321,7 +320,7 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     if depth is not None:
         s = dataclasses.replace(s, depth=depth)
     if tolerance is not None:
-        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, s.name, "tolerance"))
+        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, s.name, param("tolerance")))
     with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
         plan = plan_atlas(s, Path(where), restart)
         with atlas_runner(workers, scheduler, len(plan.todo)) as runner:

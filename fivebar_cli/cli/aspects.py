@@ -10,7 +10,7 @@ from fivebar_cli.api.calls import aspects as find_aspects
 from fivebar_cli.api.calls import comparisons
 from fivebar_cli.cli.options import (
     CONFIG, MAX_ASPECT_DEPTH, budget_option, common_options, depth_option, figure, jobs_option, load_with_aspects,
-    prepare_out, progress, report, tolerance_option, wrote,
+    option_errors, prepare_out, progress, report, tolerance_option, wrote,
 )
 
 
@@ -21,6 +21,7 @@ from fivebar_cli.cli.options import (
 @tolerance_option
 @jobs_option
 @common_options
+@option_errors()
 def aspects(config_path, depth, budget, tolerance, jobs, out, no_plot, quiet):
     """Generalized aspects: the singularity-free regions of each working and assembly mode.
 

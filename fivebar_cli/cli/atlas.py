@@ -13,9 +13,10 @@ from fivebar_cli.api.calls import atlas_runner
 from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
 from fivebar_cli.analyses.atlas.cluster import check_address
 from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
+from fivebar_cli.errors import param
 from fivebar_cli.cli.numbers import Number
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, figure, plural, prepare_out, progress, report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, figure, option_errors, plural, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.io.outputs import output_set
 
@@ -42,6 +43,7 @@ def default_workers() -> int:
                    "--tolerance T`); 0: none [default: the spec's tolerance].")
 @click.option("--restart", is_flag=True, help="Discard the parts of an earlier run in OUT/atlas.parts/ and start afresh.")
 @common_options(default="outputs/<spec name>/")
+@option_errors()
 def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot, quiet):
     """Sweep a grid of five-bar designs and tabulate, per design: whether it can be assembled,
     its number of generalized aspects and whether that count is certified (as `fivebar aspects`
@@ -75,7 +77,7 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
     if depth is not None:
         spec = dataclasses.replace(spec, depth=depth)
     if tolerance is not None:
-        spec = dataclasses.replace(spec, tolerance=check_tolerance(tolerance, spec.grid, str(spec_path), "--tolerance"))
+        spec = dataclasses.replace(spec, tolerance=check_tolerance(tolerance, spec.grid, str(spec_path), param("tolerance")))
     folder = prepare_out(out, spec.name)
     plan = plan_atlas(spec, folder, restart)
     workers = default_workers() if workers is None and scheduler is None else workers

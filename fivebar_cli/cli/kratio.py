@@ -7,7 +7,9 @@ from pathlib import Path
 import click
 
 from fivebar_cli.analyses.kratio import HEADER, kratio_rows, planar_spaces, row_count
-from fivebar_cli.cli.options import CONFIG, MAX_DEPTH, common_options, data_on_stdout, figure, progress, report, wrote
+from fivebar_cli.cli.options import (
+    CONFIG, MAX_DEPTH, common_options, data_on_stdout, figure, option_errors, progress, report, wrote,
+)
 from fivebar_cli.io.files import check_writable_dir, csv_text, write_csv
 from fivebar_cli.io.layout import DEFAULT_ROOT
 from fivebar_cli.io.outputs import output_set
@@ -40,6 +42,7 @@ def _cell(value, fmt: str) -> str:
 @click.option("--depths", default="5-10", show_default=True, callback=_parse_depths,
               help="Depths: a range 5-10 or a list 5,8,10.")
 @common_options(single="kratio.csv", default="outputs/")
+@option_errors()
 def kratio(config_paths, depths, out, no_plot, quiet):
     """The paper's Table 1: evaluations K = n / 4^d, ours against the paper's procedure.
 

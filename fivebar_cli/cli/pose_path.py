@@ -9,7 +9,7 @@ from fivebar_cli.analyses.pose_aspect_files import joint_columns, load_pose_aspe
 from fivebar_cli.analyses.pose_aspects import sheet_of
 from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
 from fivebar_cli.cli.poses import (
     CONFIG, load_pose_kind, numbers, pose_depth_option, sheets_chosen, solve_joints, working_mode_option,
 )
@@ -39,6 +39,7 @@ def _exact(value: float) -> str:
 @working_mode_option
 @pose_depth_option
 @common_options
+@option_errors()
 def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out, no_plot, quiet):
     """A certified singularity-free motion of a 3-RPR or a 3-RRR between two poses, or between two
     assembly modes of the same joint values (a non-singular change of assembly mode, for a cuspidal

@@ -10,7 +10,9 @@ import click
 from fivebar_cli.analyses import spaces
 from fivebar_cli.analyses.compare import compare
 from fivebar_cli.api.calls import refine as deepen
-from fivebar_cli.cli.options import common_options, depth_option, offscreen, progress, refuse_stdout, report, wrote
+from fivebar_cli.cli.options import (
+    common_options, depth_option, offscreen, option_errors, progress, refuse_stdout, report, wrote,
+)
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import PAVE_SET, band_path, sibling_paths
@@ -24,6 +26,7 @@ QT_FILE = click.Path(path_type=Path, dir_okay=False)
 @click.argument("tree_path", metavar="TREE.qt", type=QT_FILE)
 @depth_option(default=12)
 @common_options(default="the folder of TREE.qt, in place")
+@option_errors()
 def refine(tree_path, depth, out, no_plot, quiet):
     """Deepen a saved paving, testing only its undetermined cells.
 
@@ -91,6 +94,7 @@ def _refine_pave_set(source: Path, folder: Path, m, old_depth: int, depth: int, 
 @click.option("--sets-only", is_flag=True,
               help="Compare the cells alone: equal sets exit 0 even when colour, mechanism, space or region differ.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing; only the exit status tells.")
+@option_errors()
 def diff(a_path, b_path, sets_only, quiet):
     """Compare two quadtree files: exit 0 when they hold the same set of cells and claim the same
     thing about it, 1 when not, 2 on bad input.
@@ -113,6 +117,6 @@ def diff(a_path, b_path, sets_only, quiet):
         raise InputError(str(b_path), "root", f"{exc} (A is {a_path})") from None
     if not quiet:
         for line in result.report(str(a_path), str(b_path), sets_only):
-            click.echo(line)
+            click.echo(as_flags(line))
     if not result.same(sets_only):
         raise click.exceptions.Exit(1)

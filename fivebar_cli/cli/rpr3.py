@@ -53,6 +53,7 @@ def rpr3() -> None:
 @rpr3.command("area", short_help="Exact area of the singularity-free workspace (figures 2, 9).")
 @click.argument("config", type=CONFIG)
 @common_options(single="area.csv")
+@option_errors()
 def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Exact area of the singularity-free workspace W at phi (or at both ends of phi_range).
 
@@ -93,6 +94,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
               help="Orientations (degrees) of the t2 sweep, comma separated.")
 @common_options(single="the table (area-vs-phi.csv, area-vs-rho-min.csv or area-vs-t2.csv)",
                 default="outputs/<config name>/, outputs/<name1>+<name2>+.../ for several")
+@option_errors()
 def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
     """Area of W swept over phi, rho_min or the base shape t2, for one or more bases on one figure.
 
@@ -130,6 +132,7 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
 @rpr3.command("synthesize", short_help="Leg range for an orientation range (Table 1, figure 10).")
 @click.argument("config", type=CONFIG)
 @common_options
+@option_errors()
 def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Leg-length range for a singularity-free workspace over phi_range (section 4, Table 1).
 

@@ -8,7 +8,9 @@ from pathlib import Path
 import click
 
 from fivebar_cli.api import rpr3 as api
-from fivebar_cli.cli.options import common_options, figure, jobs_option, offscreen, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import (
+    common_options, figure, jobs_option, offscreen, option_errors, prepare_out, progress, report, wrote,
+)
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.layout import VERIFY_FILES
 from fivebar_cli.io.outputs import output_set
@@ -24,6 +26,7 @@ MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits i
               help=f"Depth d of the octree (cells are root/2^d wide; 0..{MAX_OCTREE_DEPTH}).")
 @jobs_option
 @common_options
+@option_errors()
 def pave_cmd(config: Path, depth: int, jobs: int | None, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Certified octree over (x, y, phi) of the workspace and of its singularity-free parts.
 
@@ -66,6 +69,7 @@ def save_pave(folder: Path, result, no_plot: bool) -> list[Path]:
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_VERIFY_DEPTH), default=14, show_default=True,
               help="Maximum depth of the subdivision (it stops as soon as it has decided).")
 @common_options
+@option_errors()
 def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Can the robot reach a singular pose over its orientation range and leg ranges?
 

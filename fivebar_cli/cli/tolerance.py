@@ -8,8 +8,8 @@ import click
 
 from fivebar_cli.analyses.tolerance import HEADER, fate_text, tolerance_study
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, data_on_stdout, depth_option, figure, jobs_option, plural, prepare_out, progress, report,
-    wrote,
+    CONFIG, common_options, data_on_stdout, depth_option, figure, jobs_option, option_errors, plural, prepare_out,
+    progress, report, wrote,
 )
 from fivebar_cli.io.files import csv_text, write_csv
 from fivebar_cli.io.layout import TOLERANCE_FILES
@@ -39,6 +39,7 @@ def _parse_tolerances(ctx, param, text: str) -> list[float]:
 @depth_option()
 @jobs_option
 @common_options(single="tolerance.csv")
+@option_errors()
 def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
     """How manufacturing tolerances shrink a five-bar's workspace, joint space and aspects.
 

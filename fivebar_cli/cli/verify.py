@@ -7,7 +7,7 @@ import click
 
 from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
 from fivebar_cli.analyses.pose_verify import EXIT, SINGULAR, UNDECIDED, verify
-from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, sheets_chosen
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.outputs import output_set
@@ -22,6 +22,7 @@ MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits i
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_VERIFY_DEPTH), default=14, show_default=True,
               help="Maximum depth of the subdivision (it stops as soon as it has decided).")
 @common_options
+@option_errors()
 def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
     """Can the robot reach a singular pose over its orientation range: a 3-RPR (det J = 0, legs
     in their ranges; as `fivebar rpr3 verify`), a 3-RRR in a working mode (det A = 0, a parallel
