@@ -48,7 +48,7 @@ def test_load_file_mapping_and_example_agree():
     assert fb.load("m1") == m
     assert fb.load({"type": "fivebar", "name": "M1", "lengths": {"L0": 9, "L1": 8, "L2": 5, "L3": 5, "L4": 8}}) == m
     assert set(fb.examples()) >= {"m1", "m2", "rpr2", "rpr3-caro", "rpr3-verify/table1-case1", "atlas-small"}
-    with pytest.raises(fb.InputError, match="tolerance: an rpr2 has no interval lengths"):
+    with pytest.raises(fb.InputError, match="`tolerance`: an rpr2 has no interval lengths"):
         fb.load("rpr2", tolerance=0.1)
     with pytest.raises(fb.InputError, match="type"):
         fb.load({"type": "nope"})

@@ -11,7 +11,7 @@ from fivebar_cli.analyses import spaces
 from fivebar_cli.analyses.compare import compare
 from fivebar_cli.api.calls import refine as deepen
 from fivebar_cli.cli.options import (
-    common_options, depth_option, offscreen, option_errors, progress, refuse_stdout, report, wrote,
+    as_flags, common_options, depth_option, offscreen, option_errors, progress, refuse_stdout, report, wrote,
 )
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import check_writable_dir
