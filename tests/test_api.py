@@ -202,3 +202,27 @@ def test_docstring_examples_run():
     for module in (calls, rpr3):
         result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
         assert result.failed == 0 and result.attempted > 0
+
+
+def test_every_long_call_reports_progress_by_advance():
+    """One convention (docs/python.md, "Progress"): `advance(n)` per step; M1's boundary is
+    undetermined at every level, so a paving to depth 6 is the 7 levels 0..6 and a refinement from
+    4 to 6 the 2 new ones; an atlas of 2 designs is 2 steps, a sweep of 2 mechanisms 2."""
+    m1 = fb.load("m1")
+    for call, steps in ((lambda a: fb.pave(m1, "workspace", 6, advance=a), 7),
+                        (lambda a: fb.refine(fb.pave(m1, "workspace", 4), 6, advance=a), 2),
+                        (lambda a: fb.atlas({"type": "fivebar-atlas", "name": "l1", "depth": 3, "lengths": {
+                            "L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}, advance=a), 2),
+                        (lambda a: fb.rpr3.sweep(["rpr3-equilateral", "rpr3-equilateral"], "phi", steps=3,
+                                                 advance=a), 2)):
+        done = []
+        call(lambda n=1: done.append(n))
+        assert sum(done) == steps
+    done = []
+    fb.aspects(m1, 4, advance=lambda n=1: done.append(n))
+    more = []
+    fb.locate(m1, pose=(4, 5), depth=4, advance=lambda n=1: more.append(n))
+    assert sum(done) == sum(more) == 6 + 1  # six regions paved (options.MAX_ASPECT_DEPTH's note), then the end
+    more = []
+    fb.rpr3.pave("rpr3-general", 2, advance=lambda n=1: more.append(n))
+    assert sum(more) == 3 * 3  # three pavings (reachable, det J > 0, det J < 0), levels 0..2 each

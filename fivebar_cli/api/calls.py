@@ -83,6 +83,12 @@ def with_aspects(m: Mechanism, source) -> Mechanism:
     return m
 
 
+def per_level(advance):
+    """The pavings' hook `on_level(level, cells)` in the API's progress convention: one step of
+    `advance(n=1)` per level paved (None stays None)."""
+    return None if advance is None else (lambda level, cells: advance(1))
+
+
 def _mechanism(mech) -> Mechanism:
     return mech if isinstance(mech, Mechanism) else load(mech)
 
@@ -91,8 +97,10 @@ def _mechanism(mech) -> Mechanism:
 
 
 def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, tolerance: float | None = None,
-         region: str | None = None, procedure: str = "exact", on_level=None) -> Paving:
+         region: str | None = None, procedure: str = "exact", advance=None) -> Paving:
     """Certified paving of one space of a mechanism (or of one region of it) to `depth`.
+    `advance(n=1)`: told of each level paved (depth + 1 steps at most: fewer when no cell is left
+    undetermined).
 
     Examples
     --------
@@ -114,26 +122,26 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     if procedure not in m.procedures:
         raise InputError(m.name, "procedure", f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
-    p = spaces.pave_space(m, space, depth, procedure, on_level, own)
+    p = spaces.pave_space(m, space, depth, procedure, per_level(advance), own)
     return Paving(m, space, depth, procedure, own, p, p.evaluations)
 
 
-def refine(paving, depth: int, on_level=None) -> Paving:
+def refine(paving, depth: int, *, advance=None) -> Paving:
     """A paving deepened to `depth`, testing only its undetermined cells; `paving` is a `Paving` or
     the path of a saved `.qt` file (either of its pair). Equals a fresh paving at `depth`; its
-    `evaluations` count those of the saved paving too."""
+    `evaluations` count those of the saved paving too. `advance(n=1)`: told of each new level."""
     from fivebar_cli.analyses import spaces
     from fivebar_cli.paving import engine
 
     if isinstance(paving, Paving):
         test = spaces._test(paving.mechanism, paving.space, paving.procedure, paving.region)
-        p = engine.refine(paving.inside, paving.outside, test, depth, on_level, paving.paving.band)
+        p = engine.refine(paving.inside, paving.outside, test, depth, per_level(advance), paving.paving.band)
         return Paving(paving.mechanism, paving.space, depth, paving.procedure, paving.region, p,
                       paving.evaluations + p.evaluations)
     saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(paving)
     if depth < saved.inside.tree.grid.depth:
         raise InputError(saved.source, "depth", f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
-    p = spaces.refine_saved(saved, depth, on_level)
+    p = spaces.refine_saved(saved, depth, per_level(advance))
     return Paving(saved.mechanism, saved.space, depth, saved.procedure, saved.region, p,
                   saved.evaluations + p.evaluations, saved.stem)
 
@@ -157,6 +165,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     nominal aspects and what each becomes (`fates`), with constraints the unconstrained aspects
     and where each constrained one comes from (`split`). `jobs`: worker processes for the
     independent pavings (None: one per core; 1: this process); the result is the same for any.
+    `advance(n=1)`: told of each region paved (six for a five-bar, in each analysis) and of the end.
 
     Examples
     --------
@@ -214,9 +223,11 @@ def m_name(mech) -> str:
 # ---------------------------------------------------------------- locate and path
 
 
-def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None) -> Location:
+def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
+           advance=None) -> Location:
     """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
-    it at `depth` (the aspects are computed unless given). For a 3-RPR, `pose` is (x, y, phi_deg).
+    it at `depth` (the aspects are computed unless given: `advance` as for `aspects`). For a 3-RPR,
+    `pose` is (x, y, phi_deg).
 
     Examples
     --------
@@ -229,7 +240,7 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     m = with_aspects(_mechanism(mech), m_name(mech))
     if (pose is None) == (joints is None):
         raise InputError(m.name, "pose", "give either pose or joints")
-    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False)
+    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False, advance=advance)
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspects import aspect_at
 

@@ -393,10 +393,11 @@ class PaveSet:
                               folder / "singularity-free.png")]
 
 
-def pave(mech, depth: int = 7, on_level=None, jobs: int | None = 1) -> PaveSet:
+def pave(mech, depth: int = 7, advance=None, jobs: int | None = 1) -> PaveSet:
     """Certified octree over (x, y, phi) of a 3-RPR's workspace and of its two singularity-free
     parts (any geometry), with their volumes (exact ones too for a similar platform); the three
-    pavings on `jobs` processes (None: one per core), the same result for any.
+    pavings on `jobs` processes (None: one per core), the same result for any. `advance(n=1)`:
+    told of each level of each paving (3 * (depth + 1) steps at most).
 
     Examples
     --------
@@ -406,12 +407,13 @@ def pave(mech, depth: int = 7, on_level=None, jobs: int | None = 1) -> PaveSet:
     True
     """
     from fivebar_cli.analyses.spaces import pave_regions
+    from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
 
     m = bounded(mech)
     whole = m.spaces()["workspace"].region
     pavings = {r: Paving(m, "workspace", depth, "exact", None if r == whole else r, p, p.evaluations)
-               for r, p in pave_regions(m, "workspace", depth, on_level=on_level, jobs=jobs).items()}
+               for r, p in pave_regions(m, "workspace", depth, on_level=per_level(advance), jobs=jobs).items()}
     return pave_set(m, pavings)
 
 
@@ -437,12 +439,13 @@ def pave_set(m, pavings: dict, saved: int | None = None) -> PaveSet:
     return PaveSet(m, depth, pavings, v, tuple(notes))
 
 
-def refine_pave_set(source, m, old_depth: int, depth: int, on_level=None) -> tuple[PaveSet, int]:
+def refine_pave_set(source, m, old_depth: int, depth: int, advance=None) -> tuple[PaveSet, int]:
     """The three pairs of an `rpr3 pave` run in folder `source` deepened together to `depth`, and
-    the evaluations saved by not retesting."""
+    the evaluations saved by not retesting; `advance(n=1)` told of each new level of each pair."""
     from pathlib import Path
 
     from fivebar_cli.analyses import spaces
+    from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
     from fivebar_cli.io.layout import region_stem
     from fivebar_cli.mechanisms.rpr3.model import REACHABLE
@@ -453,7 +456,7 @@ def refine_pave_set(source, m, old_depth: int, depth: int, on_level=None) -> tup
         saved = spaces.load_saved(path)
         if saved.mechanism != m or saved.inside.tree.grid.depth != old_depth:
             raise InputError(str(path), "mechanism", "does not belong to the same rpr3 pave run")
-        p = spaces.refine_saved(saved, depth, on_level)
+        p = spaces.refine_saved(saved, depth, per_level(advance))
         pavings[region] = Paving(m, "workspace", depth, saved.procedure, saved.region, p, saved.evaluations + p.evaluations)
         saved_total += saved.evaluations
     return pave_set(m, pavings), saved_total
@@ -473,10 +476,11 @@ def bounded(mech):
     return m
 
 
-def verify(mech, depth: int = 14) -> Study:
+def verify(mech, depth: int = 14, advance=None) -> Study:
     """Can the robot reach a singular pose over its orientation range and leg ranges? One row of
     `verify.csv`: `status` is 'certified singularity-free', 'singular pose found' (the pose in
-    `.result.pose`, its row in `counterexample`) or 'undecided' at `depth`.
+    `.result.pose`, its row in `counterexample`) or 'undecided' at `depth`. `advance(n=1)`: told
+    of each level searched (depth + 1 steps at most).
 
     Examples
     --------
@@ -485,9 +489,10 @@ def verify(mech, depth: int = 14) -> Study:
     'certified singularity-free'
     """
     from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify as run
+    from fivebar_cli.api.calls import per_level
 
     m = bounded(mech)
-    result = run(m, depth)
+    result = run(m, depth, on_level=per_level(advance))
     a, b = m.leg_limits()
     legs = ", ".join(f"[{lo:.8g}, {hi:.8g}]" for lo, hi in zip(a, b))
     p1, p2 = m.phi_range

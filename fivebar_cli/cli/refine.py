@@ -55,7 +55,7 @@ def refine(tree_path, depth, out, no_plot, quiet):
     if runs.set_of(inside) == PAVE_SET:
         return _refine_pave_set(source, folder, saved.mechanism, old_depth, depth, no_plot, quiet)
     with progress(quiet, depth - old_depth, f"refine to depth {depth}") as advance:
-        paving = deepen(saved, depth, on_level=lambda level, n: advance(1))
+        paving = deepen(saved, depth, advance=advance)
     problem = runs.one_run(pair)
     if problem is not None:  # after the pair's own checks (a corrupted file is named more precisely by them)
         raise InputError(str(tree_path), "", f"not of one complete run with {pair[1 if tree_path == inside else 0].name}"
@@ -77,7 +77,7 @@ def _refine_pave_set(source: Path, folder: Path, m, old_depth: int, depth: int, 
     from fivebar_cli.api.rpr3 import refine_pave_set
 
     with progress(quiet, 3 * (depth - old_depth), f"refine to depth {depth}") as advance:
-        result, saved_total = refine_pave_set(source, m, old_depth, depth, on_level=lambda level, n: advance(1))
+        result, saved_total = refine_pave_set(source, m, old_depth, depth, advance=advance)
     report(quiet, f"{m.name}: the three pavings of its rpr3 pave run refined together, depth {old_depth} -> {depth} "
                   f"({saved_total} evaluations saved by not retesting)")
     if not no_plot:

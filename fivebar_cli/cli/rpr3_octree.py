@@ -49,7 +49,7 @@ def pave_cmd(config: Path, depth: int, jobs: int | None, out: Path | None, no_pl
     folder = prepare_out(out, mech.name)
     regions = mech.regions("workspace")
     with progress(quiet, len(regions) * (depth + 1), f"octree depth {depth}") as advance:
-        result = api.pave(mech, depth, on_level=lambda level, n: advance(1), jobs=jobs)
+        result = api.pave(mech, depth, advance=advance, jobs=jobs)
     paths = save_pave(folder, result, no_plot)
     for line in result.notes:
         report(quiet, line)

@@ -44,7 +44,7 @@ def _space_command(space: str, config_path: Path, depth: int, procedure: str, to
                          f"has {m.spaces()[space].dim} axes")
     folder = prepare_out(out, m.name)
     with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
-        paving = pave(m, space, depth, procedure=procedure, on_level=lambda level, n: advance(1))
+        paving = pave(m, space, depth, procedure=procedure, advance=advance)
     if not no_plot:
         offscreen()
     with output_set(folder, space, paving_files(space), f"fivebar {space}"):
