@@ -324,7 +324,7 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     from contextlib import nullcontext
 
     from fivebar_cli.analyses.atlas.engine import compute_plan, plan_atlas
-    from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
+    from fivebar_cli.io.layout import ATLAS_CSV
     from fivebar_cli.analyses.atlas.spec import check_tolerance, parse_spec, read_spec
 
     s = parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) else read_spec(spec)

@@ -14,6 +14,7 @@ import numpy as np
 
 from fivebar_cli.api.values import Table
 from fivebar_cli.errors import InputError
+from fivebar_cli.io.layout import AREA_FILES, COUNTEREXAMPLE_PNG, SYNTHESIS_FILES
 
 AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
 SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n")
@@ -97,7 +98,7 @@ def area(mech) -> Study:
         return construction(m, phis, m.rho_min, rho_max, title)
 
     return Study(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
-                 (("singularity-free-workspace.png", construction_figure),))
+                 ((AREA_FILES[1], construction_figure),))
 
 
 # ---------------------------------------------------------------- sweeps
@@ -327,7 +328,7 @@ def _synthesis_drawings(m, cases) -> tuple:
                  f"({c2.rho_min:.6f}) [fig. 9]")
         return construction(m, [p1, p2], c2.rho_min, c2.rho_max, title)
 
-    return (("area-vs-phi-cases.png", cases_figure), ("singularity-free-workspace-case2.png", case2_figure))
+    return tuple(zip(SYNTHESIS_FILES[2:], (cases_figure, case2_figure)))
 
 
 # ---------------------------------------------------------------- octrees
@@ -377,6 +378,7 @@ class PaveSet:
         return paths
 
     def _figures(self, folder) -> list:
+        from fivebar_cli.io.layout import SINGULARITY_FREE_PNG, paving_figure
         from fivebar_cli.mechanisms.rpr3.model import REACHABLE
         from fivebar_cli.plotting.rpr3 import figure_singularity_free
         from fivebar_cli.plotting.saving import draw_and_save
@@ -387,10 +389,11 @@ class PaveSet:
         plus, minus = (self.pavings[r].inside for r in m.regions("workspace")[1:])
         title = f"{m.name}: singularity-free workspace by sign of det J, depth {self.depth}"
         return [draw_and_save(lambda: figure_paving(m.name, space, reach.inside, reach.outside,
-                                                    reach.undetermined_tree(), False), folder / "workspace.png"),
+                                                    reach.undetermined_tree(), False),
+                                     folder / paving_figure("workspace")),
                 draw_and_save(lambda: figure_singularity_free(title, space, plus, minus, reach.outside,
                                                               m.phi_range, m.closed_form_or_none()),
-                              folder / "singularity-free.png")]
+                              folder / SINGULARITY_FREE_PNG)]
 
 
 def pave(mech, depth: int = 7, advance=None, jobs: int | None = 1) -> PaveSet:
@@ -511,7 +514,7 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
             return figure_pose(m, (x, y, phi), pose.joints, f"{m.name}: a reachable singular pose (det J = "
                                f"{pose.value:.2g})")
 
-        drawings = (("counterexample.png", pose_figure),)
+        drawings = ((COUNTEREXAMPLE_PNG, pose_figure),)
     if result.status == UNDECIDED:
         advice = result.note or ADVICE
         notes.append(f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "

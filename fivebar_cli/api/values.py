@@ -127,15 +127,16 @@ class Paving:
         m, p = self.mechanism, self.paving
         paths = write_paving(folder, m, self.space, p, self.procedure, self.evaluations, self.region, self.stem)
         if figures:
+            from fivebar_cli.io.layout import paving_figure
             from fivebar_cli.plotting.saving import draw_and_save
             from fivebar_cli.plotting.trees import figure_paving
 
             und, s = p.undetermined_tree(), m.spaces()[self.space]
             marks = m.marks(self.space)
-            for complement, suffix in ((False, ""), (True, ".complement")):
+            for complement in (False, True):
                 paths.append(draw_and_save(lambda: figure_paving(m.name, s, p.inside, p.outside, und, complement,
                                                                  p.band, self.region, marks),
-                                           folder / f"{self.stem}{suffix}.png"))
+                                           folder / paving_figure(self.stem, complement)))
         return paths
 
     def plot(self, ax=None):

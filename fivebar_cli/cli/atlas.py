@@ -10,7 +10,6 @@ import click
 
 from fivebar_cli.analyses.atlas.engine import compute_plan, in_process, plan_atlas
 from fivebar_cli.api.calls import atlas_runner
-from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
 from fivebar_cli.analyses.atlas.cluster import check_address
 from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
 from fivebar_cli.errors import param
@@ -18,6 +17,7 @@ from fivebar_cli.cli.numbers import Number
 from fivebar_cli.cli.options import (
     CONFIG, MAX_ASPECT_DEPTH, common_options, figure, option_errors, plural, prepare_out, progress, report, wrote,
 )
+from fivebar_cli.io.layout import ATLAS_CSV, ATLAS_PNG
 from fivebar_cli.io.outputs import output_set
 
 
@@ -94,13 +94,13 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
         with progress(quiet, plan.designs_todo, "designs", unit="designs") as advance:
             compute_plan(plan, runner, advance)
     seconds = time.monotonic() - start
-    with output_set(folder, "atlas", (ATLAS_CSV, "atlas.png"), "fivebar atlas"):
+    with output_set(folder, "atlas", (ATLAS_CSV, ATLAS_PNG), "fivebar atlas"):
         path, table = plan.parts.assemble(folder / ATLAS_CSV)
         paths = [path]
         if not no_plot and spec.swept:
             from fivebar_cli.plotting.atlas import figure_atlas
 
-            paths.append(figure(lambda: figure_atlas(spec, table), folder / "atlas.png"))
+            paths.append(figure(lambda: figure_atlas(spec, table), folder / ATLAS_PNG))
     if plan.todo:
         report(quiet, f"  computed {plural(plan.designs_todo, 'design')} in {seconds:.1f} s "
                       f"({plan.designs_todo / seconds:.3g} designs/s)")

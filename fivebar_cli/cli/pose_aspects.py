@@ -12,6 +12,7 @@ from fivebar_cli.cli.options import (
     as_flags, common_options, figure, jobs_option, option_errors, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, numbers, pose_budget_option, pose_depth_option
+from fivebar_cli.io.layout import ASPECTS_MAP_PNG, ASPECTS_SLICES_PNG
 
 
 @click.command("aspects", short_help="Generalized aspects over a space of poses, with a certified count.")
@@ -57,8 +58,8 @@ def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
             from fivebar_cli.plotting.pose_aspects import figure_aspect_map, figure_aspect_slices
 
             headline = as_flags(analysis.headline())
-            paths.append(figure(lambda: figure_aspect_slices(analysis, headline), folder / "aspects-slices.png"))
-            paths.append(figure(lambda: figure_aspect_map(analysis, headline), folder / "aspects-map.png"))
+            paths.append(figure(lambda: figure_aspect_slices(analysis, headline), folder / ASPECTS_SLICES_PNG))
+            paths.append(figure(lambda: figure_aspect_map(analysis, headline), folder / ASPECTS_MAP_PNG))
     space = m.spaces()[model.space]
     unit = ("area" if space.dim == 2 else "volume") + " (" + " x ".join(a.unit or "length" for a in space.axes) + ")"
     report(quiet, analysis.headline())

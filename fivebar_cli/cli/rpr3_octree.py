@@ -12,7 +12,7 @@ from fivebar_cli.cli.options import (
     common_options, figure, jobs_option, offscreen, option_errors, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import VERIFY_FILES
+from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, VERIFY_CSV, VERIFY_FILES
 from fivebar_cli.io.outputs import output_set
 
 CONFIG = click.Path(path_type=Path)
@@ -94,10 +94,10 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
         report(quiet, line.replace(api.ADVICE, "raise --depth"))
     # a counterexample of an earlier run is removed when none is found (the set owns it)
     with output_set(folder, "rpr3-verify", VERIFY_FILES, "fivebar rpr3 verify"):
-        paths = [write_csv(folder / "verify.csv", study.columns, study.data)]
+        paths = [write_csv(folder / VERIFY_CSV, study.columns, study.data)]
         if study.counterexample is not None:
             t = study.counterexample
-            paths.append(write_csv(folder / "counterexample.csv", t.columns, t.data))
+            paths.append(write_csv(folder / COUNTEREXAMPLE_CSV, t.columns, t.data))
         if not no_plot:
             paths += [figure(make, folder / file) for file, make in study.drawings]
     wrote(quiet, paths)

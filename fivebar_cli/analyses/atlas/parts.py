@@ -28,7 +28,6 @@ from fivebar_cli.io.files import atomic_write, ensure_dir, format_value, write_t
 
 PARTS = "atlas.parts"
 MANIFEST = "manifest.json"
-ATLAS_CSV = "atlas.csv"
 FORMAT = "fivebar-atlas-parts 1"
 SAVE_SHARE = 0.05  # the manifest is saved after every part unless that would take more than this share of the time
 
