@@ -224,10 +224,14 @@ def m_name(mech) -> str:
 
 
 def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
-           advance=None) -> Location:
+           working_mode: str | None = None, advance=None) -> Location:
     """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
-    it at `depth` (the aspects are computed unless given: `advance` as for `aspects`). For a 3-RPR,
-    `pose` is (x, y, phi_deg).
+    it at `depth` (the aspects are computed unless given: `advance` as for `aspects`).
+
+    Over a space of poses (3-RPR, 3-RRR), `pose` is (x, y, phi_deg), located in every working mode
+    (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
+    --working-mode`): one row per working mode, with `sheet` (its fields: {} for a 3-RPR), `class`
+    (None on or near a singularity) and `aspect`.
 
     Examples
     --------
@@ -240,20 +244,27 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     m = with_aspects(_mechanism(mech), m_name(mech))
     if (pose is None) == (joints is None):
         raise InputError(m.name, "pose", "give either pose or joints")
-    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False, advance=advance)
-    if m.pose_aspect_model() is not None:
-        from fivebar_cli.analyses.pose_aspects import aspect_at
+    sheets = None
+    if m.pose_aspect_model() is not None:  # the input checked before the aspects are computed
+        from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, working_sheets
+        from fivebar_cli.analyses.pose_paths import wrap_pose
 
         if pose is None:
             raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
+        sheets = working_sheets(m, working_mode)
+    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False, advance=advance)
+    if sheets is not None:
         model = m.pose_aspect_model()
-        point = np.asarray(pose, float)
-        cls, aspect = aspect_at(found.analysis.aspects, model, point)
-        legs, _ = model.ikp(point[None, :], max(cls, 0))
-        row = {"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
-               "class": dict(model.classes[cls].fields) if cls >= 0 else None,
-               "aspect": aspect.number if aspect is not None else None}
-        return Location(m, found.depth, (row,))
+        point = wrap_pose(m.spaces()[model.space], np.asarray(pose, float))
+        rows = []
+        for sheet in sheets:
+            cls, aspect = aspect_at(found.analysis.aspects, model, point, sheet)
+            legs, _ = model.ikp(point[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
+            rows.append({"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
+                         "sheet": dict(model.sheets[sheet].fields),
+                         "class": dict(model.classes[cls].fields) if cls >= 0 else None,
+                         "aspect": aspect.number if aspect is not None else None})
+        return Location(m, found.depth, tuple(rows))
     from fivebar_cli.analyses.locate import aspect_of, configurations, row
 
     space, value = ("workspace", pose) if pose is not None else ("jointspace", joints)
@@ -263,14 +274,16 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
 
 
 def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = False,
-         assembly_mode: str | None = None, folder=None) -> Path_:
+         assembly_mode: str | None = None, working_mode: str | None = None, folder=None) -> Path_:
     """A certified singularity-free motion from `start` to `goal` (NoPath, a FivebarError, when none
     is found at this depth, with the reason).
 
     Five-bar and 2-RPR: each endpoint is `{"joints": (th1, th2)}` (in the assembly mode
     `assembly_mode`) or `{"pose": (x, y), "working_mode": "++"}`; with `allow_serial` the motion
-    may cross serial singularities, never parallel ones. 3-RPR: each endpoint is a pose
-    (x, y, phi_deg). `folder`: an `aspects` output folder whose trees are reused.
+    may cross serial singularities, never parallel ones; `working_mode` is that of every pose
+    endpoint that names none. 3-RPR, 3-RRR: each endpoint is a pose (x, y, phi_deg), for a 3-RRR
+    in `working_mode` ('+-+': needed, as `fivebar path --working-mode`). `folder`: an `aspects`
+    output folder whose trees are reused.
 
     Examples
     --------
@@ -285,8 +298,10 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     m = with_aspects(_mechanism(mech), m_name(mech))
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
+        from fivebar_cli.analyses.pose_aspects import motion_sheet
         from fivebar_cli.analyses.pose_paths import check_pose, find_motion, wrap_pose
 
+        sheet = motion_sheet(m, working_mode)
         space = m.spaces()[m.pose_aspect_model().space]
         ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
         for p, label in zip(ends, ("start", "goal")):
@@ -296,14 +311,14 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
             from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
 
             saved = load_pose_aspects(Path(folder), m, depth)
-        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), m.name, saved)
+        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), m.name, saved, (sheet, sheet))
         walk = motion.motion.unwrapped()
         length = float(np.sum(np.linalg.norm(np.diff(walk, axis=0), axis=1)))
         return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
                      length, motion)
     from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_points, resolve
 
-    endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode")) if "pose" in e
+    endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode", working_mode)) if "pose" in e
                  else Endpoint("joints", tuple(e["joints"])) for e in (start, goal)]
     first, last = resolve(m, endpoints, assembly_mode, m.name)
     result = find_path(m, depth, first, last, allow_serial, Path(folder) if folder else None)
