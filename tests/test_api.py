@@ -155,7 +155,7 @@ def test_atlas_and_view():
     table = fb.atlas(spec)
     assert [float(v) for v in table.column("L1")] == [7, 8] and table.column("assemblable") == ["true", "true"]
     m1 = {float(r["L1"]): r for r in table.rows()}[8.0]
-    assert int(m1["aspects"]) == fb.aspects("m1", 5).count
+    assert int(m1["aspects"]) == len(fb.aspects("m1", 5))  # the aspects listed (not certified at depth 5)
     page = fb.view(GOLDEN / "M1")
     assert page.startswith("<!DOCTYPE html>") and "aspect-01.workspace.qt" in page
 
@@ -226,3 +226,13 @@ def test_every_long_call_reports_progress_by_advance():
     more = []
     fb.rpr3.pave("rpr3-general", 2, advance=lambda n=1: more.append(n))
     assert sum(more) == 3 * 3  # three pavings (reachable, det J > 0, det J < 0), levels 0..2 each
+
+
+def test_count_is_none_unless_certified(m1_aspects):
+    """M1 has 10 generalized aspects (the paper); at depth 5 they are not all told apart: the count is
+    not a number then, the bounds hold 10 and `len` is how many were found (aspects.csv's rows)."""
+    coarse = fb.aspects(fb.load("m1"), 5)
+    assert not coarse.certified and coarse.count is None
+    lo, hi = coarse.bounds
+    assert lo <= 10 <= hi and len(coarse) == len(list(coarse)) == len(coarse.rows())
+    assert m1_aspects.certified and m1_aspects.count == len(m1_aspects) == 10 and m1_aspects.bounds == (10, 10)
