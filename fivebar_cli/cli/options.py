@@ -99,9 +99,10 @@ def option_errors(**flags: str) -> Iterator[None]:
     try:
         yield
     except FivebarError as exc:
+        field = exc.field.strip("`") if isinstance(exc, InputError) and not exc.source else None
+        if field in flags:
+            raise click.BadParameter(as_flags(exc.message, flags), param_hint=flags[field]) from None
         if isinstance(exc, InputError):
-            if not exc.source and exc.field.strip("`") in flags:
-                raise click.BadParameter(as_flags(exc.message, flags), param_hint=flags[exc.field.strip("`")]) from None
             exc.source, exc.field, exc.message = (as_flags(t, flags) for t in (exc.source, exc.field, exc.message))
         exc.args = tuple(as_flags(a, flags) if isinstance(a, str) else a for a in exc.args)
         raise
