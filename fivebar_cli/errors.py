@@ -26,6 +26,14 @@ class InputError(FivebarError, ValueError):
         super().__init__(f"{where}: {message}")
 
 
+def param(name: str, value=None) -> str:
+    """A library call's parameter as messages name it: `name`, or `name=value` (`depth=12`,
+    `allow_serial=True`, `procedure='exact'`), in backticks. Library messages name parameters this
+    way only, never a command-line flag: a front end respells them with its own names (the CLI:
+    `cli/options.py`'s `as_flags`, `--depth 12`, `--allow-serial`)."""
+    return f"`{name}`" if value is None else f"`{name}={value!r}`"
+
+
 class OutputError(FivebarError, OSError):
     """An output could not be written, exit status 1."""
 

@@ -48,7 +48,7 @@ def test_load_file_mapping_and_example_agree():
     assert fb.load("m1") == m
     assert fb.load({"type": "fivebar", "name": "M1", "lengths": {"L0": 9, "L1": 8, "L2": 5, "L3": 5, "L4": 8}}) == m
     assert set(fb.examples()) >= {"m1", "m2", "rpr2", "rpr3-caro", "rpr3-verify/table1-case1", "atlas-small"}
-    with pytest.raises(fb.InputError, match="tolerance: an rpr2 has no interval lengths"):
+    with pytest.raises(fb.InputError, match="`tolerance`: an rpr2 has no interval lengths"):
         fb.load("rpr2", tolerance=0.1)
     with pytest.raises(fb.InputError, match="type"):
         fb.load({"type": "nope"})
@@ -155,7 +155,7 @@ def test_atlas_and_view():
     table = fb.atlas(spec)
     assert [float(v) for v in table.column("L1")] == [7, 8] and table.column("assemblable") == ["true", "true"]
     m1 = {float(r["L1"]): r for r in table.rows()}[8.0]
-    assert int(m1["aspects"]) == fb.aspects("m1", 5).count
+    assert int(m1["aspects"]) == len(fb.aspects("m1", 5))  # the aspects listed (not certified at depth 5)
     page = fb.view(GOLDEN / "M1")
     assert page.startswith("<!DOCTYPE html>") and "aspect-01.workspace.qt" in page
 
@@ -202,3 +202,37 @@ def test_docstring_examples_run():
     for module in (calls, rpr3):
         result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
         assert result.failed == 0 and result.attempted > 0
+
+
+def test_every_long_call_reports_progress_by_advance():
+    """One convention (docs/python.md, "Progress"): `advance(n)` per step; M1's boundary is
+    undetermined at every level, so a paving to depth 6 is the 7 levels 0..6 and a refinement from
+    4 to 6 the 2 new ones; an atlas of 2 designs is 2 steps, a sweep of 2 mechanisms 2."""
+    m1 = fb.load("m1")
+    for call, steps in ((lambda a: fb.pave(m1, "workspace", 6, advance=a), 7),
+                        (lambda a: fb.refine(fb.pave(m1, "workspace", 4), 6, advance=a), 2),
+                        (lambda a: fb.atlas({"type": "fivebar-atlas", "name": "l1", "depth": 3, "lengths": {
+                            "L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}, advance=a), 2),
+                        (lambda a: fb.rpr3.sweep(["rpr3-equilateral", "rpr3-equilateral"], "phi", steps=3,
+                                                 advance=a), 2)):
+        done = []
+        call(lambda n=1: done.append(n))
+        assert sum(done) == steps
+    done = []
+    fb.aspects(m1, 4, advance=lambda n=1: done.append(n))
+    more = []
+    fb.locate(m1, pose=(4, 5), depth=4, advance=lambda n=1: more.append(n))
+    assert sum(done) == sum(more) == 6 + 1  # six regions paved (options.MAX_ASPECT_DEPTH's note), then the end
+    more = []
+    fb.rpr3.pave("rpr3-general", 2, advance=lambda n=1: more.append(n))
+    assert sum(more) == 3 * 3  # three pavings (reachable, det J > 0, det J < 0), levels 0..2 each
+
+
+def test_count_is_none_unless_certified(m1_aspects):
+    """M1 has 10 generalized aspects (the paper); at depth 5 they are not all told apart: the count is
+    not a number then, the bounds hold 10 and `len` is how many were found (aspects.csv's rows)."""
+    coarse = fb.aspects(fb.load("m1"), 5)
+    assert not coarse.certified and coarse.count is None
+    lo, hi = coarse.bounds
+    assert lo <= 10 <= hi and len(coarse) == len(list(coarse)) == len(coarse.rows())
+    assert m1_aspects.certified and m1_aspects.count == len(m1_aspects) == 10 and m1_aspects.bounds == (10, 10)

@@ -204,7 +204,7 @@ def test_uncertified_aspects_apart_are_not_decided():
     verdict = decide(m.aspect_model(), analysis.aspects, ca, cb, 8)
     assert verdict.answer == UNDECIDED
     assert verdict.text() == (f"not decided at depth 8: A is in aspect {a.number}, B in aspect {b.number}, not both "
-                              "certified: they may be one aspect; try --depth 10")
+                              "certified: they may be one aspect; try `depth=10`")
     certified = analyse_aspects(m, 8, shapes=False)  # with the default budget the certificate separates them
     if all(x.certified for x in certified.aspects):
         assert decide(m.aspect_model(), certified.aspects, ca, cb, 8).answer in (NO, YES)

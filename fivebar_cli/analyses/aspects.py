@@ -35,7 +35,7 @@ from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_s
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
-from fivebar_cli.errors import FivebarError
+from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, chunked, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
@@ -146,7 +146,7 @@ class AspectAnalysis:
             return (f"{name}: {plural(len(self.aspects), what)} at depth {depth} (certified; "
                     f"{self.evaluations} box evaluations, {self.refinement_evaluations} in local refinement)")
         return (f"{name}: between {self.lower} and {plural(self.upper, what)}, not certified at depth "
-                f"{depth}: {plural(self.undecided_pieces, 'piece')} undecided (raise --depth or --budget)")
+                f"{depth}: {plural(self.undecided_pieces, 'piece')} undecided (raise {param('depth')} or {param('budget')})")
 
     @property
     def evaluations(self) -> int:

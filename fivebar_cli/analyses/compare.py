@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from fivebar_cli.errors import param
 from fivebar_cli.io.qtfile import QtFile
 from fivebar_cli.mechanisms.base import plural
 from fivebar_cli.paving.tree import Tree
@@ -46,7 +47,7 @@ class TreeDiff:
             if self.meaning and not sets_only:
                 keys = ", ".join(k for k, _, _ in self.meaning)
                 lines.append(f"but the trees do not claim the same thing: their {keys} differ "
-                             "(--sets-only compares the cells alone)")
+                             f"({param('sets_only', True)} compares the cells alone)")
         else:
             lines = [
                 f"{name_a}: {plural(len(self.a), 'cell')}, area {self.a.area:.10g}",

@@ -26,6 +26,7 @@ import numpy as np
 
 from fivebar_cli.analyses.aspects import Aspect
 from fivebar_cli.analyses.channel import containing_leaves
+from fivebar_cli.errors import param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, Space
 
 SINGULAR_TOL = 1e-9  # |B11|, |B22| or |det A| below this times scale^2 is a singularity
@@ -79,8 +80,8 @@ class Verdict:
 def deeper(depth: int, max_depth: int | None) -> str:
     """What to try when cells at this depth are too coarse."""
     if max_depth is not None and depth + 2 > max_depth:
-        return f"--depth {max_depth} is the deepest"
-    return f"try --depth {depth + 2}"
+        return f"{param('depth', max_depth)} is the deepest"
+    return f"try {param('depth', depth + 2)}"
 
 
 # ---------------------------------------------------------------- configurations
@@ -223,14 +224,14 @@ def mode_verdict(model: AspectModel, c1: Configuration, c2: Configuration, depth
     or B22 without serial crossings: that sign changes along every motion between them); not
     decided when one lies on or near a singularity the motion may not cross; else None.
     `allow_serial`: serial crossings are allowed; `offer_serial`: the command could allow them (the
-    advice then names --allow-serial)."""
+    advice then names `allow_serial`)."""
     if "0" not in (c1.assembly, c2.assembly) and c1.assembly != c2.assembly:
         return Verdict(NO, f"different assembly modes ({c1.assembly} for {c1.label}, {c2.assembly} for {c2.label}): "
                            "every motion between them crosses a parallel singularity (det A = 0)", depth)
     if not allow_serial and any("0" not in (a, b) and a != b for a, b in zip(c1.working, c2.working)):
         return Verdict(NO, f"different working modes ({c1.working} for {c1.label}, {c2.working} for {c2.label}): "
                            "every motion between them crosses a serial singularity", depth,
-                       advice="--allow-serial allows that" if offer_serial else "")
+                       advice=f"{param('allow_serial', True)} allows that" if offer_serial else "")
     for c in (c1, c2):
         if c.violates:
             return Verdict(UNDECIDED, f"{c.label} violates the {c.violates} (by a floating-point check): it is in "
@@ -242,7 +243,7 @@ def mode_verdict(model: AspectModel, c1: Configuration, c2: Configuration, depth
             names = " and ".join(n for n, s in zip(model.serial_names, c.working) if s == "0")
             return Verdict(UNDECIDED, f"{c.label} is on or near a serial singularity ({names} = 0): it is in no "
                                       "aspect's certified cells", depth,
-                           "--allow-serial allows motions across serial singularities" if offer_serial else "")
+                           f"{param('allow_serial', True)} allows motions across serial singularities" if offer_serial else "")
     return None
 
 

@@ -32,7 +32,7 @@ from fivebar_cli.analyses.channel import (
 from fivebar_cli.analyses.locate import (
     UNDECIDED, YES, Configuration, Verdict, configurations, decide, deeper, holders, mode_verdict,
 )
-from fivebar_cli.errors import FivebarError, InputError
+from fivebar_cli.errors import FivebarError, InputError, param
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.engine import pave
@@ -127,7 +127,7 @@ def resolve(m: Mechanism, endpoints: list[Endpoint], assembly: str | None, sourc
                 raise NoPath(f"{e.label} is not reachable{where}")
             if len(rows) > 1:
                 modes = ", ".join(r.working for r in rows)
-                raise InputError(source, "--working-mode", f"{e.label} is reached in working modes {modes}: "
+                raise InputError(source, param("working_mode"), f"{e.label} is reached in working modes {modes}: "
                                  "give the one to start or end in")
         elif not rows:
             raise NoPath(f"{e.label} cannot be assembled")
@@ -139,8 +139,8 @@ def resolve(m: Mechanism, endpoints: list[Endpoint], assembly: str | None, sourc
     for e, rows in zip(endpoints, found):
         if e.kind == "joints":
             if assembly is None and len(rows) > 1:
-                raise InputError(source, "--assembly-mode", f"{e.label} assembles in both assembly modes: "
-                                 "give --assembly-mode + or -")
+                raise InputError(source, param("assembly_mode"), f"{e.label} assembles in both assembly modes: "
+                                 f"give {param('assembly_mode')} + or -")
             chosen = [r for r in rows if assembly is None or r.assembly in (assembly, "0")]
             if not chosen:
                 raise NoPath(f"{e.label} cannot be assembled in assembly mode {assembly}")
@@ -181,7 +181,7 @@ def parallel_free_cells(m: Mechanism, depth: int, assembly: str) -> Tree:
     model = m.aspect_model()
     test_of = getattr(model, "parallel_free_test", None)
     if test_of is None:
-        raise InputError(m.name, "--allow-serial", f"a {m.kind} has no test for parallel singularities")
+        raise InputError(m.name, param("allow_serial"), f"a {m.kind} has no test for parallel singularities")
     return pave(m.spaces()["jointspace"].grid(depth), test_of(_signs(assembly)[0])).inside
 
 

@@ -37,14 +37,14 @@ import numpy as np
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
-from fivebar_cli.errors import FivebarError
+from fivebar_cli.errors import FivebarError, InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass
 from fivebar_cli.paving.engine import Paving, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree
 
 __all__ = ["DEFAULT_BUDGET", "ClassRegion", "PoseAspect", "PoseAspectAnalysis", "analyse_pose_aspects",
-           "aspect_at", "pose_model", "sheet_classes", "sheet_of"]
+           "aspect_at", "pose_model", "sheet_classes", "sheet_of", "working_sheets", "motion_sheet"]
 
 
 PROBE_LEVELS = 1  # the band of every outer component holding an aspect is paved this much deeper
@@ -128,7 +128,7 @@ class PoseAspectAnalysis(AspectAnalysis):
             return super().headline()
         return (f"{self.mechanism.name}: {self.lower} generalized aspects, not certified at depth {self.depth}: "
                 f"{self.lower - len(self.aspects)} of them thinner than its cells, found one level deeper "
-                f"(raise --depth)")
+                f"(raise {param('depth')})")
 
 
 def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
@@ -225,6 +225,32 @@ def sheet_classes(model: PoseAspectModel, sheet: int) -> list[int]:
 def sheet_of(model: PoseAspectModel, k: int) -> int:
     """The sheet of class k."""
     return next(s for s in range(len(model.sheets)) if k in sheet_classes(model, s))
+
+
+def working_sheets(m: Mechanism, working_mode: str | None) -> list[int]:
+    """The sheets a pose is taken in: the one of `working_mode` (a 3-RRR's '+-+'), else all of them
+    (InputError on `working_mode` when the kind has no such working mode)."""
+    model = pose_model(m)
+    if working_mode is None:
+        return list(range(len(model.sheets)))
+    found = [k for k, sheet in enumerate(model.sheets) if dict(sheet.fields).get("working_mode") == working_mode]
+    if not found:
+        modes = [dict(sheet.fields).get("working_mode") for sheet in model.sheets]
+        known = ", ".join(mode for mode in modes if mode) or "none: its pose decides its class"
+        raise InputError("", param("working_mode"), f"{working_mode!r} is not a working mode of this {m.kind} (its "
+                         f"working modes: {known})")
+    return found
+
+
+def motion_sheet(m: Mechanism, working_mode: str | None) -> int:
+    """The one sheet a motion between two poses runs in: `working_sheets`' only one (InputError on
+    `working_mode` when the kind has several and none is given)."""
+    chosen = working_sheets(m, working_mode)
+    if len(chosen) > 1:
+        first = dict(pose_model(m).sheets[0].fields)["working_mode"]
+        raise InputError("", param("working_mode"), f"a {m.kind} pose is reached in {len(chosen)} working modes: say "
+                         f"which one (e.g. {param('working_mode', first)})")
+    return chosen[0]
 
 
 def aspect_at(aspects: list[PoseAspect], model: PoseAspectModel, pose: np.ndarray,

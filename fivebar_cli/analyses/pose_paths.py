@@ -34,7 +34,7 @@ from fivebar_cli.analyses.channel import (
 )
 from fivebar_cli.analyses.pose_aspects import PoseAspect, analyse_pose_aspects, aspect_at, class_region, pose_model
 from fivebar_cli.analyses.slabs import astar
-from fivebar_cli.errors import FivebarError, InputError
+from fivebar_cli.errors import FivebarError, InputError, param
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
 
@@ -308,20 +308,24 @@ def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: i
     for axis, value in zip(space.axes, pose):
         if not axis.periodic and not axis.lo <= value <= axis.hi:
             what = "orientation range" if axis.unit == "deg" else "root box"
-            raise InputError(source, "--pose", f"{label}: {axis.name} = {value:g} is outside the {what} "
+            raise InputError(source, param("pose"), f"{label}: {axis.name} = {value:g} is outside the {what} "
                                                f"[{axis.lo:g}, {axis.hi:g}]")
     free = pose_model(m.unconstrained()) if m.constraints else model
     if not free.valid(pose[None, :])[0]:
         joints, exists = model.ikp(pose[None, :], 0)
         if not exists[0]:
-            raise InputError(source, "--pose", f"{label} is not a valid pose: no joint values reach it (a leg cannot "
+            raise InputError(source, param("pose"), f"{label} is not a valid pose: no joint values reach it (a leg cannot "
                                                "reach it, or only stretched or folded)")
         names = ", ".join(f"{a.name} = {v:.6g} in [{a.lo:g}, {a.hi:g}]" for a, v in zip(model.joint_axes, joints[0]))
+<<<<<<< HEAD
         raise InputError(source, "--pose", f"{label} is not a valid pose: {names} (a joint out of its range)")
     if sheet is not None and not model.valid(pose[None, :], sheet)[0]:
         labels = model.violated_constraints(pose[None, :], sheet)[0]
         raise NoMotion(f"{label} violates the {' and the '.join(labels)} ({model.sheets[sheet].label}): no motion "
                        "within the constraints starts or ends there")
+=======
+        raise InputError(source, param("pose"), f"{label} is not a valid pose: {names} (a joint out of its range)")
+>>>>>>> issue-21c
 
 
 def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: int = 0) -> int:
@@ -379,7 +383,7 @@ def find_motion(m: Mechanism, depth: int, start: np.ndarray, end: np.ndarray, la
 
 def _no_cell(label: str, depth: int) -> NoMotion:
     return NoMotion(f"not decided at depth {depth}: {label} lies in no certified cell (too close to a singularity "
-                    f"or a joint limit for cells this size: try --depth {depth + 1})")
+                    f"or a joint limit for cells this size: try {param('depth', depth + 1)})")
 
 
 def _why_not(model, aspects: list[PoseAspect], start, end, labels, depth: int, sheet: int) -> NoMotion:
@@ -392,9 +396,9 @@ def _why_not(model, aspects: list[PoseAspect], start, end, labels, depth: int, s
             return NoMotion(f"{labels[0]} is in aspect {a.number}, {labels[1]} in aspect {b.number}: every motion "
                             "between them crosses a singularity")
         return NoMotion(f"not decided at depth {depth}: {labels[0]} is in aspect {a.number}, {labels[1]} in aspect "
-                        f"{b.number}, not both certified (they may be one aspect: raise --depth)")
+                        f"{b.number}, not both certified (they may be one aspect: raise {param('depth')})")
     if a is None or b is None:
         return _no_cell(labels[0] if a is None else labels[1], depth)
     return NoMotion(f"not decided at depth {depth}: both lie in aspect {a.number}, but no chain of certified cells "
                     f"sharing faces joins them (they touch only along edges or through finer cells: try "
-                    f"--depth {depth + 1})")
+                    f"{param('depth', depth + 1)})")

@@ -24,12 +24,11 @@ from typing import Sequence
 
 from fivebar_cli.analyses.view_tables import read_aspect_table, read_crossing_table, read_path_table
 from fivebar_cli.errors import InputError
-from fivebar_cli.io.layout import ASPECTS_CSV, COMPLEMENT, CROSSINGS_CSV, sibling_paths
+from fivebar_cli.io.layout import ASPECTS_CSV, COMPLEMENT, CROSSINGS_CSV, PATH_CSV, sibling_paths
 from fivebar_cli.io.outputs import FolderRuns, read_runs
 from fivebar_cli.io.qtfile import QtFile, read_qt
 from fivebar_cli.mechanisms.registry import from_description
 
-PATH_CSV = "path.csv"
 ASPECT_REGION = re.compile(r"^aspect (\d+)$")
 AXIS_TOKEN = re.compile(r"^([^\[\]]+)(?:\[([^\[\]]*)\])?$")
 SPACE_ORDER = ("workspace", "jointspace")

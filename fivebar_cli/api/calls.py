@@ -1,6 +1,6 @@
 """The public functions: a mechanism in, an immutable result out (`values.py`); the commands of
-`fivebar` call these too. Messages name the Python arguments (`tolerance`), never a command-line
-flag: the CLI passes its own names where it reports an error of its options."""
+`fivebar` call these too. Messages name the Python arguments (`errors.param`: `tolerance`,
+`depth=12`), never a command-line flag: the CLI spells them as its options (`cli/options.as_flags`)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.api.values import Aspect, Aspects, Location, Path_, Paving, Table
-from fivebar_cli.errors import InputError
+from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
 
 DEFAULT_DEPTH = 10
@@ -26,8 +26,7 @@ def examples_folder() -> Path:
     return Path(__file__).resolve().parent.parent / "examples"
 
 
-def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None,
-         field: str = "tolerance") -> Mechanism:
+def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None) -> Mechanism:
     """A mechanism from a YAML file, a mapping with the same schema, or the name of a shipped example.
 
     Parameters
@@ -57,7 +56,7 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
         if not path.exists() and str(source) in examples():
             path = examples()[str(source)]
         m = load_config(path, kind, space)
-    return widened(m, tolerance, source_name(source), field)
+    return widened(m, tolerance, source_name(source))
 
 
 def source_name(source) -> str:
@@ -67,13 +66,13 @@ def source_name(source) -> str:
     return "<mapping>" if isinstance(source, Mapping) else str(source)
 
 
-def widened(m: Mechanism, tolerance: float, source, field: str = "tolerance") -> Mechanism:
+def widened(m: Mechanism, tolerance: float, source) -> Mechanism:
     """The mechanism with its lengths widened by `tolerance` (0: unchanged); InputError for a kind
-    without interval lengths (`field` names the option in the message)."""
+    without interval lengths."""
     if not tolerance:
         return m
     if not m.widens:
-        raise InputError(str(source), field, f"{article(m.kind)} has no interval lengths")
+        raise InputError(str(source), param("tolerance"), f"{article(m.kind)} has no interval lengths")
     return m.widened(tolerance, str(source))
 
 
@@ -84,6 +83,12 @@ def with_aspects(m: Mechanism, source) -> Mechanism:
     return m
 
 
+def per_level(advance):
+    """The pavings' hook `on_level(level, cells)` in the API's progress convention: one step of
+    `advance(n=1)` per level paved (None stays None)."""
+    return None if advance is None else (lambda level, cells: advance(1))
+
+
 def _mechanism(mech) -> Mechanism:
     return mech if isinstance(mech, Mechanism) else load(mech)
 
@@ -92,8 +97,10 @@ def _mechanism(mech) -> Mechanism:
 
 
 def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, tolerance: float | None = None,
-         region: str | None = None, procedure: str = "exact", on_level=None) -> Paving:
+         region: str | None = None, procedure: str = "exact", advance=None) -> Paving:
     """Certified paving of one space of a mechanism (or of one region of it) to `depth`.
+    `advance(n=1)`: told of each level paved (depth + 1 steps at most: fewer when no cell is left
+    undetermined).
 
     Examples
     --------
@@ -115,26 +122,26 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     if procedure not in m.procedures:
         raise InputError(m.name, "procedure", f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
-    p = spaces.pave_space(m, space, depth, procedure, on_level, own)
+    p = spaces.pave_space(m, space, depth, procedure, per_level(advance), own)
     return Paving(m, space, depth, procedure, own, p, p.evaluations)
 
 
-def refine(paving, depth: int, on_level=None) -> Paving:
+def refine(paving, depth: int, *, advance=None) -> Paving:
     """A paving deepened to `depth`, testing only its undetermined cells; `paving` is a `Paving` or
     the path of a saved `.qt` file (either of its pair). Equals a fresh paving at `depth`; its
-    `evaluations` count those of the saved paving too."""
+    `evaluations` count those of the saved paving too. `advance(n=1)`: told of each new level."""
     from fivebar_cli.analyses import spaces
     from fivebar_cli.paving import engine
 
     if isinstance(paving, Paving):
         test = spaces._test(paving.mechanism, paving.space, paving.procedure, paving.region)
-        p = engine.refine(paving.inside, paving.outside, test, depth, on_level, paving.paving.band)
+        p = engine.refine(paving.inside, paving.outside, test, depth, per_level(advance), paving.paving.band)
         return Paving(paving.mechanism, paving.space, depth, paving.procedure, paving.region, p,
                       paving.evaluations + p.evaluations)
     saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(paving)
     if depth < saved.inside.tree.grid.depth:
         raise InputError(saved.source, "depth", f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
-    p = spaces.refine_saved(saved, depth, on_level)
+    p = spaces.refine_saved(saved, depth, per_level(advance))
     return Paving(saved.mechanism, saved.space, depth, saved.procedure, saved.region, p,
                   saved.evaluations + p.evaluations, saved.stem)
 
@@ -158,6 +165,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     nominal aspects and what each becomes (`fates`), with constraints the unconstrained aspects
     and where each constrained one comes from (`split`). `jobs`: worker processes for the
     independent pavings (None: one per core; 1: this process); the result is the same for any.
+    `advance(n=1)`: told of each region paved (six for a five-bar, in each analysis) and of the end.
 
     Examples
     --------
@@ -215,9 +223,15 @@ def m_name(mech) -> str:
 # ---------------------------------------------------------------- locate and path
 
 
-def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None) -> Location:
+def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
+           working_mode: str | None = None, advance=None) -> Location:
     """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
-    it at `depth` (the aspects are computed unless given). For a 3-RPR, `pose` is (x, y, phi_deg).
+    it at `depth` (the aspects are computed unless given: `advance` as for `aspects`).
+
+    Over a space of poses (3-RPR, 3-RRR), `pose` is (x, y, phi_deg), located in every working mode
+    (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
+    --working-mode`): one row per working mode, with `sheet` (its fields: {} for a 3-RPR), `class`
+    (None on or near a singularity) and `aspect`.
 
     Examples
     --------
@@ -230,20 +244,27 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     m = with_aspects(_mechanism(mech), m_name(mech))
     if (pose is None) == (joints is None):
         raise InputError(m.name, "pose", "give either pose or joints")
-    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False)
-    if m.pose_aspect_model() is not None:
-        from fivebar_cli.analyses.pose_aspects import aspect_at
+    sheets = None
+    if m.pose_aspect_model() is not None:  # the input checked before the aspects are computed
+        from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, working_sheets
+        from fivebar_cli.analyses.pose_paths import wrap_pose
 
         if pose is None:
             raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
+        sheets = working_sheets(m, working_mode)
+    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False, advance=advance)
+    if sheets is not None:
         model = m.pose_aspect_model()
-        point = np.asarray(pose, float)
-        cls, aspect = aspect_at(found.analysis.aspects, model, point)
-        legs, _ = model.ikp(point[None, :], max(cls, 0))
-        row = {"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
-               "class": dict(model.classes[cls].fields) if cls >= 0 else None,
-               "aspect": aspect.number if aspect is not None else None}
-        return Location(m, found.depth, (row,))
+        point = wrap_pose(m.spaces()[model.space], np.asarray(pose, float))
+        rows = []
+        for sheet in sheets:
+            cls, aspect = aspect_at(found.analysis.aspects, model, point, sheet)
+            legs, _ = model.ikp(point[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
+            rows.append({"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
+                         "sheet": dict(model.sheets[sheet].fields),
+                         "class": dict(model.classes[cls].fields) if cls >= 0 else None,
+                         "aspect": aspect.number if aspect is not None else None})
+        return Location(m, found.depth, tuple(rows))
     from fivebar_cli.analyses.locate import aspect_of, configurations, row
 
     space, value = ("workspace", pose) if pose is not None else ("jointspace", joints)
@@ -253,14 +274,16 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
 
 
 def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = False,
-         assembly_mode: str | None = None, folder=None) -> Path_:
+         assembly_mode: str | None = None, working_mode: str | None = None, folder=None) -> Path_:
     """A certified singularity-free motion from `start` to `goal` (NoPath, a FivebarError, when none
     is found at this depth, with the reason).
 
     Five-bar and 2-RPR: each endpoint is `{"joints": (th1, th2)}` (in the assembly mode
     `assembly_mode`) or `{"pose": (x, y), "working_mode": "++"}`; with `allow_serial` the motion
-    may cross serial singularities, never parallel ones. 3-RPR: each endpoint is a pose
-    (x, y, phi_deg). `folder`: an `aspects` output folder whose trees are reused.
+    may cross serial singularities, never parallel ones; `working_mode` is that of every pose
+    endpoint that names none. 3-RPR, 3-RRR: each endpoint is a pose (x, y, phi_deg), for a 3-RRR
+    in `working_mode` ('+-+': needed, as `fivebar path --working-mode`). `folder`: an `aspects`
+    output folder whose trees are reused.
 
     Examples
     --------
@@ -275,8 +298,10 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     m = with_aspects(_mechanism(mech), m_name(mech))
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
+        from fivebar_cli.analyses.pose_aspects import motion_sheet
         from fivebar_cli.analyses.pose_paths import check_pose, find_motion, wrap_pose
 
+        sheet = motion_sheet(m, working_mode)
         space = m.spaces()[m.pose_aspect_model().space]
         ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
         for p, label in zip(ends, ("start", "goal")):
@@ -286,14 +311,14 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
             from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
 
             saved = load_pose_aspects(Path(folder), m, depth)
-        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), m.name, saved)
+        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), m.name, saved, (sheet, sheet))
         walk = motion.motion.unwrapped()
         length = float(np.sum(np.linalg.norm(np.diff(walk, axis=0), axis=1)))
         return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
                      length, motion)
     from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_points, resolve
 
-    endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode")) if "pose" in e
+    endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode", working_mode)) if "pose" in e
                  else Endpoint("joints", tuple(e["joints"])) for e in (start, goal)]
     first, last = resolve(m, endpoints, assembly_mode, m.name)
     result = find_path(m, depth, first, last, allow_serial, Path(folder) if folder else None)
@@ -314,14 +339,14 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     from contextlib import nullcontext
 
     from fivebar_cli.analyses.atlas.engine import compute_plan, plan_atlas
-    from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
+    from fivebar_cli.io.layout import ATLAS_CSV
     from fivebar_cli.analyses.atlas.spec import check_tolerance, parse_spec, read_spec
 
     s = parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) else read_spec(spec)
     if depth is not None:
         s = dataclasses.replace(s, depth=depth)
     if tolerance is not None:
-        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, s.name, "tolerance"))
+        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, s.name, param("tolerance")))
     with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
         plan = plan_atlas(s, Path(where), restart)
         with atlas_runner(workers, scheduler, len(plan.todo)) as runner:

@@ -14,6 +14,7 @@ import numpy as np
 
 from fivebar_cli.api.values import Table
 from fivebar_cli.errors import InputError
+from fivebar_cli.io.layout import AREA_FILES, COUNTEREXAMPLE_PNG, SYNTHESIS_FILES
 
 AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
 SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n")
@@ -97,7 +98,7 @@ def area(mech) -> Study:
         return construction(m, phis, m.rho_min, rho_max, title)
 
     return Study(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
-                 (("singularity-free-workspace.png", construction_figure),))
+                 ((AREA_FILES[1], construction_figure),))
 
 
 # ---------------------------------------------------------------- sweeps
@@ -327,7 +328,7 @@ def _synthesis_drawings(m, cases) -> tuple:
                  f"({c2.rho_min:.6f}) [fig. 9]")
         return construction(m, [p1, p2], c2.rho_min, c2.rho_max, title)
 
-    return (("area-vs-phi-cases.png", cases_figure), ("singularity-free-workspace-case2.png", case2_figure))
+    return tuple(zip(SYNTHESIS_FILES[2:], (cases_figure, case2_figure)))
 
 
 # ---------------------------------------------------------------- octrees
@@ -377,6 +378,7 @@ class PaveSet:
         return paths
 
     def _figures(self, folder) -> list:
+        from fivebar_cli.io.layout import SINGULARITY_FREE_PNG, paving_figure
         from fivebar_cli.mechanisms.rpr3.model import REACHABLE
         from fivebar_cli.plotting.rpr3 import figure_singularity_free
         from fivebar_cli.plotting.saving import draw_and_save
@@ -387,16 +389,18 @@ class PaveSet:
         plus, minus = (self.pavings[r].inside for r in m.regions("workspace")[1:])
         title = f"{m.name}: singularity-free workspace by sign of det J, depth {self.depth}"
         return [draw_and_save(lambda: figure_paving(m.name, space, reach.inside, reach.outside,
-                                                    reach.undetermined_tree(), False), folder / "workspace.png"),
+                                                    reach.undetermined_tree(), False),
+                                     folder / paving_figure("workspace")),
                 draw_and_save(lambda: figure_singularity_free(title, space, plus, minus, reach.outside,
                                                               m.phi_range, m.closed_form_or_none()),
-                              folder / "singularity-free.png")]
+                              folder / SINGULARITY_FREE_PNG)]
 
 
-def pave(mech, depth: int = 7, on_level=None, jobs: int | None = 1) -> PaveSet:
+def pave(mech, depth: int = 7, advance=None, jobs: int | None = 1) -> PaveSet:
     """Certified octree over (x, y, phi) of a 3-RPR's workspace and of its two singularity-free
     parts (any geometry), with their volumes (exact ones too for a similar platform); the three
-    pavings on `jobs` processes (None: one per core), the same result for any.
+    pavings on `jobs` processes (None: one per core), the same result for any. `advance(n=1)`:
+    told of each level of each paving (3 * (depth + 1) steps at most).
 
     Examples
     --------
@@ -406,12 +410,13 @@ def pave(mech, depth: int = 7, on_level=None, jobs: int | None = 1) -> PaveSet:
     True
     """
     from fivebar_cli.analyses.spaces import pave_regions
+    from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
 
     m = bounded(mech)
     whole = m.spaces()["workspace"].region
     pavings = {r: Paving(m, "workspace", depth, "exact", None if r == whole else r, p, p.evaluations)
-               for r, p in pave_regions(m, "workspace", depth, on_level=on_level, jobs=jobs).items()}
+               for r, p in pave_regions(m, "workspace", depth, on_level=per_level(advance), jobs=jobs).items()}
     return pave_set(m, pavings)
 
 
@@ -437,12 +442,13 @@ def pave_set(m, pavings: dict, saved: int | None = None) -> PaveSet:
     return PaveSet(m, depth, pavings, v, tuple(notes))
 
 
-def refine_pave_set(source, m, old_depth: int, depth: int, on_level=None) -> tuple[PaveSet, int]:
+def refine_pave_set(source, m, old_depth: int, depth: int, advance=None) -> tuple[PaveSet, int]:
     """The three pairs of an `rpr3 pave` run in folder `source` deepened together to `depth`, and
-    the evaluations saved by not retesting."""
+    the evaluations saved by not retesting; `advance(n=1)` told of each new level of each pair."""
     from pathlib import Path
 
     from fivebar_cli.analyses import spaces
+    from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
     from fivebar_cli.io.layout import region_stem
     from fivebar_cli.mechanisms.rpr3.model import REACHABLE
@@ -453,7 +459,7 @@ def refine_pave_set(source, m, old_depth: int, depth: int, on_level=None) -> tup
         saved = spaces.load_saved(path)
         if saved.mechanism != m or saved.inside.tree.grid.depth != old_depth:
             raise InputError(str(path), "mechanism", "does not belong to the same rpr3 pave run")
-        p = spaces.refine_saved(saved, depth, on_level)
+        p = spaces.refine_saved(saved, depth, per_level(advance))
         pavings[region] = Paving(m, "workspace", depth, saved.procedure, saved.region, p, saved.evaluations + p.evaluations)
         saved_total += saved.evaluations
     return pave_set(m, pavings), saved_total
@@ -473,10 +479,11 @@ def bounded(mech):
     return m
 
 
-def verify(mech, depth: int = 14) -> Study:
+def verify(mech, depth: int = 14, advance=None) -> Study:
     """Can the robot reach a singular pose over its orientation range and leg ranges? One row of
     `verify.csv`: `status` is 'certified singularity-free', 'singular pose found' (the pose in
-    `.result.pose`, its row in `counterexample`) or 'undecided' at `depth`.
+    `.result.pose`, its row in `counterexample`) or 'undecided' at `depth`. `advance(n=1)`: told
+    of each level searched (depth + 1 steps at most).
 
     Examples
     --------
@@ -485,9 +492,10 @@ def verify(mech, depth: int = 14) -> Study:
     'certified singularity-free'
     """
     from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify as run
+    from fivebar_cli.api.calls import per_level
 
     m = bounded(mech)
-    result = run(m, depth)
+    result = run(m, depth, on_level=per_level(advance))
     a, b = m.leg_limits()
     legs = ", ".join(f"[{lo:.8g}, {hi:.8g}]" for lo, hi in zip(a, b))
     p1, p2 = m.phi_range
@@ -506,7 +514,7 @@ def verify(mech, depth: int = 14) -> Study:
             return figure_pose(m, (x, y, phi), pose.joints, f"{m.name}: a reachable singular pose (det J = "
                                f"{pose.value:.2g})")
 
-        drawings = (("counterexample.png", pose_figure),)
+        drawings = ((COUNTEREXAMPLE_PNG, pose_figure),)
     if result.status == UNDECIDED:
         advice = result.note or ADVICE
         notes.append(f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "

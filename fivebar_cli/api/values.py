@@ -127,15 +127,16 @@ class Paving:
         m, p = self.mechanism, self.paving
         paths = write_paving(folder, m, self.space, p, self.procedure, self.evaluations, self.region, self.stem)
         if figures:
+            from fivebar_cli.io.layout import paving_figure
             from fivebar_cli.plotting.saving import draw_and_save
             from fivebar_cli.plotting.trees import figure_paving
 
             und, s = p.undetermined_tree(), m.spaces()[self.space]
             marks = m.marks(self.space)
-            for complement, suffix in ((False, ""), (True, ".complement")):
+            for complement in (False, True):
                 paths.append(draw_and_save(lambda: figure_paving(m.name, s, p.inside, p.outside, und, complement,
                                                                  p.band, self.region, marks),
-                                           folder / f"{self.stem}{suffix}.png"))
+                                           folder / paving_figure(self.stem, complement)))
         return paths
 
     def plot(self, ax=None):
@@ -193,9 +194,10 @@ class Aspect:
 
 @dataclass(frozen=True, repr=False)
 class Aspects:
-    """The generalized aspects of a mechanism at a depth: iterable of `Aspect`; `count` and whether it
-    is `certified`, its `bounds` (L, U) otherwise; `adjacency`: the crossings (aspect a, aspect b,
-    assembly mode, the serial singularity between them)."""
+    """The generalized aspects of a mechanism at a depth: iterable of the `Aspect`s found (`len`:
+    how many); `count`, the number of aspects when it is `certified` (None otherwise: it lies in
+    `bounds`, (L, U)); `adjacency`: the crossings (aspect a, aspect b, assembly mode, the serial
+    singularity between them)."""
 
     mechanism: Mechanism
     depth: int
@@ -206,8 +208,12 @@ class Aspects:
     free: object = field(default=None, compare=False)  # the unconstrained analysis (constraints only)
 
     @property
-    def count(self) -> int:
-        return len(self.aspects)
+    def count(self) -> int | None:
+        """The number of generalized aspects when it is certified, else None: the true number is then
+        only known to lie in `bounds`, and the aspects listed (`len(self)`) may be fewer (thin ones
+        not found yet) or more (pieces of one aspect not proven joined): M1 at depth 5 lists 8,
+        bounds 8..10 (10 at depth 6). Deeper, or with a larger `budget`, the count gets certified."""
+        return len(self.aspects) if self.certified else None
 
     @property
     def certified(self) -> bool:
@@ -215,6 +221,7 @@ class Aspects:
 
     @property
     def bounds(self) -> tuple[int, int]:
+        """(L, U): the number of aspects lies in L..U (L == U == count when certified)."""
         return (self.count, self.count) if self.certified else (self.analysis.lower, self.analysis.upper)
 
     @property
@@ -284,7 +291,7 @@ class Aspects:
 
     def __repr__(self) -> str:
         what = "certified" if self.certified else "not certified: bounds {}..{}".format(*self.bounds)
-        return f"<Aspects {self.mechanism.name}, depth {self.depth}: {plural(self.count, 'aspect')} ({what})>"
+        return f"<Aspects {self.mechanism.name}, depth {self.depth}: {plural(len(self), 'aspect')} ({what})>"
 
     def _pose_kind(self) -> bool:
         return self.analysis.crossings == [] and hasattr(self.analysis.model, "classes")

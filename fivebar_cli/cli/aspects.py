@@ -10,8 +10,9 @@ from fivebar_cli.api.calls import aspects as find_aspects
 from fivebar_cli.api.calls import comparisons
 from fivebar_cli.cli.options import (
     CONFIG, MAX_ASPECT_DEPTH, budget_option, common_options, depth_option, figure, jobs_option, load_with_aspects,
-    prepare_out, progress, report, tolerance_option, wrote,
+    option_errors, prepare_out, progress, report, tolerance_option, wrote,
 )
+from fivebar_cli.io.layout import ASPECTS_WORKSPACE_PNG, aspects_jointspace_figure
 
 
 @click.command(short_help="Generalized aspects, their matching and crossings (figs. 7-10).")
@@ -21,6 +22,7 @@ from fivebar_cli.cli.options import (
 @tolerance_option
 @jobs_option
 @common_options
+@option_errors()
 def aspects(config_path, depth, budget, tolerance, jobs, out, no_plot, quiet):
     """Generalized aspects: the singularity-free regions of each working and assembly mode.
 
@@ -66,10 +68,10 @@ def aspects(config_path, depth, budget, tolerance, jobs, out, no_plot, quiet):
         if not no_plot:
             from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
 
-            paths.append(figure(lambda: figure_aspects_workspace(analysis), folder / "aspects-workspace.png"))
+            paths.append(figure(lambda: figure_aspects_workspace(analysis), folder / ASPECTS_WORKSPACE_PNG))
             for am in analysis.model.assembly_modes:
                 paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
-                                    folder / f"aspects-jointspace-assembly{signs_text(am)}.png"))
+                                    folder / aspects_jointspace_figure(signs_text(am))))
     report(quiet, result.headline)
     for line in result.lines():
         report(quiet, line)

@@ -10,13 +10,14 @@ import click
 
 from fivebar_cli.analyses.atlas.engine import compute_plan, in_process, plan_atlas
 from fivebar_cli.api.calls import atlas_runner
-from fivebar_cli.analyses.atlas.parts import ATLAS_CSV
 from fivebar_cli.analyses.atlas.cluster import check_address
 from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
+from fivebar_cli.errors import param
 from fivebar_cli.cli.numbers import Number
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, figure, plural, prepare_out, progress, report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, figure, option_errors, plural, prepare_out, progress, report, wrote,
 )
+from fivebar_cli.io.layout import ATLAS_CSV, ATLAS_PNG
 from fivebar_cli.io.outputs import output_set
 
 
@@ -42,6 +43,7 @@ def default_workers() -> int:
                    "--tolerance T`); 0: none [default: the spec's tolerance].")
 @click.option("--restart", is_flag=True, help="Discard the parts of an earlier run in OUT/atlas.parts/ and start afresh.")
 @common_options(default="outputs/<spec name>/")
+@option_errors()
 def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot, quiet):
     """Sweep a grid of five-bar designs and tabulate, per design: whether it can be assembled,
     its number of generalized aspects and whether that count is certified (as `fivebar aspects`
@@ -75,7 +77,7 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
     if depth is not None:
         spec = dataclasses.replace(spec, depth=depth)
     if tolerance is not None:
-        spec = dataclasses.replace(spec, tolerance=check_tolerance(tolerance, spec.grid, str(spec_path), "--tolerance"))
+        spec = dataclasses.replace(spec, tolerance=check_tolerance(tolerance, spec.grid, str(spec_path), param("tolerance")))
     folder = prepare_out(out, spec.name)
     plan = plan_atlas(spec, folder, restart)
     workers = default_workers() if workers is None and scheduler is None else workers
@@ -92,13 +94,13 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
         with progress(quiet, plan.designs_todo, "designs", unit="designs") as advance:
             compute_plan(plan, runner, advance)
     seconds = time.monotonic() - start
-    with output_set(folder, "atlas", (ATLAS_CSV, "atlas.png"), "fivebar atlas"):
+    with output_set(folder, "atlas", (ATLAS_CSV, ATLAS_PNG), "fivebar atlas"):
         path, table = plan.parts.assemble(folder / ATLAS_CSV)
         paths = [path]
         if not no_plot and spec.swept:
             from fivebar_cli.plotting.atlas import figure_atlas
 
-            paths.append(figure(lambda: figure_atlas(spec, table), folder / "atlas.png"))
+            paths.append(figure(lambda: figure_atlas(spec, table), folder / ATLAS_PNG))
     if plan.todo:
         report(quiet, f"  computed {plural(plan.designs_todo, 'design')} in {seconds:.1f} s "
                       f"({plan.designs_todo / seconds:.3g} designs/s)")

@@ -6,7 +6,7 @@ import click
 import numpy as np
 
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
 from fivebar_cli.cli.poses import (
     CONFIG, aspects_for, dkp_header, dkp_rows, load_pose_kind, numbers, pose_budget_option, pose_depth_option,
     solve_joints,
@@ -59,6 +59,7 @@ def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_p
 @pose_depth_option
 @pose_budget_option
 @common_options
+@option_errors()
 def dkp(config_path, legs, depth, budget, out, no_plot, quiet):
     """Every pose (assembly mode) of a 3-RPR with the given leg lengths, certified.
 
@@ -85,6 +86,7 @@ def dkp(config_path, legs, depth, budget, out, no_plot, quiet):
 @pose_depth_option
 @pose_budget_option
 @common_options
+@option_errors()
 def joints_dkp(config_path, joints, depth, budget, out, no_plot, quiet):
     """Every pose (assembly mode) with the given joint values, certified, for a kind whose aspects
     live in a space of poses (x, y, phi): a 3-RPR's leg lengths (as `fivebar rpr3 dkp --legs`), a

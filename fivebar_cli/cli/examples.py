@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.cli.options import report, wrote
+from fivebar_cli.cli.options import option_errors, report, wrote
 
 
 @click.command(short_help="List the shipped example mechanisms, or copy them into a folder.")
@@ -14,6 +14,7 @@ from fivebar_cli.cli.options import report, wrote
               help="Copy every example (YAML files, in their subfolders) into DIR, to edit them or to run "
                    "`fivebar reproduce --configs DIR`.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
+@option_errors()
 def examples(copy_to, quiet):
     """The mechanisms of both papers, shipped with the package (the repository's configs/): M1 and
     M2 (five-bars), with joint limits and an obstacle, the 3-RPR designs, the 2-RPR and the atlas

@@ -7,9 +7,11 @@ from pathlib import Path
 import click
 
 from fivebar_cli.analyses.kratio import HEADER, kratio_rows, planar_spaces, row_count
-from fivebar_cli.cli.options import CONFIG, MAX_DEPTH, common_options, data_on_stdout, figure, progress, report, wrote
+from fivebar_cli.cli.options import (
+    CONFIG, MAX_DEPTH, common_options, data_on_stdout, figure, option_errors, progress, report, wrote,
+)
 from fivebar_cli.io.files import check_writable_dir, csv_text, write_csv
-from fivebar_cli.io.layout import DEFAULT_ROOT
+from fivebar_cli.io.layout import DEFAULT_ROOT, KRATIO_CSV, KRATIO_FILES, KRATIO_PNG
 from fivebar_cli.io.outputs import output_set
 from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.mechanisms.base import article
@@ -39,7 +41,8 @@ def _cell(value, fmt: str) -> str:
 @click.argument("config_paths", metavar="CONFIG...", type=CONFIG, nargs=-1, required=True)
 @click.option("--depths", default="5-10", show_default=True, callback=_parse_depths,
               help="Depths: a range 5-10 or a list 5,8,10.")
-@common_options(single="kratio.csv", default="outputs/")
+@common_options(single=KRATIO_CSV, default="outputs/")
+@option_errors()
 def kratio(config_paths, depths, out, no_plot, quiet):
     """The paper's Table 1: evaluations K = n / 4^d, ours against the paper's procedure.
 
@@ -66,12 +69,12 @@ def kratio(config_paths, depths, out, no_plot, quiet):
     if stdout:
         click.echo(csv_text(HEADER, table), nl=False)
     else:
-        with output_set(folder, "kratio", ("kratio.csv", "kratio.png"), "fivebar kratio"):
-            paths.append(write_csv(folder / "kratio.csv", HEADER, table))
+        with output_set(folder, "kratio", KRATIO_FILES, "fivebar kratio"):
+            paths.append(write_csv(folder / KRATIO_CSV, HEADER, table))
             if not no_plot:
                 from fivebar_cli.plotting.kratio import figure_kratio
 
-                paths.append(figure(lambda: figure_kratio(rows), folder / "kratio.png"))
+                paths.append(figure(lambda: figure_kratio(rows), folder / KRATIO_PNG))
     for r in rows:
         printed = f"{r['paper_printed_percent']}%" if r["paper_printed_percent"] != "" else "-"
         report(quiet, f"{r['space']:10s} {r['mechanism']:6s} d={r['depth']:2d}  ours {r['evaluations']:8d} "

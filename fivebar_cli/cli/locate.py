@@ -14,7 +14,8 @@ from fivebar_cli.analyses.locate import (
 )
 from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, budget_option, depth_option, load_with_aspects, reuse_options, tolerance_option,
+    CONFIG, MAX_ASPECT_DEPTH, as_flags, budget_option, depth_option, load_with_aspects, option_errors, reuse_options,
+    tolerance_option,
 )
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
@@ -36,6 +37,7 @@ from fivebar_cli.mechanisms.base import plural
 @budget_option
 @tolerance_option
 @reuse_options("configurations")
+@option_errors()
 def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budget, tolerance, out, as_csv):
     """Which aspect a configuration lies in, and whether two can be joined without singularity.
 
@@ -115,7 +117,7 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
                                    constrained=bool(m.constraints)))
                      for a, _ in kept[i] for b, _ in kept[j]]
             if len(pairs) == 1:
-                click.echo(f"  {i + 1} -> {j + 1}: {pairs[0][2].line()}")
+                click.echo(f"  {i + 1} -> {j + 1}: {as_flags(pairs[0][2].line())}")
                 continue
             _pairs_report(i + 1, j + 1, pairs, model, depth)
 
@@ -136,7 +138,7 @@ def _pairs_report(i: int, j: int, pairs, model, depth: int) -> None:
             modes = f"working mode {a.working}, det A {a.assembly}"
             if (a.working, a.assembly) != (b.working, b.assembly):
                 modes += f" -> working mode {b.working}, det A {b.assembly}"
-            click.echo(f"    {modes}: {v.line()}")
+            click.echo(f"    {modes}: {as_flags(v.line())}")
     if any(apart):
         click.echo(f"    the other {plural(sum(apart), 'pair')}: no: different modes")
 
@@ -167,4 +169,4 @@ def _where(row: dict, depth: int) -> str:
     if row["singular"]:
         return f"on or near a singularity: {row['singular']}"
     return (f"in no certified cell at depth {depth} (too close to a singularity for cells this size: "
-            f"{deeper(depth, MAX_ASPECT_DEPTH)})")
+            f"{as_flags(deeper(depth, MAX_ASPECT_DEPTH))})")

@@ -5,6 +5,7 @@ progress bars, reporting, figures off screen. Command-line numbers and angles: `
 
 from __future__ import annotations
 
+import re
 import sys
 import time
 from contextlib import contextmanager
@@ -60,18 +61,51 @@ def refuse_stdout(out: Path | None, what: str) -> None:
                                "(./- for a folder named '-')")
 
 
+FLAGS = {  # a library parameter -> the option that sets it (`option_errors` adds a command's own)
+    "allow_serial": "--allow-serial", "assembly_mode": "--assembly-mode", "budget": "--budget", "depth": "--depth",
+    "folder": "-o", "pose": "--pose", "procedure": "--procedure", "restart": "--restart",
+    "scheduler": "--scheduler", "sets_only": "--sets-only", "tolerance": "--tolerance",
+    "working_mode": "--working-mode",
+}
+PARAM = re.compile(r"`([a-z_]+)(?:=([^`]*))?`")
+
+
+def as_flags(text: str, flags: dict[str, str] | None = None) -> str:
+    """Library text with every parameter it names (`errors.param`: `depth`, `depth=12`,
+    `allow_serial=True`, `procedure='exact'`) spelled as the option that sets it (`--depth`,
+    `--depth 12`, `--allow-serial`, `--procedure exact`): the one place the command line turns the
+    library's names into its own. `flags` adds a command's own options to `FLAGS`."""
+    names = {**FLAGS, **(flags or {})}
+
+    def spell(match: re.Match) -> str:
+        name, value = match.groups()
+        if name not in names:
+            return match.group(0)
+        if value is None or value == "True":
+            return names[name]
+        return f"{names[name]} {value.strip(chr(39))}"
+
+    return PARAM.sub(spell, text)
+
+
 @contextmanager
 def option_errors(**flags: str) -> Iterator[None]:
-    """A library InputError on one of `flags`' fields (`range="--range"`) becomes click's usage
-    error on that option: the library names its arguments, the command line its options."""
-    from fivebar_cli.errors import InputError
+    """Library errors in the command line's words (`as_flags`): an InputError on one of the
+    `flags` with no source (`range="--range"`) becomes click's usage error on that option;
+    any other FivebarError keeps its type and exit status, its parameters spelled as options. A
+    context and a decorator: every command's callback is wrapped in it."""
+    from fivebar_cli.errors import FivebarError, InputError
 
     try:
         yield
-    except InputError as exc:
-        if exc.source or exc.field not in flags:
-            raise
-        raise click.BadParameter(exc.message, param_hint=flags[exc.field]) from None
+    except FivebarError as exc:
+        field = exc.field.strip("`") if isinstance(exc, InputError) and not exc.source else None
+        if field in flags:
+            raise click.BadParameter(as_flags(exc.message, flags), param_hint=flags[field]) from None
+        if isinstance(exc, InputError):
+            exc.source, exc.field, exc.message = (as_flags(t, flags) for t in (exc.source, exc.field, exc.message))
+        exc.args = tuple(as_flags(a, flags) if isinstance(a, str) else a for a in exc.args)
+        raise
 
 
 def depth_option(default: int = 10, limit: int = MAX_DEPTH):
@@ -98,17 +132,17 @@ def tolerance_option(func):
 
 
 def with_tolerance(m, tolerance: float, source):
-    """The mechanism with its lengths widened by `tolerance` (0: unchanged); the error names the option."""
+    """The mechanism with its lengths widened by `tolerance` (0: unchanged)."""
     from fivebar_cli.api.calls import widened
 
-    return widened(m, tolerance, source, "--tolerance")
+    return widened(m, tolerance, source)
 
 
 def load_with_aspects(config_path, tolerance: float = 0.0):
     """CONFIG's mechanism (widened by --tolerance), which must have working and assembly modes."""
     from fivebar_cli.api.calls import load, with_aspects
 
-    return with_aspects(load(config_path, tolerance=tolerance, field="--tolerance"), config_path)
+    return with_aspects(load(config_path, tolerance=tolerance), config_path)
 
 
 def reuse_options(what: str):
@@ -145,10 +179,11 @@ def prepare_out(out: Path | None, name: str, what: str = "several files") -> Pat
 
 
 def report(quiet: bool, message: str) -> None:
-    """A line of the run summary on stdout (silent with --quiet; on stderr when stdout holds data)."""
+    """A line of the run summary on stdout (silent with --quiet; on stderr when stdout holds data),
+    the parameters it names spelled as options (`as_flags`)."""
     if not quiet:
         ctx = click.get_current_context(silent=True)
-        click.echo(message, err=bool(ctx and ctx.find_root().meta.get(STDOUT_META)))
+        click.echo(as_flags(message), err=bool(ctx and ctx.find_root().meta.get(STDOUT_META)))
 
 
 def wrote(quiet: bool, paths) -> None:

@@ -7,8 +7,8 @@ import click
 from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_csv, path_points, resolve
 from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, load_with_aspects, prepare_out, report,
-    wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, load_with_aspects, option_errors, prepare_out,
+    report, wrote,
 )
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_text
@@ -42,6 +42,7 @@ def _record_order(ctx, param, value):
               help="Allow crossing serial singularities (changing working mode), never parallel ones.")
 @depth_option(limit=MAX_ASPECT_DEPTH)
 @common_options
+@option_errors()
 def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial, depth, out, no_plot, quiet):
     """A certified singularity-free motion between two configurations.
 

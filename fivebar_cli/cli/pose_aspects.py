@@ -8,8 +8,11 @@ import click
 from fivebar_cli.analyses.aspect_files import aspect_set
 from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
 from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
-from fivebar_cli.cli.options import common_options, figure, jobs_option, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import (
+    as_flags, common_options, figure, jobs_option, option_errors, prepare_out, progress, report, wrote,
+)
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, numbers, pose_budget_option, pose_depth_option
+from fivebar_cli.io.layout import ASPECTS_MAP_PNG, ASPECTS_SLICES_PNG
 
 
 @click.command("aspects", short_help="Generalized aspects over a space of poses, with a certified count.")
@@ -18,6 +21,7 @@ from fivebar_cli.cli.poses import CONFIG, load_pose_kind, numbers, pose_budget_o
 @pose_budget_option
 @jobs_option
 @common_options
+@option_errors()
 def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
     """Generalized aspects of a 3-RPR over (x, y, phi): the connected components of the poses with
     every leg in its range and det J > 0, and of those with det J < 0; of a 3-RRR, per working mode,
@@ -53,8 +57,9 @@ def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
         if not no_plot:
             from fivebar_cli.plotting.pose_aspects import figure_aspect_map, figure_aspect_slices
 
-            paths.append(figure(lambda: figure_aspect_slices(analysis), folder / "aspects-slices.png"))
-            paths.append(figure(lambda: figure_aspect_map(analysis), folder / "aspects-map.png"))
+            headline = as_flags(analysis.headline())
+            paths.append(figure(lambda: figure_aspect_slices(analysis, headline), folder / ASPECTS_SLICES_PNG))
+            paths.append(figure(lambda: figure_aspect_map(analysis, headline), folder / ASPECTS_MAP_PNG))
     space = m.spaces()[model.space]
     unit = ("area" if space.dim == 2 else "volume") + " (" + " x ".join(a.unit or "length" for a in space.axes) + ")"
     report(quiet, analysis.headline())

@@ -9,7 +9,7 @@ from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
 from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, sheet_of
 from fivebar_cli.analyses.pose_paths import check_pose, wrap_pose
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import reuse_options
+from fivebar_cli.cli.options import option_errors, reuse_options
 from fivebar_cli.cli.poses import (
     CONFIG, aspects_for, check_joints, class_values, joints_options, load_pose_kind, numbers, pose_budget_option,
     pose_depth_option, sheets_chosen, solve_joints, working_mode_option,
@@ -26,6 +26,7 @@ from fivebar_cli.io.layout import output_dir
 @pose_depth_option
 @pose_budget_option
 @reuse_options("poses")
+@option_errors()
 def pose_locate(config_path, poses, joints, legs, working_mode, depth, budget, out, as_csv):
     """Which aspect and which class (the sign of det J of a 3-RPR; the working mode and sign of
     det A of a 3-RRR) a pose has; with --joints (--legs for a 3-RPR), every pose of those joint

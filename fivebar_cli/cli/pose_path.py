@@ -6,12 +6,12 @@ from __future__ import annotations
 import click
 
 from fivebar_cli.analyses.pose_aspect_files import joint_columns, load_pose_aspects, pose_columns
-from fivebar_cli.analyses.pose_aspects import sheet_of
+from fivebar_cli.analyses.pose_aspects import motion_sheet, sheet_of
 from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
 from fivebar_cli.cli.poses import (
-    CONFIG, load_pose_kind, numbers, pose_depth_option, sheets_chosen, solve_joints, working_mode_option,
+    CONFIG, load_pose_kind, numbers, pose_depth_option, solve_joints, working_mode_option,
 )
 from fivebar_cli.io.files import csv_text, write_text
 from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG, output_dir
@@ -39,6 +39,7 @@ def _exact(value: float) -> str:
 @working_mode_option
 @pose_depth_option
 @common_options
+@option_errors()
 def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out, no_plot, quiet):
     """A certified singularity-free motion of a 3-RPR or a 3-RRR between two poses, or between two
     assembly modes of the same joint values (a non-singular change of assembly mode, for a cuspidal
@@ -85,13 +86,10 @@ def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out,
                        for k in modes)
         labels = tuple(f"assembly mode {k}" for k in modes)
     else:
-        chosen = sheets_chosen(m, working_mode)
-        if len(chosen) > 1:
-            raise click.BadParameter(f"a {m.kind} pose is reached in {len(chosen)} working modes: say which one "
-                                     "(e.g. --working-mode " + dict(model.sheets[0].fields)["working_mode"] + ")",
-                                     param_hint="--working-mode")
+        with option_errors(working_mode="--working-mode"):
+            sheet = motion_sheet(m, working_mode)
         ends = [wrap_pose(space, p) for p in poses]
-        sheets = (chosen[0], chosen[0])
+        sheets = (sheet, sheet)
         labels = tuple(f"pose ({numbers(p)})" for p in poses)
     folder = output_dir(out, m.name)
     saved = load_pose_aspects(folder, m, depth) if folder.is_dir() else None

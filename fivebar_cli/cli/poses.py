@@ -16,9 +16,9 @@ import click
 
 from fivebar_cli.analyses.dkp import DkpResult, solve
 from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects, pose_columns
-from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects, aspect_at, sheet_of
+from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects, aspect_at, sheet_of, working_sheets
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import MAX_ASPECT_DEPTH, budget_option
+from fivebar_cli.cli.options import MAX_ASPECT_DEPTH, budget_option, option_errors
 from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import load_config
@@ -86,16 +86,8 @@ def working_mode_option(func):
 def sheets_chosen(m: Mechanism, working_mode: str | None) -> list[int]:
     """The sheets a --pose is taken in: the one of --working-mode, else all of them (exit 2 when
     the kind has no such working mode)."""
-    model = m.pose_aspect_model()
-    if working_mode is None:
-        return list(range(len(model.sheets)))
-    found = [k for k, sheet in enumerate(model.sheets) if dict(sheet.fields).get("working_mode") == working_mode]
-    if not found:
-        modes = [dict(sheet.fields).get("working_mode") for sheet in model.sheets]
-        known = ", ".join(mode for mode in modes if mode) or "none: its pose decides its class"
-        raise click.BadParameter(f"{working_mode!r} is not a working mode of this {m.kind} (its working modes: "
-                                 f"{known})", param_hint="--working-mode")
-    return found
+    with option_errors(working_mode="--working-mode"):
+        return working_sheets(m, working_mode)
 
 
 def class_values(model, cls: int, sheet: int) -> list[str]:

@@ -10,7 +10,9 @@ import click
 from fivebar_cli.analyses import spaces
 from fivebar_cli.analyses.compare import compare
 from fivebar_cli.api.calls import refine as deepen
-from fivebar_cli.cli.options import common_options, depth_option, offscreen, progress, refuse_stdout, report, wrote
+from fivebar_cli.cli.options import (
+    as_flags, common_options, depth_option, offscreen, option_errors, progress, refuse_stdout, report, wrote,
+)
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import PAVE_SET, band_path, sibling_paths
@@ -24,6 +26,7 @@ QT_FILE = click.Path(path_type=Path, dir_okay=False)
 @click.argument("tree_path", metavar="TREE.qt", type=QT_FILE)
 @depth_option(default=12)
 @common_options(default="the folder of TREE.qt, in place")
+@option_errors()
 def refine(tree_path, depth, out, no_plot, quiet):
     """Deepen a saved paving, testing only its undetermined cells.
 
@@ -52,7 +55,7 @@ def refine(tree_path, depth, out, no_plot, quiet):
     if runs.set_of(inside) == PAVE_SET:
         return _refine_pave_set(source, folder, saved.mechanism, old_depth, depth, no_plot, quiet)
     with progress(quiet, depth - old_depth, f"refine to depth {depth}") as advance:
-        paving = deepen(saved, depth, on_level=lambda level, n: advance(1))
+        paving = deepen(saved, depth, advance=advance)
     problem = runs.one_run(pair)
     if problem is not None:  # after the pair's own checks (a corrupted file is named more precisely by them)
         raise InputError(str(tree_path), "", f"not of one complete run with {pair[1 if tree_path == inside else 0].name}"
@@ -74,7 +77,7 @@ def _refine_pave_set(source: Path, folder: Path, m, old_depth: int, depth: int, 
     from fivebar_cli.api.rpr3 import refine_pave_set
 
     with progress(quiet, 3 * (depth - old_depth), f"refine to depth {depth}") as advance:
-        result, saved_total = refine_pave_set(source, m, old_depth, depth, on_level=lambda level, n: advance(1))
+        result, saved_total = refine_pave_set(source, m, old_depth, depth, advance=advance)
     report(quiet, f"{m.name}: the three pavings of its rpr3 pave run refined together, depth {old_depth} -> {depth} "
                   f"({saved_total} evaluations saved by not retesting)")
     if not no_plot:
@@ -91,6 +94,7 @@ def _refine_pave_set(source: Path, folder: Path, m, old_depth: int, depth: int, 
 @click.option("--sets-only", is_flag=True,
               help="Compare the cells alone: equal sets exit 0 even when colour, mechanism, space or region differ.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing; only the exit status tells.")
+@option_errors()
 def diff(a_path, b_path, sets_only, quiet):
     """Compare two quadtree files: exit 0 when they hold the same set of cells and claim the same
     thing about it, 1 when not, 2 on bad input.
@@ -113,6 +117,6 @@ def diff(a_path, b_path, sets_only, quiet):
         raise InputError(str(b_path), "root", f"{exc} (A is {a_path})") from None
     if not quiet:
         for line in result.report(str(a_path), str(b_path), sets_only):
-            click.echo(line)
+            click.echo(as_flags(line))
     if not result.same(sets_only):
         raise click.exceptions.Exit(1)

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.cli.options import report
+from fivebar_cli.cli.options import option_errors, report
 from fivebar_cli.errors import FivebarError
 
 BASES = ("{configs}/rpr3-acute.yaml", "{configs}/rpr3-equilateral.yaml", "{configs}/rpr3-obtuse.yaml")
@@ -69,6 +69,7 @@ FIGURE_STEPS = ("view",)  # commands that only draw: skipped with --no-plot (tab
               show_default=True, help="Output folder.")
 @click.option("--no-plot", is_flag=True, help="Skip the PNG figures and HTML pages (the tables and trees only).")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
+@option_errors()
 def reproduce(configs, out, no_plot, quiet):
     """Regenerate every table and figure of both papers (what `make reproduce` runs).
 

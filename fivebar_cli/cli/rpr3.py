@@ -14,7 +14,7 @@ from fivebar_cli.cli.options import (
     common_options, data_on_stdout, figure, option_errors, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.io.files import csv_text, write_csv
-from fivebar_cli.io.layout import AREA_FILES, SYNTHESIS_FILES, sweep_files
+from fivebar_cli.io.layout import AREA_CSV, AREA_FILES, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, sweep_files
 from fivebar_cli.io.outputs import output_set
 
 CONFIG = click.Path(path_type=Path)
@@ -52,7 +52,8 @@ def rpr3() -> None:
 
 @rpr3.command("area", short_help="Exact area of the singularity-free workspace (figures 2, 9).")
 @click.argument("config", type=CONFIG)
-@common_options(single="area.csv")
+@common_options(single=AREA_CSV)
+@option_errors()
 def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Exact area of the singularity-free workspace W at phi (or at both ends of phi_range).
 
@@ -74,7 +75,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
     if stdout:
         click.echo(csv_text(study.columns, study.data), nl=False)
         return
-    wrote(quiet, save_study(folder, "rpr3-area", AREA_FILES, "fivebar rpr3 area", "area.csv", study, no_plot))
+    wrote(quiet, save_study(folder, "rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV, study, no_plot))
 
 
 # ---------------------------------------------------------------- sweeps
@@ -93,6 +94,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
               help="Orientations (degrees) of the t2 sweep, comma separated.")
 @common_options(single="the table (area-vs-phi.csv, area-vs-rho-min.csv or area-vs-t2.csv)",
                 default="outputs/<config name>/, outputs/<name1>+<name2>+.../ for several")
+@option_errors()
 def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
     """Area of W swept over phi, rho_min or the base shape t2, for one or more bases on one figure.
 
@@ -130,6 +132,7 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
 @rpr3.command("synthesize", short_help="Leg range for an orientation range (Table 1, figure 10).")
 @click.argument("config", type=CONFIG)
 @common_options
+@option_errors()
 def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Leg-length range for a singularity-free workspace over phi_range (section 4, Table 1).
 
@@ -150,6 +153,6 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
     folder = prepare_out(out, mech.name)
     for line in study.notes[study.printed:]:
         report(quiet, line)
-    extra = [("table1-comparison.csv", study.comparison)] if study.comparison is not None else []
-    wrote(quiet, save_study(folder, "rpr3-synthesize", SYNTHESIS_FILES, "fivebar rpr3 synthesize", "synthesis.csv",
+    extra = [(TABLE1_CSV, study.comparison)] if study.comparison is not None else []
+    wrote(quiet, save_study(folder, "rpr3-synthesize", SYNTHESIS_FILES, "fivebar rpr3 synthesize", SYNTHESIS_CSV,
                             study, no_plot, extra))

@@ -8,9 +8,11 @@ from pathlib import Path
 import click
 
 from fivebar_cli.api import rpr3 as api
-from fivebar_cli.cli.options import common_options, figure, jobs_option, offscreen, prepare_out, progress, report, wrote
+from fivebar_cli.cli.options import (
+    common_options, figure, jobs_option, offscreen, option_errors, prepare_out, progress, report, wrote,
+)
 from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import VERIFY_FILES
+from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, VERIFY_CSV, VERIFY_FILES
 from fivebar_cli.io.outputs import output_set
 
 CONFIG = click.Path(path_type=Path)
@@ -24,6 +26,7 @@ MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits i
               help=f"Depth d of the octree (cells are root/2^d wide; 0..{MAX_OCTREE_DEPTH}).")
 @jobs_option
 @common_options
+@option_errors()
 def pave_cmd(config: Path, depth: int, jobs: int | None, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Certified octree over (x, y, phi) of the workspace and of its singularity-free parts.
 
@@ -46,7 +49,7 @@ def pave_cmd(config: Path, depth: int, jobs: int | None, out: Path | None, no_pl
     folder = prepare_out(out, mech.name)
     regions = mech.regions("workspace")
     with progress(quiet, len(regions) * (depth + 1), f"octree depth {depth}") as advance:
-        result = api.pave(mech, depth, on_level=lambda level, n: advance(1), jobs=jobs)
+        result = api.pave(mech, depth, advance=advance, jobs=jobs)
     paths = save_pave(folder, result, no_plot)
     for line in result.notes:
         report(quiet, line)
@@ -66,6 +69,7 @@ def save_pave(folder: Path, result, no_plot: bool) -> list[Path]:
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_VERIFY_DEPTH), default=14, show_default=True,
               help="Maximum depth of the subdivision (it stops as soon as it has decided).")
 @common_options
+@option_errors()
 def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet: bool) -> None:
     """Can the robot reach a singular pose over its orientation range and leg ranges?
 
@@ -90,10 +94,10 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
         report(quiet, line.replace(api.ADVICE, "raise --depth"))
     # a counterexample of an earlier run is removed when none is found (the set owns it)
     with output_set(folder, "rpr3-verify", VERIFY_FILES, "fivebar rpr3 verify"):
-        paths = [write_csv(folder / "verify.csv", study.columns, study.data)]
+        paths = [write_csv(folder / VERIFY_CSV, study.columns, study.data)]
         if study.counterexample is not None:
             t = study.counterexample
-            paths.append(write_csv(folder / "counterexample.csv", t.columns, t.data))
+            paths.append(write_csv(folder / COUNTEREXAMPLE_CSV, t.columns, t.data))
         if not no_plot:
             paths += [figure(make, folder / file) for file, make in study.drawings]
     wrote(quiet, paths)

@@ -8,8 +8,8 @@ import click
 
 from fivebar_cli.api.calls import pave
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, depth_option, offscreen, prepare_out, progress, report, tolerance_option, with_tolerance,
-    wrote,
+    CONFIG, common_options, depth_option, offscreen, option_errors, prepare_out, progress, report, tolerance_option,
+    with_tolerance, wrote,
 )
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.layout import geojson_path, paving_files
@@ -44,7 +44,7 @@ def _space_command(space: str, config_path: Path, depth: int, procedure: str, to
                          f"has {m.spaces()[space].dim} axes")
     folder = prepare_out(out, m.name)
     with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
-        paving = pave(m, space, depth, procedure=procedure, on_level=lambda level, n: advance(1))
+        paving = pave(m, space, depth, procedure=procedure, advance=advance)
     if not no_plot:
         offscreen()
     with output_set(folder, space, paving_files(space), f"fivebar {space}"):
@@ -66,6 +66,7 @@ def _space_command(space: str, config_path: Path, depth: int, procedure: str, to
 @tolerance_option
 @_geojson_option
 @common_options
+@option_errors()
 def jointspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, quiet):
     """Certified joint space of a mechanism: (th1, th2) on the torus [-pi, pi]^2 for a five-bar
     (an actuated limit narrower than a turn makes its axis that interval), the leg lengths
@@ -91,6 +92,7 @@ def jointspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, 
 @tolerance_option
 @_geojson_option
 @common_options
+@option_errors()
 def workspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, quiet):
     """Certified workspace (x, y) of a mechanism, on the root box [-(L1+L3), L1+L3]^2 for a five-bar.
 

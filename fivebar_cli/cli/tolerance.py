@@ -8,11 +8,11 @@ import click
 
 from fivebar_cli.analyses.tolerance import HEADER, fate_text, tolerance_study
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, data_on_stdout, depth_option, figure, jobs_option, plural, prepare_out, progress, report,
-    wrote,
+    CONFIG, common_options, data_on_stdout, depth_option, figure, jobs_option, option_errors, plural, prepare_out,
+    progress, report, wrote,
 )
 from fivebar_cli.io.files import csv_text, write_csv
-from fivebar_cli.io.layout import TOLERANCE_FILES
+from fivebar_cli.io.layout import TOLERANCE_ASPECTS_PNG, TOLERANCE_BANDS_PNG, TOLERANCE_CSV, TOLERANCE_FILES
 from fivebar_cli.io.outputs import output_set
 from fivebar_cli.mechanisms.registry import load_config
 
@@ -38,7 +38,8 @@ def _parse_tolerances(ctx, param, text: str) -> list[float]:
               help="Tolerances T: every link length becomes [L - T, L + T].")
 @depth_option()
 @jobs_option
-@common_options(single="tolerance.csv")
+@common_options(single=TOLERANCE_CSV)
+@option_errors()
 def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
     """How manufacturing tolerances shrink a five-bar's workspace, joint space and aspects.
 
@@ -72,12 +73,12 @@ def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
         paths = []
     else:
         with output_set(folder, "tolerance", TOLERANCE_FILES, "fivebar tolerance"):
-            paths = [write_csv(folder / "tolerance.csv", HEADER, rows)]
+            paths = [write_csv(folder / TOLERANCE_CSV, HEADER, rows)]
             if not no_plot:
                 from fivebar_cli.plotting.tolerance import figure_aspect_areas, figure_bands
 
-                paths.append(figure(lambda: figure_bands(study), folder / "tolerance-bands.png"))
-                paths.append(figure(lambda: figure_aspect_areas(study), folder / "tolerance-aspects.png"))
+                paths.append(figure(lambda: figure_bands(study), folder / TOLERANCE_BANDS_PNG))
+                paths.append(figure(lambda: figure_aspect_areas(study), folder / TOLERANCE_ASPECTS_PNG))
     nominal = study.nominal
     count = (f"{plural(len(nominal.aspects), 'nominal generalized aspect')}, certified" if nominal.certified else
              f"between {nominal.lower} and {plural(nominal.upper, 'nominal generalized aspect')}, not certified at "

@@ -7,9 +7,10 @@ import click
 
 from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
 from fivebar_cli.analyses.pose_verify import EXIT, SINGULAR, UNDECIDED, verify
-from fivebar_cli.cli.options import common_options, figure, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, sheets_chosen
 from fivebar_cli.io.files import write_csv
+from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, VERIFY_CSV, VERIFY_FILES
 from fivebar_cli.io.outputs import output_set
 
 MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
@@ -22,6 +23,7 @@ MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits i
 @click.option("--depth", "-d", type=click.IntRange(0, MAX_VERIFY_DEPTH), default=14, show_default=True,
               help="Maximum depth of the subdivision (it stops as soon as it has decided).")
 @common_options
+@option_errors()
 def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
     """Can the robot reach a singular pose over its orientation range: a 3-RPR (det J = 0, legs
     in their ranges; as `fivebar rpr3 verify`), a 3-RRR in a working mode (det A = 0, a parallel
@@ -68,10 +70,10 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
                           f"{result.depth}: {result.note or 'raise --depth'}")
     header = ["name", *fields, "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume"]
     # a counterexample of an earlier run is removed when none is found (the set owns it)
-    with output_set(folder, f"{m.kind}-verify", ("verify.csv", "counterexample.csv", "counterexample.png"), "fivebar verify"):
-        paths = [write_csv(folder / "verify.csv", header, rows)]
+    with output_set(folder, f"{m.kind}-verify", VERIFY_FILES, "fivebar verify"):
+        paths = [write_csv(folder / VERIFY_CSV, header, rows)]
         if singular:
-            paths.append(write_csv(folder / "counterexample.csv",
+            paths.append(write_csv(folder / COUNTEREXAMPLE_CSV,
                                    [*fields, *pose_columns(m), *joint_columns(m), model.singularity_name],
                                    [(*(v for _, v in model.sheets[s].fields), *p.pose, *p.joints, p.value)
                                     for s, p in singular]))
@@ -87,7 +89,7 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
                           for s, p in singular]
                 title = f"{m.name}: valid singular poses"
                 paths.append(figure(lambda: figure_assembly_modes(model, poses, labels, title, classes),
-                                    folder / "counterexample.png"))
+                                    folder / COUNTEREXAMPLE_PNG))
     wrote(quiet, paths)
     status = 1 if SINGULAR in statuses else 3 if UNDECIDED in statuses else 0
     if status:

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.cli.options import STDOUT, data_on_stdout, plural, report, wrote
+from fivebar_cli.cli.options import STDOUT, data_on_stdout, option_errors, plural, report, wrote
 
 PAGE = "view.html"
 
@@ -22,6 +22,7 @@ def default_page(first: Path) -> Path:
               help=f"The HTML file to write [default: {PAGE} in the first folder given, or beside the first .qt "
                    "file]; - writes the page to standard output.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
+@option_errors()
 def view(paths, out, quiet):
     """Write one HTML page that shows trees in any browser, offline: zoom, pan, hover a cell to
     read it, toggle layers.

@@ -3,9 +3,9 @@
 One place for the layout that users' scripts rely on (docs/formats.md, "Output layout"):
 `outputs/<name>/<space>.qt` and `<space>.complement.qt`, `<space>.csv`, `aspects.csv`,
 `aspects-adjacency.csv`, `aspects/aspect-NN.<space>.qt` and `aspect-NN.workspace.geojson`,
-`aspect-NN.<space>.ply` (3-D aspects), `<space>.geojson`, `path.csv` and `path.png`, `dkp.csv`; and
-the files each output set owns (`io.outputs`): the glob patterns of every file a command may write
-in one of its runs.
+`aspect-NN.<space>.ply` (3-D aspects), `<space>.geojson`, `path.csv` and `path.png`, `dkp.csv`;
+every figure a command draws (`*.png`); and the files each output set owns (`io.outputs`): the glob
+patterns of every file a command may write in one of its runs.
 """
 
 from __future__ import annotations
@@ -96,28 +96,40 @@ def region_stem(space: str, region: str | None) -> str:
     return re.sub(r"[^A-Za-z0-9.+-]+", "-", words).strip("-")
 
 
+def paving_figure(stem: str, complement: bool = False) -> str:
+    """`<stem>.png` (the paving, its certified inside in black) or `<stem>.complement.png`."""
+    return f"{stem}.complement.png" if complement else f"{stem}.png"
+
+
 def paving_files(stem: str) -> tuple[str, ...]:
     """The files of a paving written under `stem`: the trees, the summary, GeoJSON and figures."""
-    return (f"{stem}.qt", f"{stem}{COMPLEMENT}", f"{stem}{BAND}", f"{stem}.csv", f"{stem}.geojson", f"{stem}.png",
-            f"{stem}.complement.png")
+    return (f"{stem}.qt", f"{stem}{COMPLEMENT}", f"{stem}{BAND}", f"{stem}.csv", f"{stem}.geojson",
+            paving_figure(stem), paving_figure(stem, True))
 
 
 PAVE_SET = "rpr3-pave"  # the output set of `rpr3 pave` (and of `refine` of one of its pairs)
 VOLUMES_CSV = "volumes.csv"
+SINGULARITY_FREE_PNG = "singularity-free.png"  # `rpr3 pave`: both singularity-free regions in one figure
 
 
 def pave_files() -> tuple[str, ...]:
     """The files of an `rpr3 pave` run: three pairs (the workspace and its two singularity-free
     regions), volumes.csv and the figures."""
     stems = ("workspace", *REGION_STEMS.values())
-    return (*(f for stem in stems for f in paving_files(stem)), VOLUMES_CSV, "singularity-free.png")
+    return (*(f for stem in stems for f in paving_files(stem)), VOLUMES_CSV, SINGULARITY_FREE_PNG)
 
 
-# The files of the 3-RPR studies (`rpr3 area | sweep | synthesize | verify`).
-AREA_FILES = ("area.csv", "singularity-free-workspace.png")
-SYNTHESIS_FILES = ("synthesis.csv", "table1-comparison.csv", "area-vs-phi-cases.png",
-                   "singularity-free-workspace-case2.png")
-VERIFY_FILES = ("verify.csv", "counterexample.csv", "counterexample.png")
+# The files of the 3-RPR studies (`rpr3 area | sweep | synthesize | verify`; `verify` of a 3-RRR
+# too): the table(s), then the figures in the order they are drawn.
+AREA_CSV = "area.csv"
+AREA_FILES = (AREA_CSV, "singularity-free-workspace.png")
+SYNTHESIS_CSV = "synthesis.csv"
+TABLE1_CSV = "table1-comparison.csv"  # `rpr3 synthesize`: the paper's Table 1 beside ours
+SYNTHESIS_FILES = (SYNTHESIS_CSV, TABLE1_CSV, "area-vs-phi-cases.png", "singularity-free-workspace-case2.png")
+VERIFY_CSV = "verify.csv"
+COUNTEREXAMPLE_CSV = "counterexample.csv"
+COUNTEREXAMPLE_PNG = "counterexample.png"
+VERIFY_FILES = (VERIFY_CSV, COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG)
 SWEEP_FILES = {  # sweep -> its table, then its figures in the order it draws them
     "phi": ("area-vs-phi.csv", "area-vs-phi.png", "area-vs-small-phi.png", "area-vs-phi-optimal-rho-min.png",
             "optimal-rho-min-vs-phi.png"),
@@ -131,9 +143,29 @@ def sweep_files(over: str) -> tuple[str, ...]:
     return SWEEP_FILES[over]
 
 
+# The figures of `aspects` (five-bar and 2-RPR: the workspace, the joint space per assembly mode;
+# over a space of poses: slices and a map), `tolerance`, `kratio` and `atlas`.
+ASPECTS_WORKSPACE_PNG = "aspects-workspace.png"
+ASPECTS_SLICES_PNG = "aspects-slices.png"
+ASPECTS_MAP_PNG = "aspects-map.png"
+TOLERANCE_CSV = "tolerance.csv"
+TOLERANCE_BANDS_PNG = "tolerance-bands.png"
+TOLERANCE_ASPECTS_PNG = "tolerance-aspects.png"
+KRATIO_CSV = "kratio.csv"
+KRATIO_PNG = "kratio.png"
+ATLAS_CSV = "atlas.csv"
+ATLAS_PNG = "atlas.png"
+
+
+def aspects_jointspace_figure(assembly: str) -> str:
+    """`aspects-jointspace-assembly+.png` or `...-.png`: the aspects of one assembly mode ('+', '-')."""
+    return f"aspects-jointspace-assembly{assembly}.png"
+
+
 # The output sets of the commands writing into a mechanism's folder (io.outputs): name -> owned files.
 ASPECT_FILES = (ASPECTS_CSV, CROSSINGS_CSV, SPLIT_CSV, "aspects/aspect-*.qt", "aspects/aspect-*.geojson",
                 "aspects/aspect-*.ply", "aspects-*.png")
 PATH_FILES = (PATH_CSV, PATH_PNG)
 DKP_FILES = (DKP_CSV, DKP_PNG)
-TOLERANCE_FILES = ("tolerance.csv", "tolerance-*.png")
+TOLERANCE_FILES = (TOLERANCE_CSV, "tolerance-*.png")
+KRATIO_FILES = (KRATIO_CSV, KRATIO_PNG)

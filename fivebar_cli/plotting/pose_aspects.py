@@ -22,10 +22,10 @@ def _colour(number: int):
     return matplotlib.colormaps["tab10"]((number - 1) % 10)[:3]
 
 
-def figure_aspect_slices(analysis):
+def figure_aspect_slices(analysis, headline: str | None = None):
     """One row per aspect (the first MAX_ROWS), one column per slice along the last axis of a 3-D
     space (one panel for a 2-D space): the aspect's cells in its colour over the other aspects'
-    in grey; obstacles in blue."""
+    in grey; obstacles in blue. The title starts with `headline` (the analysis's by default)."""
     plt = pyplot()
     space = analysis.mechanism.spaces()[analysis.model.space]
     shown = analysis.aspects[:MAX_ROWS]
@@ -51,16 +51,16 @@ def figure_aspect_slices(analysis):
         ax.axis("off")
     more = f"; aspects {shown[-1].number + 1}..{analysis.aspects[-1].number} not drawn" \
         if len(analysis.aspects) > len(shown) else ""
-    fig.suptitle(f"{analysis.headline()}{more}", fontsize=9)
+    fig.suptitle(f"{headline or analysis.headline()}{more}", fontsize=9)
     fig.tight_layout()
     return fig
 
 
-def figure_aspect_map(analysis):
+def figure_aspect_map(analysis, headline: str | None = None):
     """One panel per sheet (a 3-RRR's working mode; one panel for a 3-RPR): every aspect of the
     sheet in its own colour, the cells its classes left undetermined in dark grey (the singularity
     curves and the workspace's boundary), at one orientation (the middle of the range for a 3-D
-    space); obstacles in blue."""
+    space); obstacles in blue. The title starts with `headline` (the analysis's by default)."""
     from fivebar_cli.analyses.pose_aspects import sheet_classes
 
     plt = pyplot()
@@ -86,7 +86,7 @@ def figure_aspect_map(analysis):
                      f"({', '.join(str(a.number) for a in mine) or '-'})", fontsize=8)
         ax.tick_params(labelsize=7)
     where = "" if value is None else f", {space.axes[-1].name} = {value:.4g} {space.axes[-1].unit}".rstrip()
-    fig.suptitle(f"{analysis.headline()}{where}; dark: undetermined (singularities, boundary)", fontsize=9)
+    fig.suptitle(f"{headline or analysis.headline()}{where}; dark: undetermined (singularities, boundary)", fontsize=9)
     fig.tight_layout()
     return fig
 

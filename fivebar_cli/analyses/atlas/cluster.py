@@ -22,7 +22,7 @@ from typing import Iterator
 
 from fivebar_cli.analyses.atlas.parts import manifest
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
-from fivebar_cli.errors import FivebarError, InputError, deferred_interrupts
+from fivebar_cli.errors import FivebarError, InputError, deferred_interrupts, param
 
 CONNECT_TIMEOUT = "10s"
 SCHEMES = ("tcp", "tls", "ws", "wss", "ucx", "inproc")  # dask.distributed's communication protocols
@@ -128,7 +128,7 @@ def check_address(address: str) -> str:
     """`address` when it is a scheduler address, `[PROTOCOL://]HOST[:PORT]` (PORT 1 to 65535), checked
     before connecting (a bad one would otherwise wait for the connection timeout); else InputError."""
     def bad(why: str) -> InputError:
-        return InputError("--scheduler", "", f"bad address {address!r}: {why} (expected tcp://HOST:PORT)")
+        return InputError(param("scheduler"), "", f"bad address {address!r}: {why} (expected tcp://HOST:PORT)")
 
     scheme, sep, rest = address.partition("://")
     if not sep:
@@ -159,9 +159,9 @@ def existing_cluster(address: str) -> Iterator[DaskRunner]:
         try:
             client = Client(address, timeout=CONNECT_TIMEOUT)
         except (ValueError, TypeError) as exc:  # not an address
-            raise InputError("--scheduler", "", f"bad address {address!r}: {_one_line(exc)}") from None
+            raise InputError(param("scheduler"), "", f"bad address {address!r}: {_one_line(exc)}") from None
         except OSError as exc:  # unreachable (TimeoutError is an OSError)
-            raise FivebarError(f"--scheduler {address}: cannot connect: {_one_line(exc)}") from None
+            raise FivebarError(f"{param('scheduler')} {address}: cannot connect: {_one_line(exc)}") from None
         try:
             yield DaskRunner(client, f"the cluster at {address}")
         finally:

@@ -14,10 +14,11 @@ from pathlib import Path
 from typing import Callable, Iterable, Iterator
 
 from fivebar_cli.analyses.atlas.metrics import columns, row
-from fivebar_cli.analyses.atlas.parts import ATLAS_CSV, Parts, batch_count, batch_span
+from fivebar_cli.analyses.atlas.parts import Parts, batch_count, batch_span
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
 from fivebar_cli.errors import FivebarError, Interrupted
 from fivebar_cli.io.files import csv_text
+from fivebar_cli.io.layout import ATLAS_CSV
 
 Task = Callable[[AtlasSpec, int], str]
 Runner = Callable[[Task, AtlasSpec, list], Iterable[tuple[int, str]]]

@@ -23,12 +23,11 @@ from fivebar_cli.version import __version__
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 from fivebar_cli.analyses.atlas.metrics import columns
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
-from fivebar_cli.errors import FivebarWarning, InputError, deferred_interrupts
+from fivebar_cli.errors import FivebarWarning, InputError, deferred_interrupts, param
 from fivebar_cli.io.files import atomic_write, ensure_dir, format_value, write_text
 
 PARTS = "atlas.parts"
 MANIFEST = "manifest.json"
-ATLAS_CSV = "atlas.csv"
 FORMAT = "fivebar-atlas-parts 1"
 SAVE_SHARE = 0.05  # the manifest is saved after every part unless that would take more than this share of the time
 
@@ -91,7 +90,8 @@ class Parts:
                 self.checksums = {k: v for k, v in checksums.items() if isinstance(k, str) and isinstance(v, str)}
                 return
             raise InputError(str(self.folder), "", "holds the parts of another atlas (other lengths, depth, batch, "
-                             "columns or fivebar version): rerun with --restart to discard them, or choose another -o")
+                             f"columns or fivebar version): rerun with {param('restart', True)} to discard them, or choose "
+                             f"another {param('folder')}")
         path.unlink(missing_ok=True)  # first: a run killed below then leaves no manifest, so no stale part is kept
         for stale in self.folder.glob("part-*.csv"):
             stale.unlink()

@@ -13,6 +13,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
+from fivebar_cli.errors import param
 from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields
 from fivebar_cli.mechanisms.fivebar import boxtests, constrained, constraints, paper, robust
@@ -105,15 +106,15 @@ class FiveBar(Mechanism):
         mids = [lo if lo == hi else 0.5 * (lo + hi) for lo, hi in bounds]
         return cls(name, *mids, bounds=tuple((float(lo), float(hi)) for lo, hi in bounds), constraints=constraints)
 
-    def widened(self, tolerance: float, source: str = "--tolerance") -> "FiveBar":
+    def widened(self, tolerance: float, source: str = param("tolerance")) -> "FiveBar":
         """Every length widened by `tolerance` on both sides (ConfigError when a length would reach 0)."""
         if not (math.isfinite(tolerance) and tolerance >= 0):
-            raise schema.ConfigError(source, "--tolerance", f"must be a finite number >= 0, got {tolerance!r}")
+            raise schema.ConfigError(source, param("tolerance"), f"must be a finite number >= 0, got {tolerance!r}")
         if tolerance == 0:
             return self
         for key, (lo, _) in zip(LENGTHS, self.bounds):
             if lo - tolerance <= 0:
-                raise schema.ConfigError(source, "--tolerance", f"{tolerance!r} would make {key} reach "
+                raise schema.ConfigError(source, param("tolerance"), f"{tolerance!r} would make {key} reach "
                                          f"{lo - tolerance!r}: lengths must stay positive")
         return FiveBar.with_bounds(self.name, [(lo - tolerance, hi + tolerance) for lo, hi in self.bounds],
                                    self.constraints)
@@ -195,12 +196,12 @@ class FiveBar(Mechanism):
             raise KeyError(region)
         if self.constraints:
             if procedure != "exact":
-                raise schema.ConfigError(self.name, "--procedure", "the paper's procedure has no joint limits or "
-                                         "obstacles (use --procedure exact)")
+                raise schema.ConfigError(self.name, param("procedure"), "the paper's procedure has no joint limits or "
+                                         f"obstacles (use {param('procedure', 'exact')})")
             return constrained.space_test(self, space, self.unconstrained().box_test(space))
         if self.is_interval:
             if procedure != "exact":
-                raise schema.ConfigError(self.name, "--procedure", "the paper's procedure has no interval version")
+                raise schema.ConfigError(self.name, param("procedure"), "the paper's procedure has no interval version")
             return {"jointspace": robust.joint_space_test, "workspace": robust.workspace_test}[space](self)
         tests = {
             ("jointspace", "exact"): boxtests.joint_space_test,
