@@ -317,15 +317,11 @@ def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: i
             raise InputError(source, param("pose"), f"{label} is not a valid pose: no joint values reach it (a leg cannot "
                                                "reach it, or only stretched or folded)")
         names = ", ".join(f"{a.name} = {v:.6g} in [{a.lo:g}, {a.hi:g}]" for a, v in zip(model.joint_axes, joints[0]))
-<<<<<<< HEAD
-        raise InputError(source, "--pose", f"{label} is not a valid pose: {names} (a joint out of its range)")
+        raise InputError(source, param("pose"), f"{label} is not a valid pose: {names} (a joint out of its range)")
     if sheet is not None and not model.valid(pose[None, :], sheet)[0]:
         labels = model.violated_constraints(pose[None, :], sheet)[0]
         raise NoMotion(f"{label} violates the {' and the '.join(labels)} ({model.sheets[sheet].label}): no motion "
                        "within the constraints starts or ends there")
-=======
-        raise InputError(source, param("pose"), f"{label} is not a valid pose: {names} (a joint out of its range)")
->>>>>>> issue-21c
 
 
 def endpoint_class(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: int = 0) -> int:
