@@ -64,14 +64,12 @@ def leg_distance_ranges(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> list[tup
 
 def reach_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """1: every pose of each box has its three legs in range; -1: no pose has; 0: cannot tell."""
-    lo, hi = g.poses(lo), g.poses(hi)
-    inside = np.ones(len(lo), dtype=bool)
-    outside = np.zeros(len(lo), dtype=bool)
-    for (near, far), a, b in zip(leg_distance_ranges(g, lo, hi), g.rho_min, g.rho_max):
+    def decide(i, near, far):
         near, far = np.maximum(near - g.eta, 0.0), far + g.eta
-        inside &= (near >= a) & (far <= b)
-        outside |= (far < a) | (near > b)
-    return verdict(inside, outside)
+        a, b = g.rho_min[i], g.rho_max[i]
+        return (near >= a) & (far <= b), (far < a) | (near > b)
+
+    return g.legs_verdict(lo, hi, decide)
 
 
 # ---------------------------------------------------------------- det J

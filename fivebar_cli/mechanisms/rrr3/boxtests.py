@@ -76,14 +76,12 @@ class Geometry(Platform):
 
 def valid_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """1: every pose of each box has every leg strictly inside its annulus; -1: no pose has; 0: cannot tell."""
-    lo, hi = g.poses(lo), g.poses(hi)
-    inside = np.ones(len(lo), dtype=bool)
-    outside = np.zeros(len(lo), dtype=bool)
-    for (near, far), a, b in zip(g.distance_ranges(lo, hi), g.inner, g.outer):
+    def decide(i, near, far):
         near, far = near - g.eta, far + g.eta
-        inside &= (near > a) & (far < b)
-        outside |= (far < a) | (near > b)
-    return verdict(inside, outside)
+        a, b = g.inner[i], g.outer[i]
+        return (near > a) & (far < b), (far < a) | (near > b)
+
+    return g.legs_verdict(lo, hi, decide)
 
 
 # ---------------------------------------------------------------- det A
