@@ -184,6 +184,12 @@ def test_farthest_corner_equals_the_largest_of_four_hypots_on_near_ties():
     px = 0.5 * (xlo + xhi)
     px = np.where(rng.random(m) < 0.5, np.nextafter(px, np.inf), px)
     py = np.where(rng.random(m) < 0.5, 0.5 * (ylo + yhi), ylo + rng.uniform(-1e6, 1e6, m))
+    # and where this machine's hypot (glibc 2.36) decreases by an ulp while |y| grows by one (found by
+    # search): there the corner farthest in y is not the farthest
+    for a, b in ((9.037385576334971, 1.920861552850125), (4.650875991929025, 0.9161016308099734)):
+        px, py = np.append(px, 0.0), np.append(py, 0.0)
+        xlo, xhi = np.append(xlo, a), np.append(xhi, a)
+        ylo, yhi = np.append(ylo, -b), np.append(yhi, np.nextafter(b, np.inf))
     four = np.max([np.hypot(x - px, y - py) for x in (xlo, xhi) for y in (ylo, yhi)], axis=0)
     assert np.array_equal(_farthest_corner(px, py, xlo, xhi, ylo, yhi), four)
 
