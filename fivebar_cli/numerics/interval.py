@@ -49,13 +49,23 @@ def _down(x):
     finite bound, as nextafter does.
     """
     y = np.minimum(x, _MAX)
-    return y - (np.abs(y) * _ULP_REL + _TINY)
+    return _step(y, np.abs(y), np.subtract)
 
 
 def _up(x):
     """A float at least one ulp above x (mirror of _down)."""
     y = np.maximum(x, -_MAX)
-    return y + (np.abs(y) * _ULP_REL + _TINY)
+    return _step(y, np.abs(y), np.add)
+
+
+def _step(y, t, move):
+    """move(y, |y| * 2**-52 + TINY), in place on the arrays y and t = |y| the caller owns (the same
+    operations in the same order as the expression: a hot path of every interval operation)."""
+    if not t.ndim:
+        return move(y, t * _ULP_REL + _TINY)
+    t *= _ULP_REL
+    t += _TINY
+    return move(y, t, out=y)
 
 
 def _hull_of(cands, a, b):
@@ -67,12 +77,22 @@ def _hull_of(cands, a, b):
     def lo_hi(c):
         return (np.minimum(np.minimum(c[0], c[1]), np.minimum(c[2], c[3])),
                 np.maximum(np.maximum(c[0], c[1]), np.maximum(c[2], c[3])))
-    lo, hi = lo_hi(cands)
-    if np.isnan(lo).any() or np.isnan(hi).any():            # rare, so off the fast path
+    c0, c1, c2, c3 = cands
+    if not np.ndim(c0):
+        lo, hi = lo_hi(cands)
+        nan = np.isnan(lo) or np.isnan(hi)
+    else:  # in place on the candidates, which are ours: min and max are exact, so the same values
+        lo = np.minimum(c0, c1)
+        np.minimum(lo, np.minimum(c2, c3), out=lo)
+        nan = lo.size and np.isnan(lo.min())  # a NaN candidate makes both lo and hi NaN
+        if not nan:
+            hi = np.maximum(c0, c1, out=c0)
+            np.maximum(hi, np.maximum(c2, c3, out=c2), out=hi)
+    if nan:            # rare, so off the fast path
         lo, hi = lo_hi([np.where(np.isnan(c), 0.0, c) for c in cands])
         empty = np.isnan(a.lo) | np.isnan(a.hi) | np.isnan(b.lo) | np.isnan(b.hi)
         lo, hi = np.where(empty, np.nan, lo), np.where(empty, np.nan, hi)
-    return Interval(_down(lo), _up(hi))
+    return Interval._of(_down(lo), _up(hi))
 
 
 def _as_interval(x) -> Interval:
@@ -93,6 +113,17 @@ class Interval:
 
     def __setattr__(self, name, value):
         raise AttributeError("Interval is immutable")
+
+    @staticmethod
+    def _of(lo, hi) -> Interval:
+        """Interval(lo, hi) without the conversions when lo and hi are float64 arrays of one shape."""
+        if not (type(lo) is np.ndarray and type(hi) is np.ndarray and lo.shape == hi.shape
+                and lo.dtype == hi.dtype == np.float64):
+            return Interval(lo, hi)
+        out = object.__new__(Interval)
+        object.__setattr__(out, "lo", lo)
+        object.__setattr__(out, "hi", hi)
+        return out
 
     @staticmethod
     def point(x) -> Interval:
@@ -138,19 +169,19 @@ class Interval:
         return f"Interval(lo={self.lo!r}, hi={self.hi!r})"
 
     def __neg__(self) -> Interval:
-        return Interval(-self.hi, -self.lo)
+        return Interval._of(-self.hi, -self.lo)
 
     def __add__(self, other) -> Interval:
         b = _as_interval(other)
         with np.errstate(all="ignore"):
-            return Interval(_down(self.lo + b.lo), _up(self.hi + b.hi))
+            return Interval._of(_down(self.lo + b.lo), _up(self.hi + b.hi))
 
     __radd__ = __add__
 
     def __sub__(self, other) -> Interval:
         b = _as_interval(other)
         with np.errstate(all="ignore"):
-            return Interval(_down(self.lo - b.hi), _up(self.hi - b.lo))
+            return Interval._of(_down(self.lo - b.hi), _up(self.hi - b.lo))
 
     def __rsub__(self, other) -> Interval:
         return _as_interval(other) - self
