@@ -37,7 +37,7 @@ _MAX = np.finfo(np.float64).max
 _ULP_REL = 2.0**-52                # ulp(x) <= |x| * 2**-52 for every normal x
 _TINY = 2.0**-1074                 # smallest subnormal: the ulp of every subnormal
 
-__all__ = ["Interval", "sqr", "sqrt", "sin", "cos", "hypot", "hull", "MARGIN_ULPS"]
+__all__ = ["Interval", "sqr", "sqrt", "sin", "cos", "cos_sin", "hypot", "hull", "MARGIN_ULPS"]
 
 
 def _down(x):
@@ -127,9 +127,10 @@ class Interval:
 
     @staticmethod
     def point(x) -> Interval:
-        """Degenerate interval [x, x] (exact: x is already a float64)."""
+        """Degenerate interval [x, x] (exact: x is already a float64); its lo is its hi, which
+        products recognise (two candidates instead of four: the same values)."""
         x = np.asarray(x, dtype=np.float64)
-        return Interval(x, x)
+        return Interval._of(x, x)
 
     @property
     def shape(self):
@@ -188,7 +189,14 @@ class Interval:
 
     def __mul__(self, other) -> Interval:
         a, b = self, _as_interval(other)
+        if a.lo is a.hi:
+            a, b = b, a
         with np.errstate(all="ignore"):
+            if b.lo is b.hi and a.lo.ndim:  # times a point x: the hull of lo x and hi x
+                p, q = a.lo * b.lo, a.hi * b.lo
+                lo = np.minimum(p, q)
+                if not (lo.size and np.isnan(lo.min())):
+                    return Interval._of(_down(lo), _up(np.maximum(p, q, out=p)))
             return _hull_of([a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi], a, b)
 
     __rmul__ = __mul__
@@ -237,40 +245,51 @@ def _widen(v, floor):
     return np.abs(v) * (MARGIN_ULPS * _ULP_REL) + floor
 
 
-def _sinusoid(f, a: Interval, shift: float) -> Interval:
-    """Range of f (sin or cos) over a; its extrema lie at x = (k + shift) pi, a maximum for even k.
+def _sinusoids(a: Interval, pairs) -> list[Interval]:
+    """Range of each f (sin or cos) of `pairs` (f, shift) over a; f's extrema lie at
+    x = (k + shift) pi, a maximum for even k.
 
     k_lo..k_hi brackets every integer k with (k + shift) pi in [lo, hi], widened by ``err``, a
     bound on the rounding error of t = x / pi - shift (float pi, division and subtraction:
-    below 3.1 * 2**-52 * max(|x / pi|, 1); we take 8 of those units).
+    below 3.1 * 2**-52 * max(|x / pi|, 1); we take 8 of those units). x / pi and err are
+    computed once for every f of the pairs.
     """
+    out = []
     with np.errstate(all="ignore"):
         u_lo, u_hi = a.lo / np.pi, a.hi / np.pi
         err_lo = np.maximum(np.abs(u_lo), 1.0) * (8 * _ULP_REL)
         err_hi = np.maximum(np.abs(u_hi), 1.0) * (8 * _ULP_REL)
-        k_lo = np.ceil(u_lo - shift - err_lo)
-        k_hi = np.floor(u_hi - shift + err_hi)
         proper = a.hi > a.lo                  # a point [x, x] has no interior extremum
-        several = proper & (k_hi > k_lo)      # also for infinite bounds (err is inf there)
-        one = proper & (k_hi == k_lo)
-        even = np.floor(0.5 * k_lo) * 2.0 == k_lo
-        has_max = several | (one & even)
-        has_min = several | (one & ~even)
-        v_lo, v_hi = f(a.lo), f(a.hi)
-        vmin, vmax = np.minimum(v_lo, v_hi), np.maximum(v_lo, v_hi)
-        lo = np.where(has_min, -1.0, np.maximum(vmin - _widen(vmin, TRIG_FLOOR), -1.0))
-        hi = np.where(has_max, 1.0, np.minimum(vmax + _widen(vmax, TRIG_FLOOR), 1.0))
-    return Interval(lo, hi)
+        for f, shift in pairs:
+            k_lo = np.ceil(u_lo - shift - err_lo)
+            k_hi = np.floor(u_hi - shift + err_hi)
+            several = proper & (k_hi > k_lo)      # also for infinite bounds (err is inf there)
+            one = proper & (k_hi == k_lo)
+            even = np.floor(0.5 * k_lo) * 2.0 == k_lo
+            has_max = several | (one & even)
+            has_min = several | (one & ~even)
+            v_lo, v_hi = f(a.lo), f(a.hi)
+            vmin, vmax = np.minimum(v_lo, v_hi), np.maximum(v_lo, v_hi)
+            lo = np.where(has_min, -1.0, np.maximum(vmin - _widen(vmin, TRIG_FLOOR), -1.0))
+            hi = np.where(has_max, 1.0, np.minimum(vmax + _widen(vmax, TRIG_FLOOR), 1.0))
+            out.append(Interval(lo, hi))
+    return out
 
 
 def sin(a) -> Interval:
     """Exact range of sin over each interval (interior extrema at pi/2 + k pi), outward."""
-    return _sinusoid(np.sin, _as_interval(a), 0.5)
+    return _sinusoids(_as_interval(a), [(np.sin, 0.5)])[0]
 
 
 def cos(a) -> Interval:
     """Exact range of cos over each interval (interior extrema at k pi), outward."""
-    return _sinusoid(np.cos, _as_interval(a), 0.0)
+    return _sinusoids(_as_interval(a), [(np.cos, 0.0)])[0]
+
+
+def cos_sin(a) -> tuple[Interval, Interval]:
+    """(cos(a), sin(a)), sharing the work they have in common (the same values as each alone)."""
+    c, s = _sinusoids(_as_interval(a), [(np.cos, 0.0), (np.sin, 0.5)])
+    return c, s
 
 
 def hypot(a, b) -> Interval:

@@ -96,7 +96,8 @@ def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
         r = iv.hypot(px, py)
         a = math.atan2(py, px)
         t = ph + Interval(a - 1e-15, a + 1e-15)
-        qxi, qyi = r * iv.cos(t), r * iv.sin(t)
+        c, s = iv.cos_sin(t)
+        qxi, qyi = r * c, r * s
         u, v = x - bx, y - by
         ex.append(u + qxi)
         ey.append(v + qyi)
