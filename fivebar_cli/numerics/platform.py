@@ -161,22 +161,18 @@ def rect_arc_distance(xlo, xhi, ylo, yhi, cx, cy, r, t_lo, t_hi):
         t = k * _HALF_PI
         _nearer(near, np.flatnonzero(angle_inside(t, t_lo, t_hi, 0.0)), cx + r * math.cos(t), cy + r * math.sin(t),
                 xlo, xhi, ylo, yhi)
-    for y0 in (ylo, yhi):  # horizontal sides
-        dy = y0 - cy
-        at = np.flatnonzero(np.abs(dy) <= r)
-        dy = dy[at]
-        half = np.sqrt(r * r - dy * dy)
-        for sx in (-1.0, 1.0):
-            ok = angle_inside(np.arctan2(dy, sx * half), t_lo[at], t_hi[at], 0.0)
-            _nearer(near, at[ok], cx + sx * half[ok], y0[at[ok]], xlo, xhi, ylo, yhi)
-    for x0 in (xlo, xhi):  # vertical sides
-        dx = x0 - cx
-        at = np.flatnonzero(np.abs(dx) <= r)
-        dx = dx[at]
-        half = np.sqrt(r * r - dx * dx)
-        for sy in (-1.0, 1.0):
-            ok = angle_inside(np.arctan2(sy * half, dx), t_lo[at], t_hi[at], 0.0)
-            _nearer(near, at[ok], x0[at[ok]], cy + sy * half[ok], xlo, xhi, ylo, yhi)
+    # crossings of the horizontal sides (y = y0), then of the vertical ones (x = x0)
+    for horizontal, sides, c_across, c_along in ((True, (ylo, yhi), cy, cx), (False, (xlo, xhi), cx, cy)):
+        for side in sides:
+            d = side - c_across
+            at = np.flatnonzero(np.abs(d) <= r)
+            d = d[at]
+            half = np.sqrt(r * r - d * d)
+            for sign in (-1.0, 1.0):
+                along = sign * half
+                ok = angle_inside(np.arctan2(d, along) if horizontal else np.arctan2(along, d), t_lo[at], t_hi[at], 0.0)
+                px, py = c_along + along[ok], side[at[ok]]
+                _nearer(near, at[ok], *((px, py) if horizontal else (py, px)), xlo, xhi, ylo, yhi)
     return near, far
 
 
