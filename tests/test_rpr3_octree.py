@@ -170,6 +170,30 @@ def test_box_tests_are_sound_on_random_geometries_and_boxes(case):
             assert not member.any(), region
 
 
+def test_farthest_corner_equals_the_largest_of_four_hypots_on_near_ties():
+    """The reach test's farthest corner (one hypot where it leads clearly) gives, value for value,
+    the maximum of hypot over the four corners, also where corners tie or nearly tie (a point at or
+    one ulp off a box's middle, boxes a billionth wide, points far away along one axis)."""
+    from fivebar_cli.numerics.platform import _farthest_corner
+
+    rng = np.random.default_rng(3)
+    m = 200_000
+    xlo, ylo = rng.uniform(-5, 5, m), rng.uniform(-5, 5, m)
+    w = rng.choice([1e-9, 1e-6, 1e-3, 1.0], m)
+    xhi, yhi = xlo + w, ylo + w * rng.uniform(0.5, 2.0, m)
+    px = 0.5 * (xlo + xhi)
+    px = np.where(rng.random(m) < 0.5, np.nextafter(px, np.inf), px)
+    py = np.where(rng.random(m) < 0.5, 0.5 * (ylo + yhi), ylo + rng.uniform(-1e6, 1e6, m))
+    # and where this machine's hypot (glibc 2.36) decreases by an ulp while |y| grows by one (found by
+    # search): there the corner farthest in y is not the farthest
+    for a, b in ((9.037385576334971, 1.920861552850125), (4.650875991929025, 0.9161016308099734)):
+        px, py = np.append(px, 0.0), np.append(py, 0.0)
+        xlo, xhi = np.append(xlo, a), np.append(xhi, a)
+        ylo, yhi = np.append(ylo, -b), np.append(yhi, np.nextafter(b, np.inf))
+    four = np.max([np.hypot(x - px, y - py) for x in (xlo, xhi) for y in (ylo, yhi)], axis=0)
+    assert np.array_equal(_farthest_corner(px, py, xlo, xhi, ylo, yhi), four)
+
+
 # ---------------------------------------------------------------- every tree, densely sampled
 
 

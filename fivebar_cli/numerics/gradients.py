@@ -20,7 +20,7 @@ import numpy as np
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 
-__all__ = ["Dual", "cos", "mean_value", "sin", "sqr", "sqrt", "variables"]
+__all__ = ["Dual", "cos", "cos_sin", "mean_value", "sin", "sqr", "sqrt", "variables"]
 
 
 def _add(a, b):
@@ -91,14 +91,24 @@ def sqrt(a):
 
 def sin(a):
     if isinstance(a, Dual):
-        return _chain(a, iv.sin(a.v), iv.cos(a.v))
+        c, s = iv.cos_sin(a.v)
+        return _chain(a, s, c)
     return iv.sin(a)
 
 
 def cos(a):
     if isinstance(a, Dual):
-        return _chain(a, iv.cos(a.v), -iv.sin(a.v))
+        c, s = iv.cos_sin(a.v)
+        return _chain(a, c, -s)
     return iv.cos(a)
+
+
+def cos_sin(a):
+    """(cos a, sin a), sharing their work (`interval.cos_sin`)."""
+    if isinstance(a, Dual):
+        c, s = iv.cos_sin(a.v)
+        return _chain(a, c, -s), _chain(a, s, c)
+    return iv.cos_sin(a)
 
 
 def variables(lo: np.ndarray, hi: np.ndarray) -> list[Dual]:

@@ -37,7 +37,7 @@ _MAX = np.finfo(np.float64).max
 _ULP_REL = 2.0**-52                # ulp(x) <= |x| * 2**-52 for every normal x
 _TINY = 2.0**-1074                 # smallest subnormal: the ulp of every subnormal
 
-__all__ = ["Interval", "sqr", "sqrt", "sin", "cos", "hypot", "hull", "MARGIN_ULPS"]
+__all__ = ["Interval", "sqr", "sqrt", "sin", "cos", "cos_sin", "hypot", "hull", "MARGIN_ULPS"]
 
 
 def _down(x):
@@ -49,13 +49,23 @@ def _down(x):
     finite bound, as nextafter does.
     """
     y = np.minimum(x, _MAX)
-    return y - (np.abs(y) * _ULP_REL + _TINY)
+    return _step(y, np.abs(y), np.subtract)
 
 
 def _up(x):
     """A float at least one ulp above x (mirror of _down)."""
     y = np.maximum(x, -_MAX)
-    return y + (np.abs(y) * _ULP_REL + _TINY)
+    return _step(y, np.abs(y), np.add)
+
+
+def _step(y, t, move):
+    """move(y, |y| * 2**-52 + TINY), in place on the arrays y and t = |y| the caller owns (the same
+    operations in the same order as the expression: a hot path of every interval operation)."""
+    if not t.ndim:
+        return move(y, t * _ULP_REL + _TINY)
+    t *= _ULP_REL
+    t += _TINY
+    return move(y, t, out=y)
 
 
 def _hull_of(cands, a, b):
@@ -67,12 +77,22 @@ def _hull_of(cands, a, b):
     def lo_hi(c):
         return (np.minimum(np.minimum(c[0], c[1]), np.minimum(c[2], c[3])),
                 np.maximum(np.maximum(c[0], c[1]), np.maximum(c[2], c[3])))
-    lo, hi = lo_hi(cands)
-    if np.isnan(lo).any() or np.isnan(hi).any():            # rare, so off the fast path
+    c0, c1, c2, c3 = cands
+    if not np.ndim(c0):
+        lo, hi = lo_hi(cands)
+        nan = np.isnan(lo) or np.isnan(hi)
+    else:  # in place on the candidates, which are ours: min and max are exact, so the same values
+        lo = np.minimum(c0, c1)
+        np.minimum(lo, np.minimum(c2, c3), out=lo)
+        nan = lo.size and np.isnan(lo.min())  # a NaN candidate makes both lo and hi NaN
+        if not nan:
+            hi = np.maximum(c0, c1, out=c0)
+            np.maximum(hi, np.maximum(c2, c3, out=c2), out=hi)
+    if nan:            # rare, so off the fast path
         lo, hi = lo_hi([np.where(np.isnan(c), 0.0, c) for c in cands])
         empty = np.isnan(a.lo) | np.isnan(a.hi) | np.isnan(b.lo) | np.isnan(b.hi)
         lo, hi = np.where(empty, np.nan, lo), np.where(empty, np.nan, hi)
-    return Interval(_down(lo), _up(hi))
+    return Interval._of(_down(lo), _up(hi))
 
 
 def _as_interval(x) -> Interval:
@@ -95,10 +115,22 @@ class Interval:
         raise AttributeError("Interval is immutable")
 
     @staticmethod
+    def _of(lo, hi) -> Interval:
+        """Interval(lo, hi) without the conversions when lo and hi are float64 arrays of one shape."""
+        if not (type(lo) is np.ndarray and type(hi) is np.ndarray and lo.shape == hi.shape
+                and lo.dtype == hi.dtype == np.float64):
+            return Interval(lo, hi)
+        out = object.__new__(Interval)
+        object.__setattr__(out, "lo", lo)
+        object.__setattr__(out, "hi", hi)
+        return out
+
+    @staticmethod
     def point(x) -> Interval:
-        """Degenerate interval [x, x] (exact: x is already a float64)."""
+        """Degenerate interval [x, x] (exact: x is already a float64); its lo is its hi, which
+        products recognise (two candidates instead of four: the same values)."""
         x = np.asarray(x, dtype=np.float64)
-        return Interval(x, x)
+        return Interval._of(x, x)
 
     @property
     def shape(self):
@@ -138,26 +170,33 @@ class Interval:
         return f"Interval(lo={self.lo!r}, hi={self.hi!r})"
 
     def __neg__(self) -> Interval:
-        return Interval(-self.hi, -self.lo)
+        return Interval._of(-self.hi, -self.lo)
 
     def __add__(self, other) -> Interval:
         b = _as_interval(other)
         with np.errstate(all="ignore"):
-            return Interval(_down(self.lo + b.lo), _up(self.hi + b.hi))
+            return Interval._of(_down(self.lo + b.lo), _up(self.hi + b.hi))
 
     __radd__ = __add__
 
     def __sub__(self, other) -> Interval:
         b = _as_interval(other)
         with np.errstate(all="ignore"):
-            return Interval(_down(self.lo - b.hi), _up(self.hi - b.lo))
+            return Interval._of(_down(self.lo - b.hi), _up(self.hi - b.lo))
 
     def __rsub__(self, other) -> Interval:
         return _as_interval(other) - self
 
     def __mul__(self, other) -> Interval:
         a, b = self, _as_interval(other)
+        if a.lo is a.hi:
+            a, b = b, a
         with np.errstate(all="ignore"):
+            if b.lo is b.hi and a.lo.ndim:  # times a point x: the hull of lo x and hi x
+                p, q = a.lo * b.lo, a.hi * b.lo
+                lo = np.minimum(p, q)
+                if not (lo.size and np.isnan(lo.min())):
+                    return Interval._of(_down(lo), _up(np.maximum(p, q, out=p)))
             return _hull_of([a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi], a, b)
 
     __rmul__ = __mul__
@@ -206,40 +245,51 @@ def _widen(v, floor):
     return np.abs(v) * (MARGIN_ULPS * _ULP_REL) + floor
 
 
-def _sinusoid(f, a: Interval, shift: float) -> Interval:
-    """Range of f (sin or cos) over a; its extrema lie at x = (k + shift) pi, a maximum for even k.
+def _sinusoids(a: Interval, pairs) -> list[Interval]:
+    """Range of each f (sin or cos) of `pairs` (f, shift) over a; f's extrema lie at
+    x = (k + shift) pi, a maximum for even k.
 
     k_lo..k_hi brackets every integer k with (k + shift) pi in [lo, hi], widened by ``err``, a
     bound on the rounding error of t = x / pi - shift (float pi, division and subtraction:
-    below 3.1 * 2**-52 * max(|x / pi|, 1); we take 8 of those units).
+    below 3.1 * 2**-52 * max(|x / pi|, 1); we take 8 of those units). x / pi and err are
+    computed once for every f of the pairs.
     """
+    out = []
     with np.errstate(all="ignore"):
         u_lo, u_hi = a.lo / np.pi, a.hi / np.pi
         err_lo = np.maximum(np.abs(u_lo), 1.0) * (8 * _ULP_REL)
         err_hi = np.maximum(np.abs(u_hi), 1.0) * (8 * _ULP_REL)
-        k_lo = np.ceil(u_lo - shift - err_lo)
-        k_hi = np.floor(u_hi - shift + err_hi)
         proper = a.hi > a.lo                  # a point [x, x] has no interior extremum
-        several = proper & (k_hi > k_lo)      # also for infinite bounds (err is inf there)
-        one = proper & (k_hi == k_lo)
-        even = np.floor(0.5 * k_lo) * 2.0 == k_lo
-        has_max = several | (one & even)
-        has_min = several | (one & ~even)
-        v_lo, v_hi = f(a.lo), f(a.hi)
-        vmin, vmax = np.minimum(v_lo, v_hi), np.maximum(v_lo, v_hi)
-        lo = np.where(has_min, -1.0, np.maximum(vmin - _widen(vmin, TRIG_FLOOR), -1.0))
-        hi = np.where(has_max, 1.0, np.minimum(vmax + _widen(vmax, TRIG_FLOOR), 1.0))
-    return Interval(lo, hi)
+        for f, shift in pairs:
+            k_lo = np.ceil(u_lo - shift - err_lo)
+            k_hi = np.floor(u_hi - shift + err_hi)
+            several = proper & (k_hi > k_lo)      # also for infinite bounds (err is inf there)
+            one = proper & (k_hi == k_lo)
+            even = np.floor(0.5 * k_lo) * 2.0 == k_lo
+            has_max = several | (one & even)
+            has_min = several | (one & ~even)
+            v_lo, v_hi = f(a.lo), f(a.hi)
+            vmin, vmax = np.minimum(v_lo, v_hi), np.maximum(v_lo, v_hi)
+            lo = np.where(has_min, -1.0, np.maximum(vmin - _widen(vmin, TRIG_FLOOR), -1.0))
+            hi = np.where(has_max, 1.0, np.minimum(vmax + _widen(vmax, TRIG_FLOOR), 1.0))
+            out.append(Interval(lo, hi))
+    return out
 
 
 def sin(a) -> Interval:
     """Exact range of sin over each interval (interior extrema at pi/2 + k pi), outward."""
-    return _sinusoid(np.sin, _as_interval(a), 0.5)
+    return _sinusoids(_as_interval(a), [(np.sin, 0.5)])[0]
 
 
 def cos(a) -> Interval:
     """Exact range of cos over each interval (interior extrema at k pi), outward."""
-    return _sinusoid(np.cos, _as_interval(a), 0.0)
+    return _sinusoids(_as_interval(a), [(np.cos, 0.0)])[0]
+
+
+def cos_sin(a) -> tuple[Interval, Interval]:
+    """(cos(a), sin(a)), sharing the work they have in common (the same values as each alone)."""
+    c, s = _sinusoids(_as_interval(a), [(np.cos, 0.0), (np.sin, 0.5)])
+    return c, s
 
 
 def hypot(a, b) -> Interval:

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.numerics.ranges import angle_inside
+from fivebar_cli.numerics.verdict import verdict
 
 _HALF_PI = 0.5 * math.pi
 ETA_REL = 1e-9  # distances: margin relative to the scale of the mechanism
@@ -54,15 +55,38 @@ class Platform:
 
     def distance_ranges(self, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
         """Exact (min, max) of each |C_i - A_i| over boxes of poses (m, 3), before margins."""
-        out = []
+        turns = self._turns(lo, hi)
+        return [self._distance_range(i, lo, hi, *turns) for i in range(3)]
+
+    def _turns(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The boxes' orientation ranges in radians (phi - shift), the part every leg's arc shares."""
+        return (lo[:, 2] - self.shift) * D2R, (hi[:, 2] - self.shift) * D2R
+
+    def _distance_range(self, i: int, lo, hi, turn_lo, turn_hi) -> tuple[np.ndarray, np.ndarray]:
+        start = self.angle[i] + math.pi  # A_i - C_i + (x, y) = -R(phi) c_i
+        cx, cy = self.base[i]
+        return rect_arc_distance(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1], cx, cy, self.radius[i],
+                                 turn_lo + start - ANGLE_TOL, turn_hi + start + ANGLE_TOL)
+
+    def legs_verdict(self, lo: np.ndarray, hi: np.ndarray, decide) -> np.ndarray:
+        """1 / -1 / 0 over boxes of poses (m, 2 or 3): every leg inside / some leg outside / cannot
+        tell, from `decide(i, near, far)` -> (inside, outside) of leg i given its distance ranges.
+        A box found outside is not measured for the next legs (the verdict is -1 whatever they give)."""
+        lo, hi = self.poses(lo), self.poses(hi)
+        turns = self._turns(lo, hi)
+        inside = np.ones(len(lo), dtype=bool)
+        outside = np.zeros(len(lo), dtype=bool)
         for i in range(3):
-            cx, cy = self.base[i]
-            r = self.radius[i]
-            start = self.angle[i] + math.pi  # A_i - C_i + (x, y) = -R(phi) c_i
-            t_lo = (lo[:, 2] - self.shift) * D2R + start - ANGLE_TOL
-            t_hi = (hi[:, 2] - self.shift) * D2R + start + ANGLE_TOL
-            out.append(rect_arc_distance(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1], cx, cy, r, t_lo, t_hi))
-        return out
+            if i and outside.any():
+                at = np.flatnonzero(~outside)
+                ins, out = decide(i, *self._distance_range(i, lo[at], hi[at], turns[0][at], turns[1][at]))
+                inside[at] &= ins
+                outside[at] |= out
+            else:
+                ins, out = decide(i, *self._distance_range(i, lo, hi, *turns))
+                inside &= ins
+                outside |= out
+        return verdict(inside, outside)
 
     def legs_and_arms(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """C_i - A_i and R(phi) c_i, each (m, 3, 2), at poses (m, 2 or 3), in floating point."""
@@ -80,44 +104,75 @@ def _box_distance(px, py, xlo, xhi, ylo, yhi):
     return np.hypot(dx, dy)
 
 
+def _nearer(near, at, px, py, xlo, xhi, ylo, yhi):
+    """near[at] lowered to the distance from the points (px, py) (over `at`) to those rectangles."""
+    if len(at):
+        near[at] = np.minimum(near[at], _box_distance(px, py, xlo[at], xhi[at], ylo[at], yhi[at]))
+
+
+def _farthest_corner(px, py, xlo, xhi, ylo, yhi):
+    """Largest distance from points to the corners of rectangles: hypot(px - x, py - y), maximised
+    over the four corners, with the same value as taking it at every corner.
+
+    hypot at the corner farthest in x and in y; where that corner's lead over another corner is
+    below 1e-12 of its square (but not a tie of |x - px| or |y - py|, whose corners have equal
+    values), at every corner: a larger lead cannot be reversed by hypot's rounding (under one ulp)."""
+    ax, bx = np.abs(xlo - px), np.abs(xhi - px)
+    ay, by = np.abs(ylo - py), np.abs(yhi - py)
+    big_x, small_x = np.maximum(ax, bx), np.minimum(ax, bx)
+    big_y, small_y = np.maximum(ay, by), np.minimum(ay, by)
+    far = np.hypot(big_x, big_y)
+    lead_x = (big_x - small_x) * (big_x + small_x)
+    lead_y = (big_y - small_y) * (big_y + small_y)
+    close = 1e-12 * (big_x * big_x + big_y * big_y)
+    redo = np.flatnonzero(((lead_x > 0) & (lead_x <= close)) | ((lead_y > 0) & (lead_y <= close)))
+    if len(redo):
+        far[redo] = np.maximum(np.maximum(np.hypot(ax[redo], ay[redo]), np.hypot(ax[redo], by[redo])),
+                               np.maximum(np.hypot(bx[redo], ay[redo]), np.hypot(bx[redo], by[redo])))
+    return far
+
+
 def rect_arc_distance(xlo, xhi, ylo, yhi, cx, cy, r, t_lo, t_hi):
     """Range of |X - C| for X in the rectangles and C on the arcs c + r (cos t, sin t), t in [t_lo, t_hi]:
     the minimum at an arc end, an arc point where the arc crosses or faces a side, or a corner
-    facing the arc; the maximum at a corner and an arc end or the arc point opposite it."""
-    inf = np.inf
+    facing the arc; the maximum at a corner and an arc end or the arc point opposite it.
+
+    Each candidate that lies on the arc of only some boxes (a corner's nearest or farthest arc
+    point, a radius along an axis, a crossing of a side) is measured on those boxes alone."""
     ends = [(cx + r * np.cos(t), cy + r * np.sin(t)) for t in (t_lo, t_hi)]
-    # farthest: a corner and the arc point opposite it, or an arc end
-    far = np.zeros_like(xlo)
-    near = np.full_like(xlo, inf)
+    # farthest: an arc end and a corner, or a corner and the arc point opposite it
+    far = np.maximum(*(_farthest_corner(ex, ey, xlo, xhi, ylo, yhi) for ex, ey in ends))
+    near = np.minimum(*(_box_distance(ex, ey, xlo, xhi, ylo, yhi) for ex, ey in ends))
+    # nearest: an arc end, a corner facing the arc, an arc point facing a side (radius along an
+    # axis), or a crossing of a side
     for px in (xlo, xhi):
         for py in (ylo, yhi):
             wx, wy = px - cx, py - cy
-            rho, psi = np.hypot(wx, wy), np.arctan2(wy, wx)
-            tip = np.where(angle_inside(psi + math.pi, t_lo, t_hi, 0.0), rho + r, 0.0)
-            far = np.maximum(far, np.maximum(tip, np.maximum(*(np.hypot(px - ex, py - ey) for ex, ey in ends))))
-            near = np.minimum(near, np.where(angle_inside(psi, t_lo, t_hi, 0.0), np.abs(rho - r), inf))
-    # nearest: an arc end, an arc point facing a side (radius along an axis), or a crossing of a side
-    candidates = list(ends)
+            psi = np.arctan2(wy, wx)
+            faces = angle_inside(psi, t_lo, t_hi, 0.0)
+            psi += math.pi
+            opposite = angle_inside(psi, t_lo, t_hi, 0.0)
+            at = np.flatnonzero(faces | opposite)
+            if len(at):
+                rho = np.hypot(wx[at], wy[at])
+                near[at] = np.minimum(near[at], np.where(faces[at], np.abs(rho - r), np.inf))
+                far[at] = np.maximum(far[at], np.where(opposite[at], rho + r, 0.0))
     for k in range(4):
         t = k * _HALF_PI
-        ok = angle_inside(t, t_lo, t_hi, 0.0)
-        candidates.append((np.where(ok, cx + r * math.cos(t), np.nan), np.where(ok, cy + r * math.sin(t), np.nan)))
-    with np.errstate(invalid="ignore"):
-        for y0 in (ylo, yhi):  # horizontal sides
-            dy = y0 - cy
-            half = np.sqrt(r * r - dy * dy)
-            for sx in (-1.0, 1.0):
-                ok = angle_inside(np.arctan2(dy, sx * half), t_lo, t_hi, 0.0) & (np.abs(dy) <= r)
-                candidates.append((np.where(ok, cx + sx * half, np.nan), np.where(ok, y0, np.nan)))
-        for x0 in (xlo, xhi):  # vertical sides
-            dx = x0 - cx
-            half = np.sqrt(r * r - dx * dx)
-            for sy in (-1.0, 1.0):
-                ok = angle_inside(np.arctan2(sy * half, dx), t_lo, t_hi, 0.0) & (np.abs(dx) <= r)
-                candidates.append((np.where(ok, x0, np.nan), np.where(ok, cy + sy * half, np.nan)))
-    for px, py in candidates:
-        d = _box_distance(px, py, xlo, xhi, ylo, yhi)
-        near = np.minimum(near, np.where(np.isnan(d), inf, d))
+        _nearer(near, np.flatnonzero(angle_inside(t, t_lo, t_hi, 0.0)), cx + r * math.cos(t), cy + r * math.sin(t),
+                xlo, xhi, ylo, yhi)
+    # crossings of the horizontal sides (y = y0), then of the vertical ones (x = x0)
+    for horizontal, sides, c_across, c_along in ((True, (ylo, yhi), cy, cx), (False, (xlo, xhi), cx, cy)):
+        for side in sides:
+            d = side - c_across
+            at = np.flatnonzero(np.abs(d) <= r)
+            d = d[at]
+            half = np.sqrt(r * r - d * d)
+            for sign in (-1.0, 1.0):
+                along = sign * half
+                ok = angle_inside(np.arctan2(d, along) if horizontal else np.arctan2(along, d), t_lo[at], t_hi[at], 0.0)
+                px, py = c_along + along[ok], side[at[ok]]
+                _nearer(near, at[ok], *((px, py) if horizontal else (py, px)), xlo, xhi, ylo, yhi)
     return near, far
 
 

@@ -18,14 +18,16 @@ ANGLE_MARGIN = 1e-8  # radians: covers the rounding of atan2 / arccos where a si
 
 def angle_inside(angle, lo, hi, tol: float = ANGLE_TOL) -> np.ndarray:
     """Whether some angle + 2 k pi lies in [lo - tol, hi + tol] (elementwise)."""
-    k = np.subtract(lo - tol, angle)
+    if tol:  # (tol 0: lo - 0 and hi + 0 are lo and hi, compared alike; not copied)
+        lo, hi = lo - tol, hi + tol
+    k = np.subtract(lo, angle)
     if k.ndim == 0:
-        return angle + np.ceil(k / TWO_PI) * TWO_PI <= hi + tol
+        return angle + np.ceil(k / TWO_PI) * TWO_PI <= hi
     k /= TWO_PI  # in place, the same operations in the same order: a hot path of the box tests
     np.ceil(k, out=k)
     k *= TWO_PI
     k += angle
-    return k <= hi + tol
+    return k <= hi
 
 
 def sinusoid_range(a, b, lo, hi, trig=None) -> tuple[np.ndarray, np.ndarray]:

@@ -64,23 +64,27 @@ def leg_distance_ranges(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> list[tup
 
 def reach_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """1: every pose of each box has its three legs in range; -1: no pose has; 0: cannot tell."""
-    lo, hi = g.poses(lo), g.poses(hi)
-    inside = np.ones(len(lo), dtype=bool)
-    outside = np.zeros(len(lo), dtype=bool)
-    for (near, far), a, b in zip(leg_distance_ranges(g, lo, hi), g.rho_min, g.rho_max):
+    def decide(i, near, far):
         near, far = np.maximum(near - g.eta, 0.0), far + g.eta
-        inside &= (near >= a) & (far <= b)
-        outside |= (far < a) | (near > b)
-    return verdict(inside, outside)
+        a, b = g.rho_min[i], g.rho_max[i]
+        return (near >= a) & (far <= b), (far < a) | (near > b)
+
+    return g.legs_verdict(lo, hi, decide)
 
 
 # ---------------------------------------------------------------- det J
 
 
-def _det3(a, b, c):
-    """det of the 3x3 matrix with columns a, b, c (lists of three row entries)."""
-    return (c[0] * (a[1] * b[2] - a[2] * b[1]) + c[1] * (a[2] * b[0] - a[0] * b[2])
-            + c[2] * (a[0] * b[1] - a[1] * b[0]))
+def _minors(a, b):
+    """The 2x2 minors of the columns a, b that `_det3` takes with the entries of its third column."""
+    return a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]
+
+
+def _det3(a, b, c, minors=None):
+    """det of the 3x3 matrix with columns a, b, c (lists of three row entries); `minors` of a, b
+    when the caller has them (the same values: several determinants share the columns e_x, e_y)."""
+    m = _minors(a, b) if minors is None else minors
+    return c[0] * m[0] + c[1] * m[1] + c[2] * m[2]
 
 
 def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
@@ -92,7 +96,8 @@ def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
         r = iv.hypot(px, py)
         a = math.atan2(py, px)
         t = ph + Interval(a - 1e-15, a + 1e-15)
-        qxi, qyi = r * iv.cos(t), r * iv.sin(t)
+        c, s = iv.cos_sin(t)
+        qxi, qyi = r * c, r * s
         u, v = x - bx, y - by
         ex.append(u + qxi)
         ey.append(v + qyi)
@@ -106,25 +111,49 @@ def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
 
 def det_enclosure(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Certified bounds of det J over boxes (m, 3): natural enclosure and mean-value form intersected."""
-    lo, hi = g.poses(lo), g.poses(hi)
-    box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
-    mid = 0.5 * (lo + hi)
-    ex, ey, mm, qx, qy, u, v = _columns(g, *box)
-    natural = _det3(ex, ey, mm)
-    point = _det3(*_columns(g, *(Interval.point(mid[:, k]) for k in range(3)))[:3])
-    one = [Interval.point(1.0)] * 3
-    gx = _det3(one, ey, mm) + _det3(ex, ey, [-q for q in qy])
-    gy = _det3(ex, one, mm) + _det3(ex, ey, qx)
-    dm = [-(qx[i] * u[i] + qy[i] * v[i]) for i in range(3)]
-    gp = (_det3([-q for q in qy], ey, mm) + _det3(ex, qx, mm) + _det3(ex, ey, dm)) * _D2R
-    mean = point + gx * (box[0] - mid[:, 0]) + gy * (box[1] - mid[:, 1]) + gp * (box[2] - mid[:, 2])
-    return np.maximum(natural.lo, mean.lo), np.minimum(natural.hi, mean.hi)
+    return _det_bounds(g, lo, hi, everywhere=True)
 
 
 def det_sign(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """+1 / -1 where det J is certified positive / negative on the whole box, else 0."""
-    dlo, dhi = det_enclosure(g, lo, hi)
+    dlo, dhi = _det_bounds(g, lo, hi, everywhere=False)
     return verdict(dlo > 0, dhi < 0)
+
+
+def _det_bounds(g: Geometry, lo: np.ndarray, hi: np.ndarray, everywhere: bool) -> tuple[np.ndarray, np.ndarray]:
+    """`det_enclosure`, or (not `everywhere`) with the mean-value form only on the boxes whose
+    natural enclosure has no sign: elsewhere it cannot change the sign (both forms enclose det J)
+    and it costs most of the work. Every operation is elementwise: the same values on those boxes."""
+    lo, hi = g.poses(lo), g.poses(hi)
+    box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
+    columns = _columns(g, *box)
+    minors = _minors(*columns[:2])
+    natural = _det3(*columns[:3], minors)
+    if everywhere:
+        mean = _mean_value(g, lo, hi, box, columns, minors)
+        return np.maximum(natural.lo, mean.lo), np.minimum(natural.hi, mean.hi)
+    d_lo, d_hi = natural.lo.copy(), natural.hi.copy()
+    at = np.flatnonzero(~((d_lo > 0) | (d_hi < 0)))
+    if len(at):
+        pick = lambda items: [v[at] for v in items]  # noqa: E731
+        mean = _mean_value(g, lo[at], hi[at], pick(box), [pick(c) for c in columns], pick(minors))
+        d_lo[at], d_hi[at] = np.maximum(d_lo[at], mean.lo), np.minimum(d_hi[at], mean.hi)
+    return d_lo, d_hi
+
+
+def _mean_value(g: Geometry, lo, hi, box, columns, minors) -> Interval:
+    """The mean-value form det(mid) + grad(box) . (box - mid) of det J, given the box's columns and
+    the minors of e_x, e_y."""
+    ex, ey, mm, qx, qy, u, v = columns
+    mid = 0.5 * (lo + hi)
+    point = _det3(*_columns(g, *(Interval.point(mid[:, k]) for k in range(3)))[:3])
+    one = [Interval.point(1.0)] * 3
+    minus_qy = [-q for q in qy]
+    gx = _det3(one, ey, mm) + _det3(ex, ey, minus_qy, minors)
+    gy = _det3(ex, one, mm) + _det3(ex, ey, qx, minors)
+    dm = [-(qx[i] * u[i] + qy[i] * v[i]) for i in range(3)]
+    gp = (_det3(minus_qy, ey, mm) + _det3(ex, qx, mm) + _det3(ex, ey, dm, minors)) * _D2R
+    return point + gx * (box[0] - mid[:, 0]) + gy * (box[1] - mid[:, 1]) + gp * (box[2] - mid[:, 2])
 
 
 def det_point_sign(g: Geometry, poses: np.ndarray) -> np.ndarray:

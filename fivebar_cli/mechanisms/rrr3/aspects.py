@@ -148,7 +148,8 @@ class DistalSystem:
         for i in range(3):
             radius, angle, *_ = self.g.constants(i)
             t = t0 + angle
-            qx, qy = iv.cos(t) * radius, iv.sin(t) * radius
+            c, s = iv.cos_sin(t)
+            qx, qy = c * radius, s * radius
             ux, uy = self.arm[i]
             ex.append(x + qx - ux - float(self.g.base[i, 0]))
             ey.append(y + qy - uy - float(self.g.base[i, 1]))

@@ -63,7 +63,14 @@ class Geometry(Platform):
                    l1=l1, l2=l2, inner=np.abs(l1 - l2), outer=l1 + l2)
 
     def constants(self, i: int) -> tuple[Interval, Interval, Interval, Interval, Interval]:
-        """Leg i's |c_i| and angle of c_i, l2^2 - l1^2, (l1 - l2)^2 and (l1 + l2)^2, as intervals."""
+        """Leg i's |c_i| and angle of c_i, l2^2 - l1^2, (l1 - l2)^2 and (l1 + l2)^2, as intervals
+        (computed once per geometry: every det A evaluation takes them, on small sets of boxes)."""
+        cache = self.__dict__.setdefault("_constant_cache", {})  # not a field: a frozen dataclass's cache
+        if i not in cache:
+            cache[i] = self._constants(i)
+        return cache[i]
+
+    def _constants(self, i: int) -> tuple[Interval, Interval, Interval, Interval, Interval]:
         l1, l2 = Interval.point(self.l1[i]), Interval.point(self.l2[i])
         px, py = self.platform[i]
         a = math.atan2(py, px)
@@ -76,14 +83,12 @@ class Geometry(Platform):
 
 def valid_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """1: every pose of each box has every leg strictly inside its annulus; -1: no pose has; 0: cannot tell."""
-    lo, hi = g.poses(lo), g.poses(hi)
-    inside = np.ones(len(lo), dtype=bool)
-    outside = np.zeros(len(lo), dtype=bool)
-    for (near, far), a, b in zip(g.distance_ranges(lo, hi), g.inner, g.outer):
+    def decide(i, near, far):
         near, far = near - g.eta, far + g.eta
-        inside &= (near > a) & (far < b)
-        outside |= (far < a) | (near > b)
-    return verdict(inside, outside)
+        a, b = g.inner[i], g.outer[i]
+        return (near > a) & (far < b), (far < a) | (near > b)
+
+    return g.legs_verdict(lo, hi, decide)
 
 
 # ---------------------------------------------------------------- det A
@@ -104,7 +109,8 @@ def _det_a(g: Geometry, signs, x, y, phi):
     for i in range(3):
         radius, angle, l21, inner2, outer2 = g.constants(i)
         t = t0 + angle
-        qx, qy = gr.cos(t) * radius, gr.sin(t) * radius
+        c, s = gr.cos_sin(t)
+        qx, qy = c * radius, s * radius
         dx = x - float(g.base[i, 0]) + qx
         dy = y - float(g.base[i, 1]) + qy
         rho2 = gr.sqr(dx) + gr.sqr(dy)
