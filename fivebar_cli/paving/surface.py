@@ -8,10 +8,10 @@ lattice coordinates (depth-D cell units), for surface files (`io/mesh.py`).
    not wrapped, so the surface closes on the seam and encloses the cells' volume in the chart.
 2. Orientation: each face is a quad whose corners turn counter-clockwise seen from outside, so
    its normal points out of the set.
-3. Conforming: a face next to smaller faces has their corners on its edges (T-junctions); each
-   such face is cut into a fan of triangles from its centre through every vertex on its boundary,
-   so that every edge of the mesh is shared by triangles on both sides. Other faces are two
-   triangles.
+3. Conforming: a face next to smaller faces has their corners on its edges (T-junctions); every
+   face is cut into a fan of triangles from its centre through its corners and every vertex on its
+   edges, in order, so that every edge of the mesh is shared by triangles on both sides (all faces
+   alike: one rule, built for all faces at once).
 
 Integer coordinates keep it exact: the enclosed volume (divergence theorem) is the cells' volume.
 """
@@ -89,38 +89,46 @@ def boundary_mesh(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
         corners[rows, k, c] = lo[rows, c] + dc * size
     corners = np.where(side[:, None, None] > 0, corners, corners[:, ::-1])
     corners *= 2
-    vertices, index = np.unique(corners.reshape(-1, 3), axis=0, return_inverse=True)
+    keys, index = np.unique(_key(corners.reshape(-1, 3), (0, 1, 2)), return_inverse=True)
+    vertices = (keys[:, None] >> np.array([2 * BITS, BITS, 0])) & ((1 << BITS) - 1)  # sorted by (x, y, z)
     index = index.reshape(n, 4)
-    extra = _edge_vertices(vertices, corners)
-    plain = np.array([len(e) == 0 for e in extra], bool)
-    tris = [np.concatenate([index[plain][:, [0, 1, 2]], index[plain][:, [0, 2, 3]]])]
-    centres, fans = [], []
-    for f in np.flatnonzero(~plain):  # faces with T-junctions: a fan from the centre
-        ring = []
-        for k in range(4):
-            ring.append(index[f, k])
-            ring += extra[f][k]
-        centre = len(vertices) + len(centres)
-        centres.append(corners[f].sum(axis=0) // 4)
-        ring = np.array(ring, np.int64)
-        fans.append(np.column_stack([np.full(len(ring), centre), ring, np.roll(ring, -1)]))
-    if centres:
-        vertices = np.concatenate([vertices, np.array(centres, np.int64)])
-        tris += fans
-    return vertices.astype(float) / 2.0, np.concatenate(tris).astype(np.int64)
+    first, count, forward, order = _edge_vertices(vertices, corners)
+    # each face's ring: corner 0, the vertices inside edge 0, corner 1, ... (segments of 1 + count)
+    seg = (1 + count).ravel()
+    seg_start = np.cumsum(seg) - seg
+    segment = np.repeat(np.arange(len(seg)), seg)
+    at = np.arange(seg.sum()) - seg_start[segment] - 1  # -1: the corner, else the k-th inside vertex
+    face, k = segment // 4, segment % 4
+    inside = np.where(forward[face, k], at, count[face, k] - 1 - at)
+    ring = np.where(at < 0, index[face, k], order[first[face, k] + np.maximum(inside, 0)])
+    ring_len = seg.reshape(n, 4).sum(axis=1)
+    after = np.arange(len(ring)) + 1
+    after[np.cumsum(ring_len) - 1] = np.cumsum(ring_len) - ring_len  # each ring closes on its first vertex
+    triangles = np.column_stack([len(vertices) + face, ring, ring[after]])
+    vertices = np.concatenate([vertices, corners.sum(axis=1) // 4])
+    return vertices.astype(float) / 2.0, triangles.astype(np.int64)
 
 
-def _edge_vertices(vertices: np.ndarray, corners: np.ndarray) -> list[list[list[int]]]:
-    """Per face and edge k (corner k to corner k + 1), the indices of the mesh vertices strictly
-    inside that edge, in order from corner k."""
+def _key(points: np.ndarray, axes: tuple[int, int, int]) -> np.ndarray:
+    """Lattice points (non-negative, under 2**BITS) as one int64 each, ordered as the tuples of
+    their coordinates along `axes`."""
+    a, b, c = axes
+    return (points[:, a] << (2 * BITS)) | (points[:, b] << BITS) | points[:, c]
+
+
+def _edge_vertices(vertices: np.ndarray, corners: np.ndarray):
+    """The mesh vertices strictly inside each face's edge k (corner k to corner k + 1), as
+    (first, count, forward, order): they are order[first : first + count], sorted along the edge,
+    to be read backwards where `forward` is False (the edge runs down its axis); (n, 4) arrays."""
     n = len(corners)
-    out = [[[], [], [], []] for _ in range(n)]
-    along_keys = []
+    first, count = np.zeros((n, 4), np.int64), np.zeros((n, 4), np.int64)
+    forward = np.ones((n, 4), bool)
+    sorted_keys, orders = [], []
     for e in range(3):  # vertices sorted by (the two other coordinates, the coordinate along e)
-        o1, o2 = (e + 1) % 3, (e + 2) % 3
-        key = (vertices[:, o1] << (2 * BITS)) | (vertices[:, o2] << BITS) | vertices[:, e]
+        key = _key(vertices, ((e + 1) % 3, (e + 2) % 3, e))
         order = np.argsort(key, kind="stable")
-        along_keys.append((key[order], order))
+        sorted_keys.append(key[order])
+        orders.append(order)
     for k in range(4):
         p, q = corners[:, k], corners[:, (k + 1) % 4]
         e = np.argmax(p != q, axis=1)
@@ -129,13 +137,10 @@ def _edge_vertices(vertices: np.ndarray, corners: np.ndarray) -> list[list[list[
             if not len(sel):
                 continue
             o1, o2 = (axis + 1) % 3, (axis + 2) % 3
-            keys, order = along_keys[axis]
             base = (p[sel, o1] << (2 * BITS)) | (p[sel, o2] << BITS)
             a, b = np.minimum(p[sel, axis], q[sel, axis]), np.maximum(p[sel, axis], q[sel, axis])
-            first = np.searchsorted(keys, base | (a + 1))
-            last = np.searchsorted(keys, base | b)
-            for f, i, j, forward in zip(sel[last > first], first[last > first], last[last > first],
-                                        (q[sel, axis] > p[sel, axis])[last > first]):
-                found = order[i:j].tolist()
-                out[f][k] = found if forward else found[::-1]
-    return out
+            lo = np.searchsorted(sorted_keys[axis], base | (a + 1))
+            first[sel, k] = lo + axis * len(vertices)  # into the three orders laid end to end
+            count[sel, k] = np.searchsorted(sorted_keys[axis], base | b) - lo
+            forward[sel, k] = q[sel, axis] > p[sel, axis]
+    return first, count, forward, np.concatenate(orders)
