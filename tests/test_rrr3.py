@@ -313,3 +313,28 @@ def test_bad_options_are_one_line_and_exit_2(tmp_path):
     one_line(run_cli("dkp", SYMMETRIC, "--joints", "0", "0", "0", "--depth", "2", "-o", tmp_path), 2, "--joints")
     one_line(run_cli("locate", PHI0, "--pose", "5", "3", "0", "-o", tmp_path), 2, "phi")
     assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("fixed", [False, True])
+def test_det_a_legs_together_or_one_by_one_give_the_same_bounds(monkeypatch, fixed):
+    """det A evaluates the three legs in one pass on few boxes and leg by leg on many: the same
+    operations per element, so bit for bit the same bounds, Duals (mean-value form) included."""
+    from fivebar_cli.mechanisms.rrr3 import boxtests as bt
+
+    rng = np.random.default_rng(7)
+    for seed in range(3):
+        m = random_robot(seed, fixed)
+        g = bt.Geometry.of(m)
+        axes = m.spaces()["workspace"].axes
+        lo, hi = np.array([a.lo for a in axes]), np.array([a.hi for a in axes])
+        width = (hi - lo) * rng.choice([1e-3, 1e-2, 0.2], size=(400, 1))
+        box_lo = lo + rng.random((400, len(axes))) * (hi - lo - width)
+        valid = rng.random(400) < 0.8
+        for signs in ((1, 1, 1), (1, -1, -1)):
+            together = bt.det_enclosure(g, signs, box_lo, box_lo + width, valid)
+            monkeypatch.setattr(bt, "ONE_PASS", 0)
+            one_by_one = bt.det_enclosure(g, signs, box_lo, box_lo + width, valid)
+            monkeypatch.undo()
+            for a, b in zip(together, one_by_one):
+                assert np.array_equal(a, b, equal_nan=True)
+            assert np.any(together[0] > 0) or np.any(together[1] < 0)  # some boxes decided: a real check

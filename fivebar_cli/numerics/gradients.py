@@ -20,7 +20,7 @@ import numpy as np
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 
-__all__ = ["Dual", "cos", "cos_sin", "mean_value", "sin", "sqr", "sqrt", "variables"]
+__all__ = ["Dual", "cos", "cos_sin", "mean_value", "negate_where", "sin", "sqr", "sqrt", "variables"]
 
 
 def _add(a, b):
@@ -68,6 +68,23 @@ class Dual:
         return Dual(self.v * b.v, tuple(_add(_scale(p, b.v), _scale(q, self.v)) for p, q in zip(self.g, b.g)))
 
     __rmul__ = __mul__
+
+    def __getitem__(self, idx) -> "Dual":
+        """The value and partial derivatives at `idx` (a derivative still of a smaller shape, a
+        constant of the variables, is first broadcast to the value's)."""
+        shape = self.v.shape
+        return Dual(self.v[idx], tuple(None if g is None else _broadcast(g, shape)[idx] for g in self.g))
+
+
+def _broadcast(a: Interval, shape) -> Interval:
+    return a if a.shape == shape else Interval(np.broadcast_to(a.lo, shape), np.broadcast_to(a.hi, shape))
+
+
+def negate_where(a, mask):
+    """-a where `mask` (broadcast), a elsewhere: exact, as negation is (Intervals or Duals)."""
+    if isinstance(a, Dual):
+        return Dual(negate_where(a.v, mask), tuple(None if g is None else negate_where(g, mask) for g in a.g))
+    return Interval(np.where(mask, -a.hi, a.lo), np.where(mask, -a.lo, a.hi))
 
 
 def _chain(a: Dual, value: Interval, slope: Interval) -> Dual:

@@ -70,6 +70,18 @@ class Geometry(Platform):
             cache[i] = self._constants(i)
         return cache[i]
 
+    def leg_constants(self, first: int = 0, stop: int = 3) -> tuple[Interval, ...]:
+        """`constants` of legs first..stop-1 stacked as (k, 1) Intervals (the same bounds), and the
+        base A of those legs as two (k, 1) arrays: det A evaluates several legs in one pass."""
+        cache = self.__dict__.setdefault("_constant_cache", {})
+        if (first, stop) not in cache:
+            per_leg = list(zip(*(self.constants(i) for i in range(first, stop))))
+            stacked = [Interval(np.array([c.lo for c in cs])[:, None], np.array([c.hi for c in cs])[:, None])
+                       for cs in per_leg]
+            base = self.base[first:stop].astype(float)
+            cache[first, stop] = (*stacked, base[:, :1], base[:, 1:])
+        return cache[first, stop]
+
     def _constants(self, i: int) -> tuple[Interval, Interval, Interval, Interval, Interval]:
         l1, l2 = Interval.point(self.l1[i]), Interval.point(self.l2[i])
         px, py = self.platform[i]
@@ -101,27 +113,39 @@ def _det3(a, b, c):
             + a[2] * (b[0] * c[1] - b[1] * c[0]))
 
 
+ONE_PASS = 8192  # up to this many boxes the three legs are evaluated as one (3, m) pass; beyond, leg by leg
+
+
 def _det_a(g: Geometry, signs, x, y, phi):
     """det A, rows scaled by 2 rho_i^2 (module docstring), at (x, y, phi in degrees) given as
-    Intervals or `gradients.Dual`s (x first in every sum, so that a Dual absorbs the constants)."""
-    t0 = (phi - g.shift) * _D2R
+    Intervals or `gradients.Dual`s (x first in every sum, so that a Dual absorbs the constants).
+    The legs are evaluated together on few boxes (fewer numpy calls: interval arithmetic on small
+    arrays costs its calls) and one by one on many (arrays that stay in cache): the same
+    operations per element either way, so the same bounds."""
+    boxes = max(np.size((v.v if isinstance(v, gr.Dual) else v).lo) for v in (x, y, phi))
+    groups = [(0, 3)] if boxes <= ONE_PASS else [(0, 1), (1, 2), (2, 3)]
     rows = []
-    for i in range(3):
-        radius, angle, l21, inner2, outer2 = g.constants(i)
-        t = t0 + angle
-        c, s = gr.cos_sin(t)
-        qx, qy = c * radius, s * radius
-        dx = x - float(g.base[i, 0]) + qx
-        dy = y - float(g.base[i, 1]) + qy
-        rho2 = gr.sqr(dx) + gr.sqr(dy)
-        p = rho2 + l21
-        root = gr.sqrt(-((rho2 - inner2) * (rho2 - outer2)))
-        if signs[i] < 0:
-            root = -root
-        cross = dy * qx - dx * qy
-        dot = dx * qx + dy * qy
-        rows.append((p * dx - root * dy, p * dy + root * dx, p * cross + root * dot))
+    for first, stop in groups:
+        columns = _rows(g, signs[first:stop], x, y, phi, first, stop)
+        rows += [[column[k] for column in columns] for k in range(stop - first)]
     return _det3(*rows)
+
+
+def _rows(g: Geometry, signs, x, y, phi, first: int, stop: int):
+    """The three entries of the scaled rows of legs first..stop-1, each with those legs on its
+    first axis."""
+    radius, angle, l21, inner2, outer2, base_x, base_y = g.leg_constants(first, stop)
+    t = (phi - g.shift) * _D2R + angle
+    c, s = gr.cos_sin(t)
+    qx, qy = c * radius, s * radius
+    dx = x - base_x + qx
+    dy = y - base_y + qy
+    rho2 = gr.sqr(dx) + gr.sqr(dy)
+    p = rho2 + l21
+    root = gr.negate_where(gr.sqrt(-((rho2 - inner2) * (rho2 - outer2))), np.array(signs)[:, None] < 0)
+    cross = dy * qx - dx * qy
+    dot = dx * qx + dy * qy
+    return p * dx - root * dy, p * dy + root * dx, p * cross + root * dot
 
 
 def _phi_column(g: Geometry, a: np.ndarray):
