@@ -1,12 +1,14 @@
-"""Error types the CLI turns into one line on stderr and an exit status (no traceback); and the
-interruption by a signal, with the moments when it must wait (`deferred_interrupts`)."""
+"""Error types the CLI turns into one line on stderr and an exit status (no traceback); the text
+of library messages, which names parameters as data (`param`, `Text`) for a front end to spell its
+own way; and the interruption by a signal, with the moments when it must wait
+(`deferred_interrupts`)."""
 
 from __future__ import annotations
 
 import signal
 import threading
 from contextlib import contextmanager
-from typing import Iterator
+from typing import Callable, Iterator, NamedTuple
 
 
 class FivebarError(Exception):
@@ -22,16 +24,57 @@ class InputError(FivebarError, ValueError):
 
     def __init__(self, source: str, field: str, message: str):
         self.source, self.field, self.message = source, field, message
-        where = f"{source}: {field}" if field else source
-        super().__init__(f"{where}: {message}")
+        super().__init__(Text(source, ": ", field, ": ", message) if field else Text(source, ": ", message))
 
 
-def param(name: str, value=None) -> str:
+class Param(NamedTuple):
+    """A library call's parameter that a message names, with the value it suggests (None: the
+    name alone); written `name` or `name=value` (`depth=12`, `allow_serial=True`)."""
+
+    name: str
+    value: object = None
+
+    def __str__(self) -> str:
+        return f"`{self.name}`" if self.value is None else f"`{self.name}={self.value!r}`"
+
+
+class Text(str):
+    """Library text that names parameters: a str in the library's spelling ("try `depth=12`") that
+    keeps the parameters as data (`parts`: its strings and `Param`s), so that a front end spells
+    them its own way (`spelled`; the CLI: `cli/options.py`'s `as_flags`, "try --depth 12") and
+    never rewrites the rest (a name, a path, a value). Joined with `+` to a str it stays a Text;
+    an f-string or `str.join` gives a plain str in the library's spelling."""
+
+    __slots__ = ("parts",)
+
+    def __new__(cls, *parts: "str | Param") -> "Text":
+        flat = tuple(q for p in parts for q in (p.parts if isinstance(p, Text) else (p,)) if q != "")
+        text = super().__new__(cls, "".join(map(str, flat)))
+        object.__setattr__(text, "parts", flat)
+        return text
+
+    def __setattr__(self, name, value):
+        raise AttributeError("a Text is immutable")
+
+    def __add__(self, other):
+        return Text(self, other) if isinstance(other, str) else NotImplemented
+
+    def __radd__(self, other):
+        return Text(other, self) if isinstance(other, str) else NotImplemented
+
+    def __reduce__(self):
+        return Text, self.parts
+
+    def spelled(self, spell: Callable[[Param], str]) -> str:
+        """The text with each parameter written `spell(param)`, the rest as it is."""
+        return "".join(spell(p) if isinstance(p, Param) else p for p in self.parts)
+
+
+def param(name: str, value=None) -> Text:
     """A library call's parameter as messages name it: `name`, or `name=value` (`depth=12`,
-    `allow_serial=True`, `procedure='exact'`), in backticks. Library messages name parameters this
-    way only, never a command-line flag: a front end respells them with its own names (the CLI:
-    `cli/options.py`'s `as_flags`, `--depth 12`, `--allow-serial`)."""
-    return f"`{name}`" if value is None else f"`{name}={value!r}`"
+    `allow_serial=True`, `procedure='exact'`), in backticks. The one way library messages name a
+    parameter, never a command-line flag: a front end spells it with its own names (`Text`)."""
+    return Text(Param(name, value))
 
 
 class OutputError(FivebarError, OSError):

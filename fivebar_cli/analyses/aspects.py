@@ -146,7 +146,8 @@ class AspectAnalysis:
             return (f"{name}: {plural(len(self.aspects), what)} at depth {depth} (certified; "
                     f"{self.evaluations} box evaluations, {self.refinement_evaluations} in local refinement)")
         return (f"{name}: between {self.lower} and {plural(self.upper, what)}, not certified at depth "
-                f"{depth}: {plural(self.undecided_pieces, 'piece')} undecided (raise {param('depth')} or {param('budget')})")
+                f"{depth}: {plural(self.undecided_pieces, 'piece')} undecided (raise " + param("depth") + " or "
+                + param("budget") + ")")
 
     @property
     def evaluations(self) -> int:

@@ -47,7 +47,7 @@ class TreeDiff:
             if self.meaning and not sets_only:
                 keys = ", ".join(k for k, _, _ in self.meaning)
                 lines.append(f"but the trees do not claim the same thing: their {keys} differ "
-                             f"({param('sets_only', True)} compares the cells alone)")
+                             "(" + param("sets_only", True) + " compares the cells alone)")
         else:
             lines = [
                 f"{name_a}: {plural(len(self.a), 'cell')}, area {self.a.area:.10g}",

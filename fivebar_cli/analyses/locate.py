@@ -69,19 +69,19 @@ class Verdict:
         """The reason (with the advice in parentheses), or for a verdict left open 'not decided at
         depth D: <reason>; <advice>'."""
         if self.answer == UNDECIDED:
-            return f"not decided at depth {self.depth}: {self.reason}" + (f"; {self.advice}" if self.advice else "")
-        return self.reason + (f" ({self.advice})" if self.advice else "")
+            return f"not decided at depth {self.depth}: " + self.reason + ("; " + self.advice if self.advice else "")
+        return self.reason + (" (" + self.advice + ")" if self.advice else "")
 
     def line(self) -> str:
         """'yes: <reason>', 'no: <reason>' or 'not decided at depth D: <reason>; <advice>'."""
-        return self.text() if self.answer == UNDECIDED else f"{self.answer}: {self.text()}"
+        return self.text() if self.answer == UNDECIDED else f"{self.answer}: " + self.text()
 
 
 def deeper(depth: int, max_depth: int | None) -> str:
     """What to try when cells at this depth are too coarse."""
     if max_depth is not None and depth + 2 > max_depth:
-        return f"{param('depth', max_depth)} is the deepest"
-    return f"try {param('depth', depth + 2)}"
+        return param("depth", max_depth) + " is the deepest"
+    return "try " + param("depth", depth + 2)
 
 
 # ---------------------------------------------------------------- configurations
@@ -231,7 +231,7 @@ def mode_verdict(model: AspectModel, c1: Configuration, c2: Configuration, depth
     if not allow_serial and any("0" not in (a, b) and a != b for a, b in zip(c1.working, c2.working)):
         return Verdict(NO, f"different working modes ({c1.working} for {c1.label}, {c2.working} for {c2.label}): "
                            "every motion between them crosses a serial singularity", depth,
-                       advice=f"{param('allow_serial', True)} allows that" if offer_serial else "")
+                       advice=param("allow_serial", True) + " allows that" if offer_serial else "")
     for c in (c1, c2):
         if c.violates:
             return Verdict(UNDECIDED, f"{c.label} violates the {c.violates} (by a floating-point check): it is in "
@@ -243,7 +243,8 @@ def mode_verdict(model: AspectModel, c1: Configuration, c2: Configuration, depth
             names = " and ".join(n for n, s in zip(model.serial_names, c.working) if s == "0")
             return Verdict(UNDECIDED, f"{c.label} is on or near a serial singularity ({names} = 0): it is in no "
                                       "aspect's certified cells", depth,
-                           f"{param('allow_serial', True)} allows motions across serial singularities" if offer_serial else "")
+                           param("allow_serial", True) + " allows motions across serial singularities"
+                           if offer_serial else "")
     return None
 
 

@@ -140,7 +140,7 @@ def resolve(m: Mechanism, endpoints: list[Endpoint], assembly: str | None, sourc
         if e.kind == "joints":
             if assembly is None and len(rows) > 1:
                 raise InputError(source, param("assembly_mode"), f"{e.label} assembles in both assembly modes: "
-                                 f"give {param('assembly_mode')} + or -")
+                                 "give " + param("assembly_mode") + " + or -")
             chosen = [r for r in rows if assembly is None or r.assembly in (assembly, "0")]
             if not chosen:
                 raise NoPath(f"{e.label} cannot be assembled in assembly mode {assembly}")

@@ -128,7 +128,7 @@ class PoseAspectAnalysis(AspectAnalysis):
             return super().headline()
         return (f"{self.mechanism.name}: {self.lower} generalized aspects, not certified at depth {self.depth}: "
                 f"{self.lower - len(self.aspects)} of them thinner than its cells, found one level deeper "
-                f"(raise {param('depth')})")
+                "(raise " + param("depth") + ")")
 
 
 def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
@@ -249,7 +249,7 @@ def motion_sheet(m: Mechanism, working_mode: str | None) -> int:
     if len(chosen) > 1:
         first = dict(pose_model(m).sheets[0].fields)["working_mode"]
         raise InputError("", param("working_mode"), f"a {m.kind} pose is reached in {len(chosen)} working modes: say "
-                         f"which one (e.g. {param('working_mode', first)})")
+                         "which one (e.g. " + param("working_mode", first) + ")")
     return chosen[0]
 
 

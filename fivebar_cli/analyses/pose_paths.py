@@ -379,7 +379,7 @@ def find_motion(m: Mechanism, depth: int, start: np.ndarray, end: np.ndarray, la
 
 def _no_cell(label: str, depth: int) -> NoMotion:
     return NoMotion(f"not decided at depth {depth}: {label} lies in no certified cell (too close to a singularity "
-                    f"or a joint limit for cells this size: try {param('depth', depth + 1)})")
+                    "or a joint limit for cells this size: try " + param("depth", depth + 1) + ")")
 
 
 def _why_not(model, aspects: list[PoseAspect], start, end, labels, depth: int, sheet: int) -> NoMotion:
@@ -392,9 +392,9 @@ def _why_not(model, aspects: list[PoseAspect], start, end, labels, depth: int, s
             return NoMotion(f"{labels[0]} is in aspect {a.number}, {labels[1]} in aspect {b.number}: every motion "
                             "between them crosses a singularity")
         return NoMotion(f"not decided at depth {depth}: {labels[0]} is in aspect {a.number}, {labels[1]} in aspect "
-                        f"{b.number}, not both certified (they may be one aspect: raise {param('depth')})")
+                        f"{b.number}, not both certified (they may be one aspect: raise " + param("depth") + ")")
     if a is None or b is None:
         return _no_cell(labels[0] if a is None else labels[1], depth)
     return NoMotion(f"not decided at depth {depth}: both lie in aspect {a.number}, but no chain of certified cells "
-                    f"sharing faces joins them (they touch only along edges or through finer cells: try "
-                    f"{param('depth', depth + 1)})")
+                    "sharing faces joins them (they touch only along edges or through finer cells: try "
+                    + param("depth", depth + 1) + ")")

@@ -13,14 +13,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fivebar_cli.api.values import Table
-from fivebar_cli.errors import InputError
+from fivebar_cli.errors import InputError, param
 from fivebar_cli.io.layout import AREA_FILES, COUNTEREXAMPLE_PNG, SYNTHESIS_FILES
 
 AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
 SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n")
 VERIFY_HEADER = ("name", "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume")
 COUNTEREXAMPLE_HEADER = ("x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j")
-ADVICE = "raise the depth"  # what an undecided `verify` suggests (the CLI names its option)
 DEFAULT_ANGLES = (30.0, 60.0, 90.0, 120.0, 150.0)
 
 
@@ -516,9 +515,8 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
 
         drawings = ((COUNTEREXAMPLE_PNG, pose_figure),)
     if result.status == UNDECIDED:
-        advice = result.note or ADVICE
         notes.append(f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
-                     f"{result.depth}: {advice}")
+                     f"{result.depth}: " + (result.note or "raise " + param("depth")))
     row = (m.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
            result.undecided_volume, result.root_volume)
     return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes), drawings, result, counterexample)

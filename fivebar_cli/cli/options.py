@@ -5,7 +5,6 @@ progress bars, reporting, figures off screen. Command-line numbers and angles: `
 
 from __future__ import annotations
 
-import re
 import sys
 import time
 from contextlib import contextmanager
@@ -15,6 +14,7 @@ from typing import Iterator
 import click
 
 from fivebar_cli.cli.numbers import Number
+from fivebar_cli.errors import FivebarError, InputError, Param, Text
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
@@ -67,25 +67,24 @@ FLAGS = {  # a library parameter -> the option that sets it (`option_errors` add
     "scheduler": "--scheduler", "sets_only": "--sets-only", "tolerance": "--tolerance",
     "working_mode": "--working-mode",
 }
-PARAM = re.compile(r"`([a-z_]+)(?:=([^`]*))?`")
 
 
 def as_flags(text: str, flags: dict[str, str] | None = None) -> str:
-    """Library text with every parameter it names (`errors.param`: `depth`, `depth=12`,
-    `allow_serial=True`, `procedure='exact'`) spelled as the option that sets it (`--depth`,
-    `--depth 12`, `--allow-serial`, `--procedure exact`): the one place the command line turns the
+    """Library text with the parameters it names (`errors.Text`: `depth`, `depth=12`,
+    `allow_serial=True`, `procedure='exact'`) spelled as the options that set them (`--depth`,
+    `--depth 12`, `--allow-serial`, `--procedure exact`), and nothing else rewritten (a name or a
+    path, whatever it holds); a plain str as it is. The one place the command line turns the
     library's names into its own. `flags` adds a command's own options to `FLAGS`."""
+    if not isinstance(text, Text):
+        return text
     names = {**FLAGS, **(flags or {})}
 
-    def spell(match: re.Match) -> str:
-        name, value = match.groups()
-        if name not in names:
-            return match.group(0)
-        if value is None or value == "True":
-            return names[name]
-        return f"{names[name]} {value.strip(chr(39))}"
+    def spell(p: Param) -> str:
+        if p.name not in names:
+            return str(p)
+        return names[p.name] if p.value is None or p.value is True else f"{names[p.name]} {p.value}"
 
-    return PARAM.sub(spell, text)
+    return text.spelled(spell)
 
 
 @contextmanager
@@ -94,8 +93,6 @@ def option_errors(**flags: str) -> Iterator[None]:
     `flags` with no source (`range="--range"`) becomes click's usage error on that option;
     any other FivebarError keeps its type and exit status, its parameters spelled as options. A
     context and a decorator: every command's callback is wrapped in it."""
-    from fivebar_cli.errors import FivebarError, InputError
-
     try:
         yield
     except FivebarError as exc:
@@ -104,7 +101,7 @@ def option_errors(**flags: str) -> Iterator[None]:
             raise click.BadParameter(as_flags(exc.message, flags), param_hint=flags[field]) from None
         if isinstance(exc, InputError):
             exc.source, exc.field, exc.message = (as_flags(t, flags) for t in (exc.source, exc.field, exc.message))
-        exc.args = tuple(as_flags(a, flags) if isinstance(a, str) else a for a in exc.args)
+        exc.args = tuple(as_flags(a, flags) for a in exc.args)
         raise
 
 

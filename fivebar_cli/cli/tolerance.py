@@ -91,7 +91,7 @@ def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
                           f"{r.nominal_area:12.6g}")
     for tol in tolerances:
         if not study.robust[tol].certified:
-            report(quiet, f"  T = {tol:g}: {study.robust[tol].headline()}")
+            report(quiet, f"  T = {tol:g}: " + study.robust[tol].headline())
         changed = [f for f in study.fates[tol] if f.verdict != "keeps its area"]
         if changed:
             report(quiet, f"  T = {tol:g}: " + "; ".join(f"aspect {f.number} {fate_text(f)}" for f in changed))

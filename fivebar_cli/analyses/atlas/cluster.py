@@ -161,7 +161,7 @@ def existing_cluster(address: str) -> Iterator[DaskRunner]:
         except (ValueError, TypeError) as exc:  # not an address
             raise InputError(param("scheduler"), "", f"bad address {address!r}: {_one_line(exc)}") from None
         except OSError as exc:  # unreachable (TimeoutError is an OSError)
-            raise FivebarError(f"{param('scheduler')} {address}: cannot connect: {_one_line(exc)}") from None
+            raise FivebarError(param("scheduler") + f" {address}: cannot connect: {_one_line(exc)}") from None
         try:
             yield DaskRunner(client, f"the cluster at {address}")
         finally:

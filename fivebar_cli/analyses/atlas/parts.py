@@ -90,8 +90,8 @@ class Parts:
                 self.checksums = {k: v for k, v in checksums.items() if isinstance(k, str) and isinstance(v, str)}
                 return
             raise InputError(str(self.folder), "", "holds the parts of another atlas (other lengths, depth, batch, "
-                             f"columns or fivebar version): rerun with {param('restart', True)} to discard them, or choose "
-                             f"another {param('folder')}")
+                             "columns or fivebar version): rerun with " + param("restart", True)
+                             + " to discard them, or choose another " + param("folder"))
         path.unlink(missing_ok=True)  # first: a run killed below then leaves no manifest, so no stale part is kept
         for stale in self.folder.glob("part-*.csv"):
             stale.unlink()

@@ -197,7 +197,7 @@ class FiveBar(Mechanism):
         if self.constraints:
             if procedure != "exact":
                 raise schema.ConfigError(self.name, param("procedure"), "the paper's procedure has no joint limits or "
-                                         f"obstacles (use {param('procedure', 'exact')})")
+                                         "obstacles (use " + param("procedure", "exact") + ")")
             return constrained.space_test(self, space, self.unconstrained().box_test(space))
         if self.is_interval:
             if procedure != "exact":
