@@ -306,3 +306,13 @@ def test_chunked_box_functions_equal_one_call():
     whole, parts = fn(lo, hi), chunked(fn, lo, hi)
     assert all(np.array_equal(w, p) for w, p in zip(whole, parts))
     assert np.array_equal(chunked(lambda a, b: fn(a, b)[0], lo, hi), whole[0])
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(-(1 << 62), 1 << 62), max_size=40), st.integers(0, 3))
+def test_unique_by_sort_equals_numpys(values, repeat):
+    from fivebar_cli.paving.arrays import unique
+
+    a = np.array(values * (repeat + 1), np.int64)
+    got = unique(a)
+    assert got.dtype == a.dtype and np.array_equal(got, np.array(sorted(set(values)), np.int64))

@@ -14,6 +14,7 @@ from functools import cached_property
 
 import numpy as np
 
+from fivebar_cli.paving.arrays import unique
 from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, floor_log2, interleave, step, trailing_zeros
@@ -335,7 +336,7 @@ def _blocks(grid: Grid, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray,
 
 def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
     """Combine unions of disjoint intervals with a boolean function `keep(in_a, in_b)`."""
-    points = np.unique(np.concatenate([np.concatenate([s, e]) for s, e in interval_sets]))
+    points = unique(np.concatenate([np.concatenate([s, e]) for s, e in interval_sets]))
     if points.size < 2:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     left = points[:-1]
