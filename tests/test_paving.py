@@ -316,3 +316,41 @@ def test_unique_by_sort_equals_numpys(values, repeat):
     a = np.array(values * (repeat + 1), np.int64)
     got = unique(a)
     assert got.dtype == a.dtype and np.array_equal(got, np.array(sorted(set(values)), np.int64))
+
+
+def _same_paving(a, b) -> bool:
+    return (a.inside == b.inside and a.outside == b.outside and a.band == b.band and a.per_level == b.per_level
+            and np.array_equal(a.undetermined, b.undetermined))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.floats(-0.8, 0.8), st.floats(-0.8, 0.8), st.floats(0.05, 0.9)), min_size=1, max_size=4),
+       st.integers(2, 7))
+def test_pave_many_equals_one_paving_per_test(discs, depth):
+    """One pass for several tests gives each test's own paving: the same trees, undetermined cells
+    in the same order, the same evaluations per level (a box counts only where its test is open)."""
+    from fivebar_cli.paving.engine import pave_many, stacked
+
+    grid = Grid(((-1.0, 1.0), (-1.0, 1.0)), depth, (False, False))
+    tests = [ball_test((x, y), r) for x, y, r in discs]
+    for one, many in zip([pave(grid, t) for t in tests], pave_many(grid, stacked(tests), len(tests))):
+        assert _same_paving(one, many)
+
+
+def test_pave_many_of_five_bar_modes_equals_the_single_mode_pavings():
+    """The five-bar's multi-tests (exact and interval lengths, with and without constraints) pave
+    every mode as its own test does."""
+    from conftest import CONFIGS
+    from fivebar_cli.mechanisms.registry import load_config
+    from fivebar_cli.paving.engine import pave_many
+
+    m1 = load_config(CONFIGS / "m1.yaml")
+    for m in (m1, load_config(CONFIGS / "m1-obstacle.yaml"), m1.widened(0.05)):
+        model = m.aspect_model()
+        for space, keys, many, one in (
+                ("workspace", model.working_modes, model.workspace_tests, model.workspace_test),
+                ("jointspace", model.assembly_modes, model.jointspace_tests, model.jointspace_test)):
+            grid = m.spaces()[space].grid(6)
+            pavings = pave_many(grid, many(keys), len(keys))
+            assert [_same_paving(p, pave(grid, one(k))) for p, k in zip(pavings, keys)] == [True] * len(keys)
+            assert sum(len(p.inside) for p in pavings) > 0

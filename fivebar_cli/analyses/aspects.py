@@ -37,7 +37,7 @@ from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
-from fivebar_cli.paving.engine import Paving, chunked, pave
+from fivebar_cli.paving.engine import Paving, chunked, pave_many
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.morton import finest_order
 from fivebar_cli.paving.tree import Tree, union_find
@@ -178,14 +178,16 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
     timings = {"paving": 0.0}
-    tasks = ([(m, "workspace", wm, None, depth) for wm in model.working_modes]
-             + [(m, "jointspace", None, am, depth) for am in model.assembly_modes])
+    # one paving pass per space for all its modes (their tests share work); each a task
+    tasks = [(m, "workspace", depth), (m, "jointspace", depth)]
+    steps = iter([len(model.working_modes), len(model.assembly_modes)])
     regions = []
-    for region, seconds in run_tasks(_region_task, tasks, jobs, advance):
-        region.model = model
-        region.test = _mode_test(model, region.space, region.working, region.assembly)
+    for space_regions, seconds in run_tasks(_space_task, tasks, jobs, lambda n=1: advance(next(steps))):
+        for region in space_regions:
+            region.model = model
+            region.test = _mode_test(model, region.space, region.working, region.assembly)
+            regions.append(region)
         timings["paving"] += seconds
-        regions.append(region)
     t0 = time.perf_counter()
     sets = [ModeSet(region, free) for region in regions for free in _free_modes(model, region)]
     timings["outer"] = time.perf_counter() - t0
@@ -221,22 +223,32 @@ def _mode_test(model: AspectModel, space: str, working, assembly):
     return model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
 
 
-def _region_task(task: tuple) -> tuple[Region, float]:
-    """One mode paving and its region data, in a worker: (region without its model and test,
-    which do not travel between processes, seconds paving)."""
-    m, space, working, assembly, depth = task
-    timings = {"paving": 0.0}
-    region = _region(m, m.aspect_model(), space, working, assembly, depth, timings)
-    region.model = region.test = None
-    return region, timings["paving"]
-
-
-def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, depth: int, timings: dict) -> Region:
+def _space_task(task: tuple) -> tuple[list[Region], float]:
+    """The mode pavings of one space in one pass, and their regions' data, in a worker: (regions
+    without their model and test, which do not travel between processes, seconds paving)."""
+    m, space, depth = task
+    model = m.aspect_model()
     t0 = time.perf_counter()
-    test = _mode_test(model, space, working, assembly)
-    paving = pave(m.spaces()[space].grid(depth), test)
-    timings["paving"] += time.perf_counter() - t0
-    region = Region(space, working, assembly, paving, test, model, np.zeros((0, 0), np.int8))
+    if space == "workspace":
+        keys = [(wm, None) for wm in model.working_modes]
+        tests = model.workspace_tests(model.working_modes)
+    else:
+        keys = [(None, am) for am in model.assembly_modes]
+        tests = model.jointspace_tests(model.assembly_modes)
+    pavings = pave_many(m.spaces()[space].grid(depth), tests, len(keys))
+    seconds = time.perf_counter() - t0
+    regions = []
+    for (working, assembly), paving in zip(keys, pavings):
+        region = _region(model, space, working, assembly, paving)
+        region.model = region.test = None
+        regions.append(region)
+    return regions, seconds
+
+
+def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -> Region:
+    """A mode paving with what the certificate needs of it: free signs, black components,
+    undetermined cells' signs and neighbours."""
+    region = Region(space, working, assembly, paving, None, model, np.zeros((0, 0), np.int8))
     region.free = region.free_signs(paving.inside.centres())
     if np.any(region.free == 0):
         raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
