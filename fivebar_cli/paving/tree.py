@@ -336,9 +336,14 @@ def _blocks(grid: Grid, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray,
 
 def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
     """Combine unions of disjoint intervals with a boolean function `keep(in_a, in_b)`."""
+    return _sweeps(interval_sets, [keep])[0]
+
+
+def _sweeps(interval_sets, keeps) -> list[tuple[np.ndarray, np.ndarray]]:
+    """`_sweep` for several functions `keeps` of the same sets: one sweep, one result each."""
     points = unique(np.concatenate([np.concatenate([s, e]) for s, e in interval_sets]))
     if points.size < 2:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        return [(np.zeros(0, np.int64), np.zeros(0, np.int64)) for _ in keeps]
     left = points[:-1]
     member = []
     for s, e in interval_sets:
@@ -346,8 +351,11 @@ def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
         inside = k >= 0
         inside[inside] &= e[k[inside]] > left[inside]
         member.append(inside)
-    mask = keep(*member)
-    return _merge_touching(left[mask], points[1:][mask])
+    out = []
+    for keep in keeps:
+        mask = keep(*member)
+        out.append(_merge_touching(left[mask], points[1:][mask]))
+    return out
 
 
 # ---------------------------------------------------------------- union-find
