@@ -354,3 +354,40 @@ def test_pave_many_of_five_bar_modes_equals_the_single_mode_pavings():
             pavings = pave_many(grid, many(keys), len(keys))
             assert [_same_paving(p, pave(grid, one(k))) for p, k in zip(pavings, keys)] == [True] * len(keys)
             assert sum(len(p.inside) for p in pavings) > 0
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 40), st.integers(0, 40)), max_size=60))
+def test_ranks_and_pairs_equal_numpys_unique(pairs):
+    from fivebar_cli.paving.arrays import dense_rank, unique_pairs
+
+    a = np.array([p[0] for p in pairs], np.int64)
+    b = np.array([p[1] for p in pairs], np.int64)
+    assert np.array_equal(dense_rank(a), np.unique(a, return_inverse=True)[1].reshape(-1))
+    assert np.array_equal(unique_pairs(a, b), np.unique(np.column_stack([a, b]), axis=0).reshape(-1, 2))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 30), st.lists(st.tuples(st.integers(0, 29), st.integers(0, 29)), max_size=40))
+def test_root_labels_number_components_by_their_smallest_element(n, edges):
+    from fivebar_cli.paving.tree import root_labels, union_find
+
+    i = np.array([min(e[0], n - 1) for e in edges], np.int64)
+    j = np.array([min(e[1], n - 1) for e in edges], np.int64)
+    labels, count = root_labels(union_find(n, i, j))
+    # reference: flood fill, components numbered in order of their smallest element
+    adj = {k: set() for k in range(n)}
+    for x, y in zip(i.tolist(), j.tolist()):
+        adj[x].add(y)
+        adj[y].add(x)
+    ref, seen = [-1] * n, 0
+    for k in range(n):
+        if ref[k] < 0:
+            stack, ref[k] = [k], seen
+            while stack:
+                for y in adj[stack.pop()]:
+                    if ref[y] < 0:
+                        ref[y] = seen
+                        stack.append(y)
+            seen += 1
+    assert labels.tolist() == ref and count == seen

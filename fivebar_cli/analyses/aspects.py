@@ -38,6 +38,7 @@ from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pair
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, chunked, pave_many
+from fivebar_cli.paving.arrays import unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.morton import finest_order
 from fivebar_cli.paving.tree import Tree, union_find
@@ -67,6 +68,7 @@ class Region:
     test: object
     model: AspectModel
     free: np.ndarray
+    # what the mode sets are built from (`pieces.ModeSet`), then dropped (None):
     black_labels: np.ndarray = None  # corner-connected components of the black leaves (one sign each)
     und_possible: np.ndarray = None  # per undetermined cell: may hold a valid point
     und_signs: np.ndarray = None  # per undetermined cell: the free signs, 0 where not constant
@@ -177,20 +179,20 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
-    timings = {"paving": 0.0}
-    # one paving pass per space for all its modes (their tests share work); each a task
+    timings = {"paving": 0.0, "outer": 0.0}
+    # one paving pass per space for all its modes (their tests share work), with its regions' mode
+    # sets: a task each
     tasks = [(m, "workspace", depth), (m, "jointspace", depth)]
     steps = iter([len(model.working_modes), len(model.assembly_modes)])
-    regions = []
+    regions, sets = [], []
     for space_regions, seconds in run_tasks(_space_task, tasks, jobs, lambda n=1: advance(next(steps))):
-        for region in space_regions:
+        for region, region_sets in space_regions:
             region.model = model
             region.test = _mode_test(model, region.space, region.working, region.assembly)
             regions.append(region)
-        timings["paving"] += seconds
-    t0 = time.perf_counter()
-    sets = [ModeSet(region, free) for region in regions for free in _free_modes(model, region)]
-    timings["outer"] = time.perf_counter() - t0
+            sets += region_sets
+        for key in timings:
+            timings[key] += seconds[key]
     t0 = time.perf_counter()
     count = _Count(model, sets, Budget(budget), depth)
     timings["certificate"] = time.perf_counter() - t0
@@ -223,9 +225,10 @@ def _mode_test(model: AspectModel, space: str, working, assembly):
     return model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
 
 
-def _space_task(task: tuple) -> tuple[list[Region], float]:
-    """The mode pavings of one space in one pass, and their regions' data, in a worker: (regions
-    without their model and test, which do not travel between processes, seconds paving)."""
+def _space_task(task: tuple) -> tuple[list, dict]:
+    """The mode pavings of one space in one pass, their regions' data and mode sets, in a worker:
+    ([(region without its model and test, which do not travel between processes, its mode sets)],
+    seconds paving and building the sets)."""
     m, space, depth = task
     model = m.aspect_model()
     t0 = time.perf_counter()
@@ -236,13 +239,18 @@ def _space_task(task: tuple) -> tuple[list[Region], float]:
         keys = [(None, am) for am in model.assembly_modes]
         tests = model.jointspace_tests(model.assembly_modes)
     pavings = pave_many(m.spaces()[space].grid(depth), tests, len(keys))
-    seconds = time.perf_counter() - t0
-    regions = []
+    seconds = {"paving": time.perf_counter() - t0, "outer": 0.0}
+    out = []
     for (working, assembly), paving in zip(keys, pavings):
         region = _region(model, space, working, assembly, paving)
+        t0 = time.perf_counter()
+        region_sets = [ModeSet(region, free) for free in _free_modes(model, region)]
+        seconds["outer"] += time.perf_counter() - t0
+        # what only the mode sets need, dropped once they are built (most of a region's memory)
+        region.und_pairs = region.black_labels = region.und_possible = region.und_signs = None
         region.model = region.test = None
-        regions.append(region)
-    return regions, seconds
+        out.append((region, region_sets))
+    return out, seconds
 
 
 def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -> Region:
@@ -373,7 +381,7 @@ class _Count:
                 target = np.full(len(points), -1, np.int64)
                 target[hit] = t.anchor_of_leaf[leaf[hit]]
                 good = target >= 0
-                pairs = np.unique(np.column_stack([owners[good], target[good]]), axis=0)
+                pairs = unique_pairs(owners[good], target[good])
                 self.edges_i += (self.offset[k] + pairs[:, 0]).tolist()
                 self.edges_j += (self.offset[j] + pairs[:, 1]).tolist()
 

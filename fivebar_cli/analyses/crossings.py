@@ -13,6 +13,7 @@ import numpy as np
 from dataclasses import dataclass
 
 from fivebar_cli.mechanisms.base import AspectModel, plural
+from fivebar_cli.paving.arrays import unique_pairs
 from fivebar_cli.paving.engine import chunked
 from fivebar_cli.paving.tree import Tree
 
@@ -50,7 +51,7 @@ def find_crossings(model: AspectModel, regions, aspects, leaf_aspect: dict) -> l
             i, j = band_tree.adjacency(region.tree)
             numbers = leaf_aspect[id(region)][j]
             keep = numbers > 0
-            touched = np.unique(np.column_stack([labels[i][keep], numbers[keep]]), axis=0)
+            touched = unique_pairs(labels[i][keep], numbers[keep])
             if not len(touched):
                 continue
             starts = np.flatnonzero(np.r_[True, touched[1:, 0] != touched[:-1, 0]])

@@ -30,7 +30,8 @@ import numpy as np
 from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
-from fivebar_cli.paving.tree import Tree, union_find
+from fivebar_cli.paving.arrays import dense_rank
+from fivebar_cli.paving.tree import Tree, root_labels, union_find
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
 JOIN_STEPS = ((2, 4), (2, 16), (4, 16), (2, 64), (4, 64), (6, 32), (2, 256), (2, None), (4, None))
@@ -113,7 +114,7 @@ class ModeSet:
         fits = region.und_possible & np.all((region.und_signs == 0) | (region.und_signs == self.secondary), axis=1)
         self.grid, self._mine, self._fits = grid, mine, fits
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(int(np.count_nonzero(fits)), bool)])
-        _, anchors = np.unique(region.black_labels[mine], return_inverse=True)
+        anchors = dense_rank(region.black_labels[mine])
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
         self.outer, self.n_outer = self._outer_components(mine, fits, anchors)
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
@@ -145,11 +146,8 @@ class ModeSet:
         u, n = self.region.und_pairs
         keep = fits[u] & (node[n] >= 0)
         root = union_find(self.n_anchors + len(und), node[n_black + u[keep]], node[n[keep]])
-        _, first, labels = np.unique(root, return_index=True, return_inverse=True)
-        rank = np.empty_like(first)
-        rank[np.argsort(first, kind="stable")] = np.arange(len(first))
-        labels = rank[labels]
-        return np.concatenate([labels[anchors], labels[self.n_anchors:]]), len(first)
+        labels, count = root_labels(root)
+        return np.concatenate([labels[anchors], labels[self.n_anchors:]]), count
 
     def compatible(self, grid: Grid, coords: np.ndarray) -> np.ndarray:
         """Undetermined cells that may meet S: not certified empty, no sign against S's."""

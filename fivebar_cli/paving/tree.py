@@ -19,7 +19,7 @@ from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, floor_log2, interleave, step, trailing_zeros
 
-__all__ = ["Tree", "BodyError", "union_find"]
+__all__ = ["Tree", "BodyError", "union_find", "root_labels"]
 
 
 class Tree:
@@ -210,11 +210,7 @@ class Tree:
         root = np.arange(len(self), dtype=np.int64)
         for i, j in self._pairs(None, corners):  # one direction at a time: memory of one, not 26, sets of pairs
             root = union_find(len(self), i, j, root)
-        _, first, labels = np.unique(root, return_index=True, return_inverse=True)
-        order = np.argsort(first, kind="stable")
-        rank = np.empty_like(order)
-        rank[order] = np.arange(order.size)
-        return rank[labels], int(order.size)
+        return root_labels(root)
 
     def split_components(self) -> list["Tree"]:
         """The face-connected components as trees, in Morton order of their first leaf."""
@@ -359,6 +355,13 @@ def _sweeps(interval_sets, keeps) -> list[tuple[np.ndarray, np.ndarray]]:
 
 
 # ---------------------------------------------------------------- union-find
+
+
+def root_labels(root: np.ndarray) -> tuple[np.ndarray, int]:
+    """Components numbered 0, 1, ... in order of their smallest element, from `union_find` roots
+    (each component's smallest element): the ranks of the roots, without a sort; and their count."""
+    is_root = root == np.arange(len(root))
+    return (np.cumsum(is_root) - 1)[root], int(np.count_nonzero(is_root))
 
 
 def union_find(n: int, i: np.ndarray, j: np.ndarray, parent: np.ndarray | None = None) -> np.ndarray:
