@@ -493,7 +493,7 @@ def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSe
         for space in ("workspace", "jointspace"):
             if space in per_space:
                 region, idx = per_space[space]
-                trees[space] = region.tree.subset(np.sort(idx))
+                trees[space] = region.tree.subset(np.sort(idx, kind="stable"))
             else:
                 trees[space] = Tree.empty(next(r for r in regions if r.space == space).paving.grid)
         k = next(k for k, s in enumerate(sets) if np.any(roots[count.offset[k]:count.offset[k + 1]] == g))

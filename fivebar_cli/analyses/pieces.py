@@ -382,10 +382,10 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
     mine = rank[len(inside):]
-    und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
+    und_of_sorted = np.argsort(mine, kind="stable")  # position among the sorted undetermined cells -> undetermined index
     small = np.int32 if len(order) < np.iinfo(np.int32).max else np.int64
     us, ns = [], []
-    for i, j in everything.subset(np.sort(mine)).neighbour_pairs(everything, corners=True):
+    for i, j in everything.subset(np.sort(mine, kind="stable")).neighbour_pairs(everything, corners=True):
         u, n = und_of_sorted[i], order[j]
         once = (n < len(inside)) | (n - len(inside) > u)
         us.append(u[once].astype(small))

@@ -12,7 +12,7 @@ import numpy as np
 
 def unique(a: np.ndarray) -> np.ndarray:
     """np.unique(a) for a 1-D array (the sorted distinct values), by a sort."""
-    s = np.sort(np.ravel(a))
+    s = np.sort(np.ravel(a), kind="stable")  # radix or run-merging sort: the input is often sorted runs
     if s.size < 2:
         return s
     keep = np.empty(s.size, bool)

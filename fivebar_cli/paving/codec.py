@@ -57,7 +57,7 @@ def _member(level, code, set_level, set_code, depth, dim) -> np.ndarray:
     if set_code.size == 0:
         return np.zeros(level.size, dtype=bool)
     key = finest_key(code, level, dim, depth) * (depth + 1) + level
-    set_key = np.sort(finest_key(set_code, set_level, dim, depth) * (depth + 1) + set_level)
+    set_key = np.sort(finest_key(set_code, set_level, dim, depth) * (depth + 1) + set_level, kind="stable")
     pos = np.minimum(np.searchsorted(set_key, key), set_key.size - 1)
     return set_key[pos] == key
 

@@ -102,7 +102,7 @@ def _directed_edges(tree: Tree):
         other = 1 - axis
         low_side = (lo[:, other] * width + lo[:, axis], lo[:, other] * width + hi[:, axis])  # set beyond it
         high_side = (hi[:, other] * width + lo[:, axis], hi[:, other] * width + hi[:, axis])  # set before it
-        sides = [tuple(np.sort(v) for v in s) for s in (low_side, high_side)]
+        sides = [tuple(np.sort(v, kind="stable") for v in s) for s in (low_side, high_side)]
         swept = _sweeps(sides, [lambda a, b: a & ~b, lambda a, b: ~a & b])
         for (start, end), forward in zip(swept, (axis == 0, axis == 1)):
             line, a, b = start // width, start % width, end - (start // width) * width
