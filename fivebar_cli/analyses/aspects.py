@@ -31,7 +31,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from fivebar_cli.analyses.crossings import Crossing, find_crossings
-from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_square
+from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
@@ -211,7 +211,8 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
 
 def with_inscribed(a: Aspect) -> Aspect:
     """The aspect with its largest certified disc and square in the workspace."""
-    return replace(a, circle=largest_disc(a.workspace), square=largest_square(a.workspace))
+    circle, square = largest_shapes(a.workspace)
+    return replace(a, circle=circle, square=square)
 
 
 def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:

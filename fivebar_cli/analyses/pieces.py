@@ -116,10 +116,13 @@ class ModeSet:
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(int(np.count_nonzero(fits)), bool)])
         anchors = dense_rank(region.black_labels[mine])
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
-        self.outer, self.n_outer = self._outer_components(mine, fits, anchors)
+        outer, self.n_outer = self._outer_components(mine, fits, anchors)
+        self.outer = outer.astype(np.int32)
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
         self.anchor_outer[anchors] = self.outer[black]
-        self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int64)
+        # int32: a set's arrays per cell stay through the analysis (anchors and outer components are
+        # fewer than the cells, which int32 indexes at any depth the grids allow in memory)
+        self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int32)
         self.anchor_of_leaf[mine] = anchors
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
 

@@ -182,9 +182,10 @@ def undetermined_cells(inside: Tree, outside: Tree, band: Tree | None = None) ->
     if total > MAX_REFINE_CELLS:
         raise ValueError(f"{total} undetermined cells: the trees do not look like a paving pair")
     # expand merged gap leaves back to depth-D cells
-    cells = [gaps.coords[gaps.level == grid.depth]]
+    coords = gaps.coords
+    cells = [coords[gaps.level == grid.depth]]
     for s in np.unique(span[span > 0]):
-        block = gaps.coords[span == s]
+        block = coords[span == s]
         for _ in range(int(s)):
             block = children(block)
         cells.append(block)

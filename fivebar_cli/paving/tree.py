@@ -76,14 +76,15 @@ class Tree:
         """First depth-D Morton index of each leaf."""
         return finest_key(self.code, self.level, self.grid.dim, self.grid.depth)
 
-    @cached_property
+    @property
     def end(self) -> np.ndarray:
-        """One past the last depth-D Morton index of each leaf."""
+        """One past the last depth-D Morton index of each leaf (computed when asked, not kept: a
+        tree's memory is its leaves and their start keys)."""
         return self.start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level)))
 
-    @cached_property
+    @property
     def coords(self) -> np.ndarray:
-        """Integer coordinates of each leaf at its own level, shape (m, dim)."""
+        """Integer coordinates of each leaf at its own level, shape (m, dim) (computed when asked)."""
         return deinterleave(self.code, self.level, self.grid.dim)
 
     @property
@@ -187,6 +188,7 @@ class Tree:
         grid, level = self.grid, self.level
         if target.grid != grid:
             raise ValueError("trees live on different grids")
+        target_end = target.end
         for offset in _offsets(grid.dim, corners):
             code, valid = self.code, np.ones(len(self), dtype=bool)
             for axis in np.flatnonzero(offset):
@@ -199,7 +201,7 @@ class Tree:
             last = first + (np.int64(1) << shift)
             leaf = np.searchsorted(target.start, first, side="right") - 1
             hit = leaf >= 0
-            hit[hit] &= target.end[leaf[hit]] >= last[hit]
+            hit[hit] &= target_end[leaf[hit]] >= last[hit]
             if other is None:
                 hit &= leaf != idx  # a root-sized periodic cell touching itself
             yield idx[hit], leaf[hit]
@@ -249,11 +251,12 @@ class Tree:
         n = 1 << grid.depth
         layer = min(max(int(np.floor((value - lo) / (hi - lo) * n)), 0), n - 1)
         span = grid.depth - self.level
-        along = self.coords[:, axis]
+        coords = self.coords
+        along = coords[:, axis]
         keep = ((along << span) <= layer) & (layer < ((along + 1) << span))
         rest = [a for a in range(grid.dim) if a != axis]
         sub = Grid(tuple(grid.root[a] for a in rest), grid.depth, tuple(grid.periodic[a] for a in rest))
-        return Tree.from_cells(sub, self.level[keep], self.coords[keep][:, rest])
+        return Tree.from_cells(sub, self.level[keep], coords[keep][:, rest])
 
     # -- B/W/G body
 
