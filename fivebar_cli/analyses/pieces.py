@@ -378,21 +378,26 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     neighbours finds every pair. int32 when the indices fit: these pairs are most of a region's
     memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
+    small = np.int32 if len(inside) + len(und) < np.iinfo(np.int32).max else np.int64
     level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
     code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
     order = finest_order(code, level, grid.dim, grid.depth)
     everything = Tree(grid, level[order], code[order], canonical=True)
+    del level, code  # (temporaries of every cell: the peak memory of an analysis is here)
+    order = order.astype(small)
     rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
+    rank[order] = np.arange(len(order), dtype=small)
     mine = rank[len(inside):]
-    und_of_sorted = np.argsort(mine, kind="stable")  # position among the sorted undetermined cells -> undetermined index
-    small = np.int32 if len(order) < np.iinfo(np.int32).max else np.int64
+    del rank
+    und_of_sorted = np.argsort(mine, kind="stable").astype(small)  # position among the sorted undetermined cells -> index
+    cells = everything.subset(np.sort(mine, kind="stable"))
+    del mine
     us, ns = [], []
-    for i, j in everything.subset(np.sort(mine, kind="stable")).neighbour_pairs(everything, corners=True):
+    for i, j in cells.neighbour_pairs(everything, corners=True):
         u, n = und_of_sorted[i], order[j]
         once = (n < len(inside)) | (n - len(inside) > u)
-        us.append(u[once].astype(small))
-        ns.append(n[once].astype(small))
+        us.append(u[once])
+        ns.append(n[once])
     return np.concatenate(us), np.concatenate(ns)
 
 

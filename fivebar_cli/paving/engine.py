@@ -217,11 +217,12 @@ def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None,
             for value, kept in parts[c].items():
                 sel = coords[answer == value]
                 if len(sel):
-                    kept.append((np.full(len(sel), level), interleave(sel, level)))
+                    kept.append((level, interleave(sel, level)))
             still[:, c] = answer == UNDETERMINED
         if level == grid.depth or not still.any():
             if level == grid.depth:
                 undetermined = [coords[still[:, c]] for c in range(count)]
+            del coords, open_, status, still, answer, mine  # the last level's boxes: free them before the trees
             break
         any_open = still.any(axis=1)
         coords = children(coords[any_open])
@@ -231,13 +232,15 @@ def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None,
     for c in range(count):
         done = per_level[c] + [0] * (grid.depth + 1 - len(per_level[c]))
         trees = {value: _tree(grid, kept) for value, kept in parts[c].items()}
+        parts[c] = None  # each paving's parts freed once its trees are built
         out.append(Paving(grid, trees[INSIDE], trees[OUTSIDE], undetermined[c], tuple(done), trees[BAND]))
     return out
 
 
 def _tree(grid: Grid, parts) -> Tree:
+    """The tree of the cells found, given as (level, Morton codes) parts."""
     if not parts:
         return Tree.empty(grid)
-    level = np.concatenate([p[0] for p in parts])
-    code = np.concatenate([p[1] for p in parts])
+    level = np.concatenate([np.full(len(code), lev, np.int64) for lev, code in parts])
+    code = np.concatenate([code for _, code in parts])
     return Tree(grid, level, code)
