@@ -30,7 +30,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from fivebar_cli.analyses.crossings import Crossing, find_crossings
+from fivebar_cli.analyses.crossings import Band, Crossing, find_crossings, serial_bands
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
@@ -73,6 +73,7 @@ class Region:
     und_possible: np.ndarray = None  # per undetermined cell: may hold a valid point
     und_signs: np.ndarray = None  # per undetermined cell: the free signs, 0 where not constant
     und_pairs: tuple = None  # (undetermined cell, neighbour) with neighbours numbered black leaves first
+    bands: list[Band] = field(default_factory=list)  # cells crossed by one serial singularity (`crossings.py`)
 
     @property
     def tree(self) -> Tree:
@@ -267,6 +268,7 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     grid = paving.grid
     region.und_possible, region.und_signs = chunked(region.signs, *grid.boxes(grid.depth, paving.undetermined))
     region.und_pairs = _undetermined_pairs(paving)
+    region.bands = serial_bands(model, region)
     return region
 
 
