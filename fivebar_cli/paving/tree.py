@@ -10,8 +10,6 @@ All hot paths are numpy-vectorised over leaves; nothing recurses per cell in Pyt
 
 from __future__ import annotations
 
-from functools import cached_property
-
 import numpy as np
 
 from fivebar_cli.paving.arrays import unique
@@ -71,15 +69,15 @@ class Tree:
     def __repr__(self) -> str:
         return f"Tree({len(self)} leaves, depth {self.grid.depth}, area {self.area:.6g})"
 
-    @cached_property
+    @property
     def start(self) -> np.ndarray:
-        """First depth-D Morton index of each leaf."""
+        """First depth-D Morton index of each leaf (a shift: computed when asked, not kept)."""
         return finest_key(self.code, self.level, self.grid.dim, self.grid.depth)
 
     @property
     def end(self) -> np.ndarray:
         """One past the last depth-D Morton index of each leaf (computed when asked, not kept: a
-        tree's memory is its leaves and their start keys)."""
+        tree's memory is its leaves, 16 bytes each)."""
         return self.start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level)))
 
     @property
@@ -156,9 +154,10 @@ class Tree:
         """Index of the leaf containing each point, or -1 (points on a cell edge go to one side)."""
         coords, inside = self.grid.cells_of_points(points)
         index = interleave(coords, self.grid.depth)
-        leaf = np.searchsorted(self.start, index, side="right") - 1
+        start = self.start
+        leaf = np.searchsorted(start, index, side="right") - 1
         ok = inside & (leaf >= 0)
-        ok[ok] &= self.end[leaf[ok]] > index[ok]
+        ok[ok] &= (start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level))))[leaf[ok]] > index[ok]
         return np.where(ok, leaf, -1)
 
     # -- adjacency and connected components
@@ -188,7 +187,8 @@ class Tree:
         grid, level = self.grid, self.level
         if target.grid != grid:
             raise ValueError("trees live on different grids")
-        target_end = target.end
+        target_start = target.start
+        target_end = target_start + (np.int64(1) << (grid.dim * (grid.depth - target.level)))
         for offset in _offsets(grid.dim, corners):
             code, valid = self.code, np.ones(len(self), dtype=bool)
             for axis in np.flatnonzero(offset):
@@ -199,7 +199,7 @@ class Tree:
             shift = grid.dim * (grid.depth - level[idx])
             first = code[idx] << shift
             last = first + (np.int64(1) << shift)
-            leaf = np.searchsorted(target.start, first, side="right") - 1
+            leaf = np.searchsorted(target_start, first, side="right") - 1
             hit = leaf >= 0
             hit[hit] &= target_end[leaf[hit]] >= last[hit]
             if other is None:
