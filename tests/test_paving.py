@@ -294,7 +294,7 @@ def test_every_tested_box_contains_its_exact_dyadic_cell():
 def test_chunked_box_functions_equal_one_call():
     """`engine.chunked` (box functions evaluated CHUNK boxes at a time) gives what one call gives,
     for a single array and for a tuple of arrays, across several chunks."""
-    from fivebar_cli.paving.engine import CHUNK, chunked
+    from fivebar_cli.paving.engine import CHUNK, chunked, on_cells
 
     rng = np.random.default_rng(3)
     lo = rng.uniform(-1, 1, (2 * CHUNK + 17, 2))
@@ -306,6 +306,9 @@ def test_chunked_box_functions_equal_one_call():
     whole, parts = fn(lo, hi), chunked(fn, lo, hi)
     assert all(np.array_equal(w, p) for w, p in zip(whole, parts))
     assert np.array_equal(chunked(lambda a, b: fn(a, b)[0], lo, hi), whole[0])
+    grid = Grid(((-1.0, 3.0), (0.0, 2.0)), 9, (False, False))
+    cells = rng.integers(0, 1 << 9, (2 * CHUNK + 5, 2))
+    assert all(np.array_equal(w, p) for w, p in zip(fn(*grid.boxes(9, cells)), on_cells(fn, grid, cells)))
 
 
 @settings(max_examples=60, deadline=None)

@@ -37,7 +37,7 @@ from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
-from fivebar_cli.paving.engine import Paving, chunked, pave_many
+from fivebar_cli.paving.engine import Paving, chunked, on_cells, pave_many
 from fivebar_cli.paving.arrays import unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.morton import finest_order
@@ -259,14 +259,15 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     """A mode paving with what the certificate needs of it: free signs, black components,
     undetermined cells' signs and neighbours."""
     region = Region(space, working, assembly, paving, None, model, np.zeros((0, 0), np.int8))
-    region.free = region.free_signs(paving.inside.centres())
+    inside = paving.inside  # the free signs at the black leaves' centres, CHUNK leaves at a time
+    region.free = chunked(lambda level, code: region.free_signs(Tree(inside.grid, level, code, canonical=True).centres()),
+                          inside.level, inside.code)
     if np.any(region.free == 0):
         raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
     # two closed black cells of different signs cannot touch (a shared point would have both), so
     # the components of all black leaves are the anchors of every mode set at once
     region.black_labels, _ = paving.inside.components(corners=True)
-    grid = paving.grid
-    region.und_possible, region.und_signs = chunked(region.signs, *grid.boxes(grid.depth, paving.undetermined))
+    region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined)
     region.und_pairs = _undetermined_pairs(paving)
     region.bands = serial_bands(model, region)
     return region

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 from fivebar_cli.mechanisms.base import AspectModel, plural
 from fivebar_cli.paving.arrays import unique_pairs
-from fivebar_cli.paving.engine import chunked
+from fivebar_cli.paving.engine import on_cells
 from fivebar_cli.paving.tree import Tree
 
 
@@ -48,9 +48,7 @@ def serial_bands(model: AspectModel, region) -> list[Band]:
     if region.space != "jointspace" or not len(region.paving.undetermined):
         return []
     grid, cells = region.paving.grid, region.paving.undetermined
-    lo, hi = grid.boxes(grid.depth, cells)
-    strict, signs = chunked(lambda a, b: model.serial_band_signs(region.assembly, a, b), lo, hi)
-    del lo, hi
+    strict, signs = on_cells(lambda lo, hi: model.serial_band_signs(region.assembly, lo, hi), grid, cells)
     bands = []
     for changing in range(len(model.serial_names)):  # the one sign that changes across the band
         others = np.delete(signs, changing, axis=1)

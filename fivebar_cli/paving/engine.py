@@ -75,15 +75,21 @@ def children(coords: np.ndarray) -> np.ndarray:
     return (2 * coords[:, None, :] + offsets[None, :, :]).reshape(-1, dim)
 
 
-def chunked(fn, lo: np.ndarray, hi: np.ndarray):
-    """fn(lo, hi) -> an array or a tuple of arrays (one row per box), computed CHUNK boxes at a
-    time: a box function's temporaries take the memory of one chunk, not of every box."""
-    if len(lo) <= CHUNK:
-        return fn(lo, hi)
-    parts = [fn(lo[s:s + CHUNK], hi[s:s + CHUNK]) for s in range(0, len(lo), CHUNK)]
+def chunked(fn, *arrays: np.ndarray):
+    """fn(*arrays) -> an array or a tuple of arrays (one row per row of the arrays), computed CHUNK
+    rows at a time: a box function's temporaries take the memory of one chunk, not of every box."""
+    if len(arrays[0]) <= CHUNK:
+        return fn(*arrays)
+    parts = [fn(*(a[s:s + CHUNK] for a in arrays)) for s in range(0, len(arrays[0]), CHUNK)]
     if isinstance(parts[0], tuple):
         return tuple(np.concatenate(p) for p in zip(*parts))
     return np.concatenate(parts)
+
+
+def on_cells(fn, grid: Grid, coords: np.ndarray):
+    """fn(lo, hi) of the depth-D cells `coords` (their boxes, not padded), CHUNK cells at a time
+    (`chunked`: neither the boxes of every cell nor fn's temporaries are held at once)."""
+    return chunked(lambda c: fn(*grid.boxes(grid.depth, c)), coords)
 
 
 def _classify_many(grid: Grid, level: int, coords: np.ndarray, open_: np.ndarray, tests: MultiTest) -> np.ndarray:

@@ -19,6 +19,8 @@ from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, fl
 
 __all__ = ["Tree", "BodyError", "union_find", "root_labels"]
 
+PAIR_CHUNK = 1 << 18  # leaves whose neighbours are looked up together
+
 
 class Tree:
     """A set of cells of a `Grid`, as canonical black leaves sorted in Morton (preorder) order."""
@@ -182,29 +184,41 @@ class Tree:
         return self._pairs(other, corners)
 
     def _pairs(self, other: "Tree | None", corners: bool):
-        """The pairs of `adjacency`, one direction at a time."""
+        """The pairs of `adjacency`, one direction at a time (each found PAIR_CHUNK leaves at a
+        time: the temporaries of a block, not of every leaf)."""
         target = self if other is None else other
-        grid, level = self.grid, self.level
+        grid = self.grid
         if target.grid != grid:
             raise ValueError("trees live on different grids")
         target_start = target.start
         target_end = target_start + (np.int64(1) << (grid.dim * (grid.depth - target.level)))
         for offset in _offsets(grid.dim, corners):
-            code, valid = self.code, np.ones(len(self), dtype=bool)
-            for axis in np.flatnonzero(offset):
-                code, wrapped = step(code, level, grid.dim, int(axis), int(offset[axis]))
-                if not grid.periodic[axis]:
-                    valid &= ~wrapped
-            idx = np.flatnonzero(valid)
-            shift = grid.dim * (grid.depth - level[idx])
-            first = code[idx] << shift
-            last = first + (np.int64(1) << shift)
-            leaf = np.searchsorted(target_start, first, side="right") - 1
-            hit = leaf >= 0
-            hit[hit] &= target_end[leaf[hit]] >= last[hit]
-            if other is None:
-                hit &= leaf != idx  # a root-sized periodic cell touching itself
-            yield idx[hit], leaf[hit]
+            found = [self._pairs_of(s, offset, target_start, target_end, other is None)
+                     for s in range(0, len(self), PAIR_CHUNK)]
+            if not found:
+                yield np.zeros(0, np.int64), np.zeros(0, np.int64)
+                continue
+            yield np.concatenate([i for i, _ in found]), np.concatenate([j for _, j in found])
+
+    def _pairs_of(self, s: int, offset, target_start, target_end, itself: bool):
+        """The pairs of leaves s .. s + PAIR_CHUNK in one direction `offset`."""
+        grid, level = self.grid, self.level[s:s + PAIR_CHUNK]
+        code, valid = self.code[s:s + PAIR_CHUNK], np.ones(len(level), dtype=bool)
+        for axis in np.flatnonzero(offset):
+            code, wrapped = step(code, level, grid.dim, int(axis), int(offset[axis]))
+            if not grid.periodic[axis]:
+                valid &= ~wrapped
+        idx = np.flatnonzero(valid)
+        shift = grid.dim * (grid.depth - level[idx])
+        first = code[idx] << shift
+        last = first + (np.int64(1) << shift)
+        leaf = np.searchsorted(target_start, first, side="right") - 1
+        hit = leaf >= 0
+        hit[hit] &= target_end[leaf[hit]] >= last[hit]
+        idx += s
+        if itself:
+            hit &= leaf != idx  # a root-sized periodic cell touching itself
+        return idx[hit], leaf[hit]
 
     def components(self, corners: bool = False) -> tuple[np.ndarray, int]:
         """Label leaves by connected component (face-connected; with `corners`, touching at any
