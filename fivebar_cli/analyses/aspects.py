@@ -181,19 +181,20 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
     timings = {"paving": 0.0, "outer": 0.0}
-    # one paving pass per space for all its modes (their tests share work), with its regions' mode
-    # sets: a task each
-    tasks = [(m, "workspace", depth), (m, "jointspace", depth)]
-    steps = iter([len(model.working_modes), len(model.assembly_modes)])
+    # one paving pass per space for all its modes (their tests share work), then each mode
+    # region's data and mode sets: tasks of similar sizes, so that `jobs` workers stay busy
+    region_tasks = []
+    for keys, pavings, seconds in run_tasks(_space_task, [(m, "workspace", depth), (m, "jointspace", depth)], jobs):
+        region_tasks += [(m, *key, paving) for key, paving in zip(keys, pavings)]
+        timings["paving"] += seconds
     regions, sets = [], []
-    for space_regions, seconds in run_tasks(_space_task, tasks, jobs, lambda n=1: advance(next(steps))):
-        for region, region_sets in space_regions:
-            region.model = model
-            region.test = _mode_test(model, region.space, region.working, region.assembly)
-            regions.append(region)
-            sets += region_sets
-        for key in timings:
-            timings[key] += seconds[key]
+    for (*_, paving), (region, region_sets, seconds) in zip(region_tasks, run_tasks(_region_task, region_tasks, jobs, advance)):
+        region.paving = paving  # (not sent back: the caller has it)
+        region.model = model
+        region.test = _mode_test(model, region.space, region.working, region.assembly)
+        regions.append(region)
+        sets += region_sets
+        timings["outer"] += seconds
     t0 = time.perf_counter()
     count = _Count(model, sets, Budget(budget), depth)
     timings["certificate"] = time.perf_counter() - t0
@@ -227,32 +228,35 @@ def _mode_test(model: AspectModel, space: str, working, assembly):
     return model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
 
 
-def _space_task(task: tuple) -> tuple[list, dict]:
-    """The mode pavings of one space in one pass, their regions' data and mode sets, in a worker:
-    ([(region without its model and test, which do not travel between processes, its mode sets)],
-    seconds paving and building the sets)."""
+def _space_task(task: tuple) -> tuple[list, list[Paving], float]:
+    """The mode pavings of one space in one pass, in a worker: (the regions' keys (space, working,
+    assembly), their pavings, seconds)."""
     m, space, depth = task
     model = m.aspect_model()
     t0 = time.perf_counter()
     if space == "workspace":
-        keys = [(wm, None) for wm in model.working_modes]
+        keys = [(space, wm, None) for wm in model.working_modes]
         tests = model.workspace_tests(model.working_modes)
     else:
-        keys = [(None, am) for am in model.assembly_modes]
+        keys = [(space, None, am) for am in model.assembly_modes]
         tests = model.jointspace_tests(model.assembly_modes)
     pavings = pave_many(m.spaces()[space].grid(depth), tests, len(keys))
-    seconds = {"paving": time.perf_counter() - t0, "outer": 0.0}
-    out = []
-    for (working, assembly), paving in zip(keys, pavings):
-        region = _region(model, space, working, assembly, paving)
-        t0 = time.perf_counter()
-        region_sets = [ModeSet(region, free) for free in _free_modes(model, region)]
-        seconds["outer"] += time.perf_counter() - t0
-        # what only the mode sets need, dropped once they are built (most of a region's memory)
-        region.und_pairs = region.black_labels = region.und_possible = region.und_signs = None
-        region.model = region.test = None
-        out.append((region, region_sets))
-    return out, seconds
+    return keys, pavings, time.perf_counter() - t0
+
+
+def _region_task(task: tuple) -> tuple[Region, list[ModeSet], float]:
+    """One mode region's data and mode sets, in a worker: (the region without its model and test,
+    which do not travel between processes, nor its paving, which the caller has; its mode sets;
+    seconds)."""
+    m, space, working, assembly, paving = task
+    model = m.aspect_model()
+    t0 = time.perf_counter()
+    region = _region(model, space, working, assembly, paving)
+    region_sets = [ModeSet(region, free) for free in _free_modes(model, region)]
+    # what only the mode sets need, dropped once they are built (most of a region's memory)
+    region.und_pairs = region.black_labels = region.und_possible = region.und_signs = None
+    region.model = region.test = region.paving = None
+    return region, region_sets, time.perf_counter() - t0
 
 
 def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -> Region:
