@@ -48,7 +48,9 @@ def encode(tree) -> str:
     letters = np.concatenate(
         [np.full(g_level.size, ord("G")), np.full(len(tree), ord("B")), np.full(int(white.sum()), ord("W"))]
     ).astype(np.uint8)
-    order = np.lexsort((levels, keys))
+    # preorder: by first finest-level index, then level (a parent before its first child); one
+    # key (distinct per node) and a sort that merges the sorted runs of grey, black, white nodes
+    order = np.argsort(keys * (depth + 1) + levels, kind="stable")
     return letters[order].tobytes().decode("ascii")
 
 
