@@ -355,8 +355,7 @@ class _Count:
         tree = s.region.tree
         mine = np.flatnonzero(s.anchor_of_leaf >= 0)
         owner = s.anchor_of_leaf[mine]
-        lo, hi = tree.bounds()
-        lo, hi = lo[mine], hi[mine]
+        lo, hi = tree.bounds(mine)
         small = s.anchor_size[owner] <= SMALL_PIECE
         g = (np.arange(DENSE) + 0.5) / DENSE
         grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)

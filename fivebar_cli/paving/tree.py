@@ -92,10 +92,12 @@ class Tree:
         """Total area (volume) of the cells: exact, as a sum of dyadic cell sizes."""
         return float(np.sum(self.grid.cell_volume(self.level)))
 
-    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """Leaf bounds (lo, hi), each of shape (m, dim)."""
-        width = np.ldexp(self.grid.size[None, :], -self.level[:, None])
-        lo = self.grid.lo + self.coords * width
+    def bounds(self, index: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Leaf bounds (lo, hi), each of shape (m, dim); of the leaves `index` (a mask or indices) only
+        when given."""
+        level, code = (self.level, self.code) if index is None else (self.level[index], self.code[index])
+        width = np.ldexp(self.grid.size[None, :], -level[:, None])
+        lo = self.grid.lo + deinterleave(code, level, self.grid.dim) * width
         return lo, lo + width
 
     def centres(self) -> np.ndarray:
