@@ -247,11 +247,10 @@ def serial_signs(assembly: int, lo, hi, b, a, e):
 def _crank_direction_range(m, lo, hi, trig):
     """Range of the direction of B2 - B1 over boxes of (th1, th2), from the exact ranges of its
     components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1."""
-    ones, zeros = np.ones(len(lo)), np.zeros(len(lo))
-    c1 = sinusoid_range(ones, zeros, lo[:, 0], hi[:, 0], trig[0])
-    s1 = sinusoid_range(zeros, ones, lo[:, 0], hi[:, 0], trig[0])
-    c2 = sinusoid_range(ones, zeros, lo[:, 1], hi[:, 1], trig[1])
-    s2 = sinusoid_range(zeros, ones, lo[:, 1], hi[:, 1], trig[1])
+    c1 = sinusoid_range(1.0, 0.0, lo[:, 0], hi[:, 0], trig[0])  # (scalar coefficients: the same
+    s1 = sinusoid_range(0.0, 1.0, lo[:, 0], hi[:, 0], trig[0])  # operations per box, without arrays
+    c2 = sinusoid_range(1.0, 0.0, lo[:, 1], hi[:, 1], trig[1])  # of ones and zeros)
+    s2 = sinusoid_range(0.0, 1.0, lo[:, 1], hi[:, 1], trig[1])
     x_lo, x_hi = m.L0 + m.L2 * c2[0] - m.L1 * c1[1], m.L0 + m.L2 * c2[1] - m.L1 * c1[0]
     y_lo, y_hi = m.L2 * s2[0] - m.L1 * s1[1], m.L2 * s2[1] - m.L1 * s1[0]
     return direction_range(x_lo, x_hi, y_lo, y_hi)
