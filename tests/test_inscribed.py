@@ -22,7 +22,7 @@ from reference_kinematics import ref_ikp
 from scipy import ndimage
 
 from fivebar_cli.analyses.aspects import analyse_aspects
-from fivebar_cli.analyses.inscribed import largest_disc, largest_square
+from fivebar_cli.analyses.inscribed import largest_disc, largest_shapes, largest_square
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree
@@ -178,6 +178,7 @@ def test_known_answers():
     best = 3 * math.sqrt(2) / (1 + math.sqrt(2))
     assert 0.99 * best <= d.r <= best
     assert largest_disc(Tree.empty(grid)) is None and largest_square(Tree.empty(grid)) is None
+    assert largest_shapes(Tree.empty(grid)) == (None, None)
 
 
 @settings(max_examples=15, deadline=None)
@@ -192,6 +193,7 @@ def test_random_cell_sets(seed):
     if not len(tree):
         return
     d, s = largest_disc(tree), largest_square(tree)
+    assert largest_shapes(tree) == (d, s)  # one complement for both: the same shapes
     assert closed_member(tree, sample_disc(d.x, d.y, d.r, 1500), tol=1e-12).all()
     assert closed_member(tree, sample_square(s.x, s.y, s.side, 1500), tol=1e-12).all()
     for metric, found in (("l2", d.r), ("linf", 0.5 * s.side)):

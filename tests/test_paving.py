@@ -294,7 +294,7 @@ def test_every_tested_box_contains_its_exact_dyadic_cell():
 def test_chunked_box_functions_equal_one_call():
     """`engine.chunked` (box functions evaluated CHUNK boxes at a time) gives what one call gives,
     for a single array and for a tuple of arrays, across several chunks."""
-    from fivebar_cli.paving.engine import CHUNK, chunked
+    from fivebar_cli.paving.engine import CHUNK, chunked, on_cells
 
     rng = np.random.default_rng(3)
     lo = rng.uniform(-1, 1, (2 * CHUNK + 17, 2))
@@ -306,3 +306,91 @@ def test_chunked_box_functions_equal_one_call():
     whole, parts = fn(lo, hi), chunked(fn, lo, hi)
     assert all(np.array_equal(w, p) for w, p in zip(whole, parts))
     assert np.array_equal(chunked(lambda a, b: fn(a, b)[0], lo, hi), whole[0])
+    grid = Grid(((-1.0, 3.0), (0.0, 2.0)), 9, (False, False))
+    cells = rng.integers(0, 1 << 9, (2 * CHUNK + 5, 2))
+    assert all(np.array_equal(w, p) for w, p in zip(fn(*grid.boxes(9, cells)), on_cells(fn, grid, cells)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.integers(-(1 << 62), 1 << 62), max_size=40), st.integers(0, 3))
+def test_unique_by_sort_equals_numpys(values, repeat):
+    from fivebar_cli.paving.arrays import unique
+
+    a = np.array(values * (repeat + 1), np.int64)
+    got = unique(a)
+    assert got.dtype == a.dtype and np.array_equal(got, np.array(sorted(set(values)), np.int64))
+
+
+def _same_paving(a, b) -> bool:
+    return (a.inside == b.inside and a.outside == b.outside and a.band == b.band and a.per_level == b.per_level
+            and np.array_equal(a.undetermined, b.undetermined))
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.floats(-0.8, 0.8), st.floats(-0.8, 0.8), st.floats(0.05, 0.9)), min_size=1, max_size=4),
+       st.integers(2, 7))
+def test_pave_many_equals_one_paving_per_test(discs, depth):
+    """One pass for several tests gives each test's own paving: the same trees, undetermined cells
+    in the same order, the same evaluations per level (a box counts only where its test is open)."""
+    from fivebar_cli.paving.engine import pave_many, stacked
+
+    grid = Grid(((-1.0, 1.0), (-1.0, 1.0)), depth, (False, False))
+    tests = [ball_test((x, y), r) for x, y, r in discs]
+    for one, many in zip([pave(grid, t) for t in tests], pave_many(grid, stacked(tests), len(tests))):
+        assert _same_paving(one, many)
+
+
+def test_pave_many_of_five_bar_modes_equals_the_single_mode_pavings():
+    """The five-bar's multi-tests (exact and interval lengths, with and without constraints) pave
+    every mode as its own test does."""
+    from conftest import CONFIGS
+    from fivebar_cli.mechanisms.registry import load_config
+    from fivebar_cli.paving.engine import pave_many
+
+    m1 = load_config(CONFIGS / "m1.yaml")
+    for m in (m1, load_config(CONFIGS / "m1-obstacle.yaml"), m1.widened(0.05)):
+        model = m.aspect_model()
+        for space, keys, many, one in (
+                ("workspace", model.working_modes, model.workspace_tests, model.workspace_test),
+                ("jointspace", model.assembly_modes, model.jointspace_tests, model.jointspace_test)):
+            grid = m.spaces()[space].grid(6)
+            pavings = pave_many(grid, many(keys), len(keys))
+            assert [_same_paving(p, pave(grid, one(k))) for p, k in zip(pavings, keys)] == [True] * len(keys)
+            assert sum(len(p.inside) for p in pavings) > 0
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 40), st.integers(0, 40)), max_size=60))
+def test_ranks_and_pairs_equal_numpys_unique(pairs):
+    from fivebar_cli.paving.arrays import dense_rank, unique_pairs
+
+    a = np.array([p[0] for p in pairs], np.int64)
+    b = np.array([p[1] for p in pairs], np.int64)
+    assert np.array_equal(dense_rank(a), np.unique(a, return_inverse=True)[1].reshape(-1))
+    assert np.array_equal(unique_pairs(a, b), np.unique(np.column_stack([a, b]), axis=0).reshape(-1, 2))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(1, 30), st.lists(st.tuples(st.integers(0, 29), st.integers(0, 29)), max_size=40))
+def test_root_labels_number_components_by_their_smallest_element(n, edges):
+    from fivebar_cli.paving.tree import root_labels, union_find
+
+    i = np.array([min(e[0], n - 1) for e in edges], np.int64)
+    j = np.array([min(e[1], n - 1) for e in edges], np.int64)
+    labels, count = root_labels(union_find(n, i, j))
+    # reference: flood fill, components numbered in order of their smallest element
+    adj = {k: set() for k in range(n)}
+    for x, y in zip(i.tolist(), j.tolist()):
+        adj[x].add(y)
+        adj[y].add(x)
+    ref, seen = [-1] * n, 0
+    for k in range(n):
+        if ref[k] < 0:
+            stack, ref[k] = [k], seen
+            while stack:
+                for y in adj[stack.pop()]:
+                    if ref[y] < 0:
+                        ref[y] = seen
+                        stack.append(y)
+            seen += 1
+    assert labels.tolist() == ref and count == seen

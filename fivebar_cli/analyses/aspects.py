@@ -30,14 +30,15 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from fivebar_cli.analyses.crossings import Crossing, find_crossings
-from fivebar_cli.analyses.inscribed import Disc, Square, largest_disc, largest_square
+from fivebar_cli.analyses.crossings import Band, Crossing, find_crossings, serial_bands
+from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
-from fivebar_cli.paving.engine import Paving, chunked, pave
+from fivebar_cli.paving.engine import Paving, chunked, on_cells, pave_many
+from fivebar_cli.paving.arrays import unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.morton import finest_order
 from fivebar_cli.paving.tree import Tree, union_find
@@ -67,10 +68,12 @@ class Region:
     test: object
     model: AspectModel
     free: np.ndarray
+    # what the mode sets are built from (`pieces.ModeSet`), then dropped (None):
     black_labels: np.ndarray = None  # corner-connected components of the black leaves (one sign each)
     und_possible: np.ndarray = None  # per undetermined cell: may hold a valid point
     und_signs: np.ndarray = None  # per undetermined cell: the free signs, 0 where not constant
     und_pairs: tuple = None  # (undetermined cell, neighbour) with neighbours numbered black leaves first
+    bands: list[Band] = field(default_factory=list)  # cells crossed by one serial singularity (`crossings.py`)
 
     @property
     def tree(self) -> Tree:
@@ -178,18 +181,21 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
-    timings = {"paving": 0.0}
-    tasks = ([(m, "workspace", wm, None, depth) for wm in model.working_modes]
-             + [(m, "jointspace", None, am, depth) for am in model.assembly_modes])
-    regions = []
-    for region, seconds in run_tasks(_region_task, tasks, jobs, advance):
+    timings = {"paving": 0.0, "outer": 0.0}
+    # one paving pass per space for all its modes (their tests share work), then each mode
+    # region's data and mode sets: tasks of similar sizes, so that `jobs` workers stay busy
+    region_tasks = []
+    for keys, pavings, seconds in run_tasks(_space_task, [(m, "workspace", depth), (m, "jointspace", depth)], jobs):
+        region_tasks += [(m, *key, paving) for key, paving in zip(keys, pavings)]
+        timings["paving"] += seconds
+    regions, sets = [], []
+    for (*_, paving), (region, region_sets, seconds) in zip(region_tasks, run_tasks(_region_task, region_tasks, jobs, advance)):
+        region.paving = paving  # (not sent back: the caller has it)
         region.model = model
         region.test = _mode_test(model, region.space, region.working, region.assembly)
-        timings["paving"] += seconds
         regions.append(region)
-    t0 = time.perf_counter()
-    sets = [ModeSet(region, free) for region in regions for free in _free_modes(model, region)]
-    timings["outer"] = time.perf_counter() - t0
+        sets += region_sets
+        timings["outer"] += seconds
     t0 = time.perf_counter()
     count = _Count(model, sets, Budget(budget), depth)
     timings["certificate"] = time.perf_counter() - t0
@@ -208,7 +214,8 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
 
 def with_inscribed(a: Aspect) -> Aspect:
     """The aspect with its largest certified disc and square in the workspace."""
-    return replace(a, circle=largest_disc(a.workspace), square=largest_square(a.workspace))
+    circle, square = largest_shapes(a.workspace)
+    return replace(a, circle=circle, square=square)
 
 
 def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:
@@ -222,31 +229,52 @@ def _mode_test(model: AspectModel, space: str, working, assembly):
     return model.workspace_test(working) if space == "workspace" else model.jointspace_test(assembly)
 
 
-def _region_task(task: tuple) -> tuple[Region, float]:
-    """One mode paving and its region data, in a worker: (region without its model and test,
-    which do not travel between processes, seconds paving)."""
-    m, space, working, assembly, depth = task
-    timings = {"paving": 0.0}
-    region = _region(m, m.aspect_model(), space, working, assembly, depth, timings)
-    region.model = region.test = None
-    return region, timings["paving"]
-
-
-def _region(m: Mechanism, model: AspectModel, space: str, working, assembly, depth: int, timings: dict) -> Region:
+def _space_task(task: tuple) -> tuple[list, list[Paving], float]:
+    """The mode pavings of one space in one pass, in a worker: (the regions' keys (space, working,
+    assembly), their pavings, seconds)."""
+    m, space, depth = task
+    model = m.aspect_model()
     t0 = time.perf_counter()
-    test = _mode_test(model, space, working, assembly)
-    paving = pave(m.spaces()[space].grid(depth), test)
-    timings["paving"] += time.perf_counter() - t0
-    region = Region(space, working, assembly, paving, test, model, np.zeros((0, 0), np.int8))
-    region.free = region.free_signs(paving.inside.centres())
+    if space == "workspace":
+        keys = [(space, wm, None) for wm in model.working_modes]
+        tests = model.workspace_tests(model.working_modes)
+    else:
+        keys = [(space, None, am) for am in model.assembly_modes]
+        tests = model.jointspace_tests(model.assembly_modes)
+    pavings = pave_many(m.spaces()[space].grid(depth), tests, len(keys))
+    return keys, pavings, time.perf_counter() - t0
+
+
+def _region_task(task: tuple) -> tuple[Region, list[ModeSet], float]:
+    """One mode region's data and mode sets, in a worker: (the region without its model and test,
+    which do not travel between processes, nor its paving, which the caller has; its mode sets;
+    seconds)."""
+    m, space, working, assembly, paving = task
+    model = m.aspect_model()
+    t0 = time.perf_counter()
+    region = _region(model, space, working, assembly, paving)
+    region_sets = [ModeSet(region, free) for free in _free_modes(model, region)]
+    # what only the mode sets need, dropped once they are built (most of a region's memory)
+    region.und_pairs = region.black_labels = region.und_possible = region.und_signs = None
+    region.model = region.test = region.paving = None
+    return region, region_sets, time.perf_counter() - t0
+
+
+def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -> Region:
+    """A mode paving with what the certificate needs of it: free signs, black components,
+    undetermined cells' signs and neighbours."""
+    region = Region(space, working, assembly, paving, None, model, np.zeros((0, 0), np.int8))
+    inside = paving.inside  # the free signs at the black leaves' centres, CHUNK leaves at a time
+    region.free = chunked(lambda level, code: region.free_signs(Tree(inside.grid, level, code, canonical=True).centres()),
+                          inside.level, inside.code)
     if np.any(region.free == 0):
         raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
     # two closed black cells of different signs cannot touch (a shared point would have both), so
     # the components of all black leaves are the anchors of every mode set at once
     region.black_labels, _ = paving.inside.components(corners=True)
-    grid = paving.grid
-    region.und_possible, region.und_signs = chunked(region.signs, *grid.boxes(grid.depth, paving.undetermined))
+    region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined)
     region.und_pairs = _undetermined_pairs(paving)
+    region.bands = serial_bands(model, region)
     return region
 
 
@@ -328,8 +356,7 @@ class _Count:
         tree = s.region.tree
         mine = np.flatnonzero(s.anchor_of_leaf >= 0)
         owner = s.anchor_of_leaf[mine]
-        lo, hi = tree.bounds()
-        lo, hi = lo[mine], hi[mine]
+        lo, hi = tree.bounds(mine)
         small = s.anchor_size[owner] <= SMALL_PIECE
         g = (np.arange(DENSE) + 0.5) / DENSE
         grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
@@ -362,7 +389,7 @@ class _Count:
                 target = np.full(len(points), -1, np.int64)
                 target[hit] = t.anchor_of_leaf[leaf[hit]]
                 good = target >= 0
-                pairs = np.unique(np.column_stack([owners[good], target[good]]), axis=0)
+                pairs = unique_pairs(owners[good], target[good])
                 self.edges_i += (self.offset[k] + pairs[:, 0]).tolist()
                 self.edges_j += (self.offset[j] + pairs[:, 1]).tolist()
 
@@ -474,7 +501,7 @@ def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSe
         for space in ("workspace", "jointspace"):
             if space in per_space:
                 region, idx = per_space[space]
-                trees[space] = region.tree.subset(np.sort(idx))
+                trees[space] = region.tree.subset(np.sort(idx, kind="stable"))
             else:
                 trees[space] = Tree.empty(next(r for r in regions if r.space == space).paving.grid)
         k = next(k for k, s in enumerate(sets) if np.any(roots[count.offset[k]:count.offset[k + 1]] == g))

@@ -13,7 +13,8 @@ import numpy as np
 from dataclasses import dataclass
 
 from fivebar_cli.mechanisms.base import AspectModel, plural
-from fivebar_cli.paving.engine import chunked
+from fivebar_cli.paving.arrays import unique_pairs
+from fivebar_cli.paving.engine import on_cells
 from fivebar_cli.paving.tree import Tree
 
 
@@ -28,29 +29,52 @@ class Crossing:
     band_cells: int
 
 
+@dataclass(frozen=True)
+class Band:
+    """The undetermined cells of a joint-space region crossed by one serial singularity only (the
+    working sign `changing` vanishes, the others are certified), as face-connected components:
+    `size[c]` cells in component c; (`label`, `leaf`): the components and the region's black
+    leaves they touch (distinct pairs)."""
+
+    changing: int
+    size: np.ndarray
+    label: np.ndarray
+    leaf: np.ndarray
+
+
+def serial_bands(model: AspectModel, region) -> list[Band]:
+    """The bands of one joint-space mode region (`aspects.Region`), one per serial singularity that
+    has some: what `find_crossings` needs of the region, computed with it (in its worker)."""
+    if region.space != "jointspace" or not len(region.paving.undetermined):
+        return []
+    grid, cells = region.paving.grid, region.paving.undetermined
+    strict, signs = on_cells(lambda lo, hi: model.serial_band_signs(region.assembly, lo, hi), grid, cells)
+    bands = []
+    for changing in range(len(model.serial_names)):  # the one sign that changes across the band
+        others = np.delete(signs, changing, axis=1)
+        band = strict & (signs[:, changing] == 0) & np.all(others != 0, axis=1)
+        if not band.any():
+            continue
+        band_tree = Tree.from_cells(grid, grid.depth, cells[band])
+        labels, count = band_tree.components()
+        i, j = band_tree.adjacency(region.tree)
+        touched = unique_pairs(labels[i], j)
+        bands.append(Band(changing, np.bincount(labels, minlength=count), touched[:, 0], touched[:, 1]))
+    return bands
+
+
 def find_crossings(model: AspectModel, regions, aspects, leaf_aspect: dict) -> list[Crossing]:
     """Aspect pairs joined by a band of cells crossed by one serial singularity only (`regions`:
-    the mode regions of `aspects.py`; `leaf_aspect[id(region)]`: the aspect of each black leaf)."""
+    the mode regions of `aspects.py`, each with its `bands` (`serial_bands`);
+    `leaf_aspect[id(region)]`: the aspect of each black leaf)."""
     modes = {a.number: (*a.working, a.assembly) for a in aspects}
     found: dict[tuple, int] = {}
     for region in regions:
-        if region.space != "jointspace" or not len(region.paving.undetermined):
-            continue
-        grid, cells = region.paving.grid, region.paving.undetermined
-        lo, hi = grid.boxes(grid.depth, cells)
-        strict, signs = chunked(lambda a, b: model.serial_band_signs(region.assembly, a, b), lo, hi)
-        for changing, name in enumerate(model.serial_names):  # the one sign that changes across the band
-            others = np.delete(signs, changing, axis=1)
-            band = strict & (signs[:, changing] == 0) & np.all(others != 0, axis=1)
-            if not band.any():
-                continue
-            band_tree = Tree.from_cells(grid, grid.depth, cells[band])
-            labels, count = band_tree.components()
-            size = np.bincount(labels, minlength=count)
-            i, j = band_tree.adjacency(region.tree)
-            numbers = leaf_aspect[id(region)][j]
+        for band in region.bands:
+            changing, name, size = band.changing, model.serial_names[band.changing], band.size
+            numbers = leaf_aspect[id(region)][band.leaf]
             keep = numbers > 0
-            touched = np.unique(np.column_stack([labels[i][keep], numbers[keep]]), axis=0)
+            touched = unique_pairs(band.label[keep], numbers[keep])
             if not len(touched):
                 continue
             starts = np.flatnonzero(np.r_[True, touched[1:, 0] != touched[:-1, 0]])

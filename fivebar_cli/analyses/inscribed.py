@@ -28,6 +28,7 @@ import math
 
 import numpy as np
 
+from fivebar_cli.paving.morton import deinterleave
 from fivebar_cli.paving.tree import Tree
 
 TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
@@ -50,22 +51,28 @@ class Square:
     side: float
 
 
-def largest_disc(tree: Tree) -> Disc | None:
+def largest_disc(tree: Tree, obstacles: "_Obstacles | None" = None) -> Disc | None:
     """The largest disc in the tree's cells (within TOLERANCE), certified; None for an empty tree."""
-    found = _search(tree, "l2")
+    found = _search(tree, "l2", obstacles)
     if found is None:
         return None
     (x, y), r = found
     return Disc(x, y, r)
 
 
-def largest_square(tree: Tree) -> Square | None:
+def largest_square(tree: Tree, obstacles: "_Obstacles | None" = None) -> Square | None:
     """The largest axis-aligned square in the tree's cells (within TOLERANCE), certified; None when empty."""
-    found = _search(tree, "linf")
+    found = _search(tree, "linf", obstacles)
     if found is None:
         return None
     (x, y), half = found
     return Square(x, y, 2.0 * half)  # exact: the half side is a 10-digit side halved
+
+
+def largest_shapes(tree: Tree) -> tuple[Disc | None, Square | None]:
+    """`largest_disc` and `largest_square` of one tree, from one complement of its cells."""
+    obstacles = _Obstacles(tree) if len(tree) and tree.grid.dim == 2 else None
+    return largest_disc(tree, obstacles), largest_square(tree, obstacles)
 
 
 # ---------------------------------------------------------------- search
@@ -74,8 +81,7 @@ def largest_square(tree: Tree) -> Square | None:
 class _Obstacles:
     """The complement cells (sorted by their low x) and the root box, with distances from centres."""
 
-    def __init__(self, tree: Tree, metric: str):
-        self.metric = metric
+    def __init__(self, tree: Tree):
         self.tree = tree
         self.cells = tree.complement()
         lo, hi = self.cells.bounds()
@@ -89,10 +95,7 @@ class _Obstacles:
         self.widest = float((hi[~big, 0] - lo[~big, 0]).max()) if self.n_small else 0.0
         self.root_lo, self.root_hi = tree.grid.lo, tree.grid.lo + tree.grid.size
 
-    def _metric(self, gap: np.ndarray) -> np.ndarray:
-        return np.hypot(gap[..., 0], gap[..., 1]) if self.metric == "l2" else gap.max(axis=-1)
-
-    def distance(self, centres: np.ndarray, bounds: np.ndarray | None = None) -> np.ndarray:
+    def distance(self, metric: str, centres: np.ndarray, bounds: np.ndarray | None = None) -> np.ndarray:
         """f at each centre: the distance to the nearest complement cell or to the outside of the
         root. `bounds` (upper bounds on f, one per centre) limit the cells looked at."""
         out = np.min(np.concatenate([centres - self.root_lo, self.root_hi - centres], axis=1), axis=1)
@@ -102,7 +105,7 @@ class _Obstacles:
         xs = self.x0[:self.n_small]
         first = np.searchsorted(xs, centres[:, 0] - bounds - self.widest, side="left")
         last = np.searchsorted(xs, centres[:, 0] + bounds, side="right")
-        self._nearest_big(centres, bounds, out)
+        self._nearest_big(metric, centres, bounds, out)
         for k in range(len(centres)):  # the small cells of its span (about a hundred each)
             a, z = first[k], last[k]
             (cx, cy), b = centres[k], bounds[k]
@@ -111,11 +114,11 @@ class _Obstacles:
             if len(near):
                 gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
                 gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
-                d = np.hypot(gx, gy) if self.metric == "l2" else np.maximum(gx, gy)
+                d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
                 out[k] = min(out[k], float(d.min()))
         return out
 
-    def _nearest_big(self, centres, bounds, out) -> None:
+    def _nearest_big(self, metric, centres, bounds, out) -> None:
         """Lower `out` to the distance of the nearest big cell (a few, looked at for every centre,
         all at once) that the centre's bound does not rule out by its extent alone."""
         big = slice(self.n_small, len(self.x0))
@@ -125,14 +128,15 @@ class _Obstacles:
         x0, x1, y0, y1 = self.x0[big], self.x1[big], self.y0[big], self.y1[big]
         gx = np.maximum(np.maximum(x0 - cx, cx - x1), 0.0)
         gy = np.maximum(np.maximum(y0 - cy, cy - y1), 0.0)
-        d = np.hypot(gx, gy) if self.metric == "l2" else np.maximum(gx, gy)
+        d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
         d[~((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))] = np.inf
         np.minimum(out, d.min(axis=1), out=out)
 
-    def near(self, centre, radius: float) -> np.ndarray:
+    def near(self, metric: str, centre, radius: float) -> np.ndarray:
         """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
         gap = np.maximum(np.maximum(self.lo - centre, np.asarray(centre) - self.hi), 0.0)
-        return np.sort(self.order[self._metric(gap) <= radius])
+        d = np.hypot(gap[..., 0], gap[..., 1]) if metric == "l2" else gap.max(axis=-1)
+        return np.sort(self.order[d <= radius], kind="stable")
 
 
 def _reach(width: np.ndarray, metric: str) -> np.ndarray:
@@ -140,13 +144,13 @@ def _reach(width: np.ndarray, metric: str) -> np.ndarray:
     return 0.5 * (np.hypot(width[:, 0], width[:, 1]) if metric == "l2" else width.max(axis=1))
 
 
-def _search(tree: Tree, metric: str):
+def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     """Branch and bound for the best centre, then the certified (centre, radius or half side)."""
     if tree.grid.dim != 2:
         raise ValueError("inscribed shapes are for 2-D trees")
     if not len(tree):
         return None
-    obstacles = _Obstacles(tree, metric)
+    obstacles = obstacles or _Obstacles(tree)
     lo, hi = tree.bounds()
     width = hi - lo
     inner = 0.5 * width.min(axis=1)  # f >= this at a leaf's centre (the leaf is in the set)
@@ -160,7 +164,7 @@ def _search(tree: Tree, metric: str):
         if not len(lo):
             break
         centres = lo + 0.5 * width
-        f = obstacles.distance(centres, bound)
+        f = obstacles.distance(metric, centres, bound)
         k = int(np.argmax(f))
         if best_centre is None or f[k] > best:
             best, best_centre = float(f[k]), centres[k]
@@ -171,7 +175,7 @@ def _search(tree: Tree, metric: str):
         lo = np.concatenate([lo, lo + half * [1, 0], lo + half * [0, 1], lo + half])
         width = np.concatenate([half] * 4)
         bound = np.concatenate([upper] * 4)  # f at a child's centre is at most its parent's bound
-    return _certify(obstacles, best_centre)
+    return _certify(obstacles, metric, best_centre)
 
 
 # ---------------------------------------------------------------- certificate
@@ -193,7 +197,8 @@ def _exact_cells(tree: Tree, index: np.ndarray) -> list[tuple[Fraction, Fraction
     grid = tree.grid
     (ax, bx), (ay, by) = grid.root
     out = []
-    for level, (cx, cy) in zip(tree.level[index].tolist(), tree.coords[index].tolist()):
+    coords = deinterleave(tree.code[index], tree.level[index], grid.dim)
+    for level, (cx, cy) in zip(tree.level[index].tolist(), coords.tolist()):
         n = 1 << level
         fx, fy = (Fraction(bx) - Fraction(ax)) / n, (Fraction(by) - Fraction(ay)) / n
         out.append((Fraction(ax) + cx * fx, Fraction(ax) + (cx + 1) * fx,
@@ -201,7 +206,7 @@ def _exact_cells(tree: Tree, index: np.ndarray) -> list[tuple[Fraction, Fraction
     return out
 
 
-def _contained(obstacles: _Obstacles, centre: tuple[float, float], radius: float) -> bool:
+def _contained(obstacles: _Obstacles, metric: str, centre: tuple[float, float], radius: float) -> bool:
     """Exactly: the closed disc (square) of this centre and radius (half side) lies in the root box
     and meets no complement cell in more than boundary points."""
     cx, cy = (Fraction(v) for v in centre)
@@ -212,10 +217,10 @@ def _contained(obstacles: _Obstacles, centre: tuple[float, float], radius: float
     if not len(obstacles.lo):
         return True
     slack = 1e-9 * float(np.max(np.abs(obstacles.tree.grid.root)))
-    for x0, x1, y0, y1 in _exact_cells(obstacles.cells, obstacles.near(centre, radius * (1 + NEAR) + slack)):
+    for x0, x1, y0, y1 in _exact_cells(obstacles.cells, obstacles.near(metric, centre, radius * (1 + NEAR) + slack)):
         gx = max(x0 - cx, cx - x1, Fraction(0))
         gy = max(y0 - cy, cy - y1, Fraction(0))
-        if obstacles.metric == "l2":
+        if metric == "l2":
             if gx * gx + gy * gy < r * r:
                 return False
         elif max(gx, gy) < r:
@@ -223,19 +228,19 @@ def _contained(obstacles: _Obstacles, centre: tuple[float, float], radius: float
     return True
 
 
-def _certify(obstacles: _Obstacles, centre: np.ndarray):
+def _certify(obstacles: _Obstacles, metric: str, centre: np.ndarray):
     """The centre rounded to 10 digits and the radius (half side) rounded down, checked exactly;
     shrunk by 1e-9 relative steps if rounding ever defeats the check (it has not been seen to)."""
     c = tuple(float(f"{v:.10g}") for v in centre)
-    value = float(obstacles.distance(np.array([c]))[0])
-    if obstacles.metric == "linf":  # the side is what gets rounded: make the half side exact
+    value = float(obstacles.distance(metric, np.array([c]))[0])
+    if metric == "linf":  # the side is what gets rounded: make the half side exact
         radius = _round_down(2.0 * value) / 2.0
     else:
         radius = _round_down(value)
     for _ in range(8):
         if radius <= 0:
             break
-        if _contained(obstacles, c, radius):
+        if _contained(obstacles, metric, c, radius):
             return c, radius
-        radius = _round_down(radius * (1 - 1e-9)) if obstacles.metric == "l2" else _round_down(2 * radius * (1 - 1e-9)) / 2
+        radius = _round_down(radius * (1 - 1e-9)) if metric == "l2" else _round_down(2 * radius * (1 - 1e-9)) / 2
     return c, 0.0

@@ -30,7 +30,8 @@ import numpy as np
 from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
-from fivebar_cli.paving.tree import Tree, union_find
+from fivebar_cli.paving.arrays import dense_rank
+from fivebar_cli.paving.tree import Tree, root_labels, union_find
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
 JOIN_STEPS = ((2, 4), (2, 16), (4, 16), (2, 64), (4, 64), (6, 32), (2, 256), (2, None), (4, None))
@@ -113,12 +114,15 @@ class ModeSet:
         fits = region.und_possible & np.all((region.und_signs == 0) | (region.und_signs == self.secondary), axis=1)
         self.grid, self._mine, self._fits = grid, mine, fits
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(int(np.count_nonzero(fits)), bool)])
-        _, anchors = np.unique(region.black_labels[mine], return_inverse=True)
+        anchors = dense_rank(region.black_labels[mine])
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
-        self.outer, self.n_outer = self._outer_components(mine, fits, anchors)
+        outer, self.n_outer = self._outer_components(mine, fits, anchors)
+        self.outer = outer.astype(np.int32)
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
         self.anchor_outer[anchors] = self.outer[black]
-        self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int64)
+        # int32: a set's arrays per cell stay through the analysis (anchors and outer components are
+        # fewer than the cells, which int32 indexes at any depth the grids allow in memory)
+        self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int32)
         self.anchor_of_leaf[mine] = anchors
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
 
@@ -145,11 +149,8 @@ class ModeSet:
         u, n = self.region.und_pairs
         keep = fits[u] & (node[n] >= 0)
         root = union_find(self.n_anchors + len(und), node[n_black + u[keep]], node[n[keep]])
-        _, first, labels = np.unique(root, return_index=True, return_inverse=True)
-        rank = np.empty_like(first)
-        rank[np.argsort(first, kind="stable")] = np.arange(len(first))
-        labels = rank[labels]
-        return np.concatenate([labels[anchors], labels[self.n_anchors:]]), len(first)
+        labels, count = root_labels(root)
+        return np.concatenate([labels[anchors], labels[self.n_anchors:]]), count
 
     def compatible(self, grid: Grid, coords: np.ndarray) -> np.ndarray:
         """Undetermined cells that may meet S: not certified empty, no sign against S's."""
@@ -377,21 +378,26 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     neighbours finds every pair. int32 when the indices fit: these pairs are most of a region's
     memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
+    small = np.int32 if len(inside) + len(und) < np.iinfo(np.int32).max else np.int64
     level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
     code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
     order = finest_order(code, level, grid.dim, grid.depth)
     everything = Tree(grid, level[order], code[order], canonical=True)
+    del level, code  # (temporaries of every cell: the peak memory of an analysis is here)
+    order = order.astype(small)
     rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
+    rank[order] = np.arange(len(order), dtype=small)
     mine = rank[len(inside):]
-    und_of_sorted = np.argsort(mine)  # position among the sorted undetermined cells -> undetermined index
-    small = np.int32 if len(order) < np.iinfo(np.int32).max else np.int64
+    del rank
+    und_of_sorted = np.argsort(mine, kind="stable").astype(small)  # position among the sorted undetermined cells -> index
+    cells = everything.subset(np.sort(mine, kind="stable"))
+    del mine
     us, ns = [], []
-    for i, j in everything.subset(np.sort(mine)).neighbour_pairs(everything, corners=True):
+    for i, j in cells.neighbour_pairs(everything, corners=True):
         u, n = und_of_sorted[i], order[j]
         once = (n < len(inside)) | (n - len(inside) > u)
-        us.append(u[once].astype(small))
-        ns.append(n[once].astype(small))
+        us.append(u[once])
+        ns.append(n[once])
     return np.concatenate(us), np.concatenate(ns)
 
 

@@ -32,6 +32,7 @@ from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.paving.grid import Grid
 
 BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
+MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]  # paving.engine.MultiTest
 
 
 @dataclass(frozen=True)
@@ -287,6 +288,14 @@ class AspectModel(Protocol):
     def workspace_test(self, working: tuple[int, ...]) -> BoxTest: ...
 
     def jointspace_test(self, assembly: int) -> BoxTest: ...
+
+    def workspace_tests(self, workings: tuple[tuple[int, ...], ...]) -> MultiTest:
+        """The workspace tests of several working modes as one multi-test (`paving.engine`): the
+        analysis paves a space once for all its modes (`paving.engine.stacked` when they share
+        no work)."""
+
+    def jointspace_tests(self, assemblies: tuple[int, ...]) -> MultiTest:
+        """The joint-space tests of several assembly modes as one multi-test."""
 
     def assembly_signs(self, working: tuple[int, ...], points: np.ndarray) -> np.ndarray:
         """Sign of det A at workspace points in a working mode, shape (n,) (0: unreachable)."""

@@ -48,7 +48,9 @@ def encode(tree) -> str:
     letters = np.concatenate(
         [np.full(g_level.size, ord("G")), np.full(len(tree), ord("B")), np.full(int(white.sum()), ord("W"))]
     ).astype(np.uint8)
-    order = np.lexsort((levels, keys))
+    # preorder: by first finest-level index, then level (a parent before its first child); one
+    # key (distinct per node) and a sort that merges the sorted runs of grey, black, white nodes
+    order = np.argsort(keys * (depth + 1) + levels, kind="stable")
     return letters[order].tobytes().decode("ascii")
 
 
@@ -57,7 +59,7 @@ def _member(level, code, set_level, set_code, depth, dim) -> np.ndarray:
     if set_code.size == 0:
         return np.zeros(level.size, dtype=bool)
     key = finest_key(code, level, dim, depth) * (depth + 1) + level
-    set_key = np.sort(finest_key(set_code, set_level, dim, depth) * (depth + 1) + set_level)
+    set_key = np.sort(finest_key(set_code, set_level, dim, depth) * (depth + 1) + set_level, kind="stable")
     pos = np.minimum(np.searchsorted(set_key, key), set_key.size - 1)
     return set_key[pos] == key
 

@@ -27,6 +27,9 @@ from fivebar_cli.paving.morton import interleave
 from fivebar_cli.paving.tree import Tree
 
 BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
+# several box tests at once: (lo, hi, open) -> int8 statuses (m, count); column c is read only
+# where open[:, c] (the box is still undetermined for test c), so it may skip the other boxes
+MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 INSIDE, OUTSIDE, UNDETERMINED, BAND = 1, -1, 0, 2
 CHUNK = 1 << 16
 MAX_REFINE_CELLS = 1 << 26
@@ -72,31 +75,67 @@ def children(coords: np.ndarray) -> np.ndarray:
     return (2 * coords[:, None, :] + offsets[None, :, :]).reshape(-1, dim)
 
 
-def chunked(fn, lo: np.ndarray, hi: np.ndarray):
-    """fn(lo, hi) -> an array or a tuple of arrays (one row per box), computed CHUNK boxes at a
-    time: a box function's temporaries take the memory of one chunk, not of every box."""
-    if len(lo) <= CHUNK:
-        return fn(lo, hi)
-    parts = [fn(lo[s:s + CHUNK], hi[s:s + CHUNK]) for s in range(0, len(lo), CHUNK)]
+def chunked(fn, *arrays: np.ndarray):
+    """fn(*arrays) -> an array or a tuple of arrays (one row per row of the arrays), computed CHUNK
+    rows at a time: a box function's temporaries take the memory of one chunk, not of every box."""
+    if len(arrays[0]) <= CHUNK:
+        return fn(*arrays)
+    parts = [fn(*(a[s:s + CHUNK] for a in arrays)) for s in range(0, len(arrays[0]), CHUNK)]
     if isinstance(parts[0], tuple):
         return tuple(np.concatenate(p) for p in zip(*parts))
     return np.concatenate(parts)
 
 
-def classify(grid: Grid, level: int, coords: np.ndarray, test: BoxTest) -> np.ndarray:
-    """Run the box test on cells of one level, in chunks; returns int8 statuses."""
+def on_cells(fn, grid: Grid, coords: np.ndarray):
+    """fn(lo, hi) of the depth-D cells `coords` (their boxes, not padded), CHUNK cells at a time
+    (`chunked`: neither the boxes of every cell nor fn's temporaries are held at once)."""
+    return chunked(lambda c: fn(*grid.boxes(grid.depth, c)), coords)
+
+
+def _classify_many(grid: Grid, level: int, coords: np.ndarray, open_: np.ndarray, tests: MultiTest) -> np.ndarray:
+    """Run a multi-test on cells of one level, in chunks; returns int8 statuses (m, count)."""
     pad = box_pad(grid)
-    status = np.empty(len(coords), dtype=np.int8)
+    status = np.empty(open_.shape, dtype=np.int8)
     for s in range(0, len(coords), CHUNK):
         lo, hi = grid.boxes(level, coords[s:s + CHUNK], pad)
-        status[s:s + CHUNK] = test(lo, hi)
+        status[s:s + CHUNK] = tests(lo, hi, open_[s:s + CHUNK])
     return status
+
+
+def single(test: BoxTest) -> MultiTest:
+    """A box test as a multi-test of one column."""
+    return lambda lo, hi, open_: test(lo, hi)[:, None]
+
+
+def stacked(tests: list[BoxTest]) -> MultiTest:
+    """Box tests as one multi-test: each evaluated on the boxes still open for it only."""
+
+    def test(lo: np.ndarray, hi: np.ndarray, open_: np.ndarray) -> np.ndarray:
+        out = np.zeros(open_.shape, np.int8)
+        for c, one in enumerate(tests):
+            mine = open_[:, c]
+            if mine.all():
+                out[:, c] = one(lo, hi)
+            elif mine.any():
+                out[mine, c] = one(lo[mine], hi[mine])
+        return out
+
+    return test
 
 
 def pave(grid: Grid, test: BoxTest, on_level: Callable[[int, int], None] | None = None) -> Paving:
     """Pave the root box of `grid` down to its depth with `test`."""
     start = np.zeros((1, grid.dim), dtype=np.int64)
     return _descend(grid, test, 0, start, [], [], [], on_level)
+
+
+def pave_many(grid: Grid, tests: MultiTest, count: int) -> list[Paving]:
+    """Pave the root box once for `count` box tests evaluated together (a `MultiTest`, whose tests
+    share work: the modes of one space). A box is tested where any test still leaves it open and
+    counts for those tests only, so paving c equals `pave(grid, test c)`: the same trees, the same
+    undetermined cells in the same order, the same evaluations per level."""
+    start = np.zeros((1, grid.dim), dtype=np.int64)
+    return _descend_many(grid, tests, count, 0, start)
 
 
 def refine(inside: Tree, outside: Tree, test: BoxTest, depth: int,
@@ -149,9 +188,10 @@ def undetermined_cells(inside: Tree, outside: Tree, band: Tree | None = None) ->
     if total > MAX_REFINE_CELLS:
         raise ValueError(f"{total} undetermined cells: the trees do not look like a paving pair")
     # expand merged gap leaves back to depth-D cells
-    cells = [gaps.coords[gaps.level == grid.depth]]
+    coords = gaps.coords
+    cells = [coords[gaps.level == grid.depth]]
     for s in np.unique(span[span > 0]):
-        block = gaps.coords[span == s]
+        block = coords[span == s]
         for _ in range(int(s)):
             block = children(block)
         cells.append(block)
@@ -160,35 +200,53 @@ def undetermined_cells(inside: Tree, outside: Tree, band: Tree | None = None) ->
 
 
 def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, on_level, band_parts=()) -> Paving:
-    per_level = list(per_level)
-    inside_parts, outside_parts, band_parts = list(inside_parts), list(outside_parts), list(band_parts)
-    undetermined = np.zeros((0, grid.dim), dtype=np.int64)
+    parts = {INSIDE: list(inside_parts), OUTSIDE: list(outside_parts), BAND: list(band_parts)}
+    paving, = _descend_many(grid, single(test), 1, level, coords, [parts], [list(per_level)], on_level)
+    return paving
+
+
+def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None, on_level=None) -> list[Paving]:
+    """Breadth-first descent for `count` tests at once: `open_[:, c]`, the boxes still open for test c."""
+    parts = parts or [{INSIDE: [], OUTSIDE: [], BAND: []} for _ in range(count)]
+    per_level = per_level or [[] for _ in range(count)]
+    undetermined = [np.zeros((0, grid.dim), dtype=np.int64)] * count
+    open_ = np.ones((len(coords), count), dtype=bool)
     while True:
         if on_level is not None:
             on_level(level, len(coords))
-        status = classify(grid, level, coords, test)
-        per_level.append(len(coords))
-        for parts, value in ((inside_parts, INSIDE), (outside_parts, OUTSIDE), (band_parts, BAND)):
-            sel = coords[status == value]
-            if len(sel):
-                parts.append((np.full(len(sel), level), interleave(sel, level)))
-        open_ = coords[status == UNDETERMINED]
-        if level == grid.depth or len(open_) == 0:
+        status = _classify_many(grid, level, coords, open_, tests)
+        still = np.zeros_like(open_)
+        for c in range(count):
+            mine = open_[:, c]
+            per_level[c].append(int(np.count_nonzero(mine)))
+            answer = np.where(mine, status[:, c], 127)
+            for value, kept in parts[c].items():
+                sel = coords[answer == value]
+                if len(sel):
+                    kept.append((level, interleave(sel, level)))
+            still[:, c] = answer == UNDETERMINED
+        if level == grid.depth or not still.any():
             if level == grid.depth:
-                undetermined = open_
+                undetermined = [coords[still[:, c]] for c in range(count)]
+            del coords, open_, status, still, answer, mine  # the last level's boxes: free them before the trees
             break
-        coords = children(open_)
+        any_open = still.any(axis=1)
+        coords = children(coords[any_open])
+        open_ = np.repeat(still[any_open], 1 << grid.dim, axis=0)
         level += 1
-    per_level += [0] * (grid.depth + 1 - len(per_level))
-    return Paving(
-        grid, _tree(grid, inside_parts), _tree(grid, outside_parts), undetermined, tuple(per_level),
-        _tree(grid, band_parts),
-    )
+    out = []
+    for c in range(count):
+        done = per_level[c] + [0] * (grid.depth + 1 - len(per_level[c]))
+        trees = {value: _tree(grid, kept) for value, kept in parts[c].items()}
+        parts[c] = None  # each paving's parts freed once its trees are built
+        out.append(Paving(grid, trees[INSIDE], trees[OUTSIDE], undetermined[c], tuple(done), trees[BAND]))
+    return out
 
 
 def _tree(grid: Grid, parts) -> Tree:
+    """The tree of the cells found, given as (level, Morton codes) parts."""
     if not parts:
         return Tree.empty(grid)
-    level = np.concatenate([p[0] for p in parts])
-    code = np.concatenate([p[1] for p in parts])
+    level = np.concatenate([np.full(len(code), lev, np.int64) for lev, code in parts])
+    code = np.concatenate([code for _, code in parts])
     return Tree(grid, level, code)

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from fivebar_cli.paving.morton import interleave
-from fivebar_cli.paving.tree import Tree, _sweep
+from fivebar_cli.paving.tree import Tree, _sweeps
 
 
 def _unit_edges(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
@@ -102,9 +102,9 @@ def _directed_edges(tree: Tree):
         other = 1 - axis
         low_side = (lo[:, other] * width + lo[:, axis], lo[:, other] * width + hi[:, axis])  # set beyond it
         high_side = (hi[:, other] * width + lo[:, axis], hi[:, other] * width + hi[:, axis])  # set before it
-        sides = [tuple(np.sort(v) for v in s) for s in (low_side, high_side)]
-        for keep, forward in ((lambda a, b: a & ~b, axis == 0), (lambda a, b: ~a & b, axis == 1)):
-            start, end = _sweep(sides, keep)
+        sides = [tuple(np.sort(v, kind="stable") for v in s) for s in (low_side, high_side)]
+        swept = _sweeps(sides, [lambda a, b: a & ~b, lambda a, b: ~a & b])
+        for (start, end), forward in zip(swept, (axis == 0, axis == 1)):
             line, a, b = start // width, start % width, end - (start // width) * width
             first, last = (a, b) if forward else (b, a)
             p, q = np.empty((len(a), 2), np.int64), np.empty((len(a), 2), np.int64)

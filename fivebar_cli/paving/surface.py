@@ -35,11 +35,12 @@ def _covered(tree: Tree, level: np.ndarray, code: np.ndarray) -> np.ndarray:
     out = np.zeros(len(level))
     if not len(tree) or not len(level):
         return out
-    leaf = np.searchsorted(tree.start, start, side="right") - 1
+    tree_start, tree_end = tree.start, tree.end
+    leaf = np.searchsorted(tree_start, start, side="right") - 1
     inside = leaf >= 0
-    inside[inside] &= tree.end[leaf[inside]] >= end[inside]
-    sizes = np.concatenate([[0], np.cumsum(tree.end - tree.start)])
-    a, b = np.searchsorted(tree.start, start), np.searchsorted(tree.start, end)
+    inside[inside] &= tree_end[leaf[inside]] >= end[inside]
+    sizes = np.concatenate([[0], np.cumsum(tree_end - tree_start)])
+    a, b = np.searchsorted(tree_start, start), np.searchsorted(tree_start, end)
     some = (sizes[b] - sizes[a]) > 0
     out[some] = 0.5
     out[inside] = 1.0

@@ -10,15 +10,16 @@ All hot paths are numpy-vectorised over leaves; nothing recurses per cell in Pyt
 
 from __future__ import annotations
 
-from functools import cached_property
-
 import numpy as np
 
+from fivebar_cli.paving.arrays import unique
 from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, floor_log2, interleave, step, trailing_zeros
 
-__all__ = ["Tree", "BodyError", "union_find"]
+__all__ = ["Tree", "BodyError", "union_find", "root_labels"]
+
+PAIR_CHUNK = 1 << 18  # leaves whose neighbours are looked up together
 
 
 class Tree:
@@ -70,19 +71,20 @@ class Tree:
     def __repr__(self) -> str:
         return f"Tree({len(self)} leaves, depth {self.grid.depth}, area {self.area:.6g})"
 
-    @cached_property
+    @property
     def start(self) -> np.ndarray:
-        """First depth-D Morton index of each leaf."""
+        """First depth-D Morton index of each leaf (a shift: computed when asked, not kept)."""
         return finest_key(self.code, self.level, self.grid.dim, self.grid.depth)
 
-    @cached_property
+    @property
     def end(self) -> np.ndarray:
-        """One past the last depth-D Morton index of each leaf."""
+        """One past the last depth-D Morton index of each leaf (computed when asked, not kept: a
+        tree's memory is its leaves, 16 bytes each)."""
         return self.start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level)))
 
-    @cached_property
+    @property
     def coords(self) -> np.ndarray:
-        """Integer coordinates of each leaf at its own level, shape (m, dim)."""
+        """Integer coordinates of each leaf at its own level, shape (m, dim) (computed when asked)."""
         return deinterleave(self.code, self.level, self.grid.dim)
 
     @property
@@ -90,10 +92,12 @@ class Tree:
         """Total area (volume) of the cells: exact, as a sum of dyadic cell sizes."""
         return float(np.sum(self.grid.cell_volume(self.level)))
 
-    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """Leaf bounds (lo, hi), each of shape (m, dim)."""
-        width = np.ldexp(self.grid.size[None, :], -self.level[:, None])
-        lo = self.grid.lo + self.coords * width
+    def bounds(self, index: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Leaf bounds (lo, hi), each of shape (m, dim); of the leaves `index` (a mask or indices) only
+        when given."""
+        level, code = (self.level, self.code) if index is None else (self.level[index], self.code[index])
+        width = np.ldexp(self.grid.size[None, :], -level[:, None])
+        lo = self.grid.lo + deinterleave(code, level, self.grid.dim) * width
         return lo, lo + width
 
     def centres(self) -> np.ndarray:
@@ -154,9 +158,10 @@ class Tree:
         """Index of the leaf containing each point, or -1 (points on a cell edge go to one side)."""
         coords, inside = self.grid.cells_of_points(points)
         index = interleave(coords, self.grid.depth)
-        leaf = np.searchsorted(self.start, index, side="right") - 1
+        start = self.start
+        leaf = np.searchsorted(start, index, side="right") - 1
         ok = inside & (leaf >= 0)
-        ok[ok] &= self.end[leaf[ok]] > index[ok]
+        ok[ok] &= (start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level))))[leaf[ok]] > index[ok]
         return np.where(ok, leaf, -1)
 
     # -- adjacency and connected components
@@ -181,27 +186,41 @@ class Tree:
         return self._pairs(other, corners)
 
     def _pairs(self, other: "Tree | None", corners: bool):
-        """The pairs of `adjacency`, one direction at a time."""
+        """The pairs of `adjacency`, one direction at a time (each found PAIR_CHUNK leaves at a
+        time: the temporaries of a block, not of every leaf)."""
         target = self if other is None else other
-        grid, level = self.grid, self.level
+        grid = self.grid
         if target.grid != grid:
             raise ValueError("trees live on different grids")
+        target_start = target.start
+        target_end = target_start + (np.int64(1) << (grid.dim * (grid.depth - target.level)))
         for offset in _offsets(grid.dim, corners):
-            code, valid = self.code, np.ones(len(self), dtype=bool)
-            for axis in np.flatnonzero(offset):
-                code, wrapped = step(code, level, grid.dim, int(axis), int(offset[axis]))
-                if not grid.periodic[axis]:
-                    valid &= ~wrapped
-            idx = np.flatnonzero(valid)
-            shift = grid.dim * (grid.depth - level[idx])
-            first = code[idx] << shift
-            last = first + (np.int64(1) << shift)
-            leaf = np.searchsorted(target.start, first, side="right") - 1
-            hit = leaf >= 0
-            hit[hit] &= target.end[leaf[hit]] >= last[hit]
-            if other is None:
-                hit &= leaf != idx  # a root-sized periodic cell touching itself
-            yield idx[hit], leaf[hit]
+            found = [self._pairs_of(s, offset, target_start, target_end, other is None)
+                     for s in range(0, len(self), PAIR_CHUNK)]
+            if not found:
+                yield np.zeros(0, np.int64), np.zeros(0, np.int64)
+                continue
+            yield np.concatenate([i for i, _ in found]), np.concatenate([j for _, j in found])
+
+    def _pairs_of(self, s: int, offset, target_start, target_end, itself: bool):
+        """The pairs of leaves s .. s + PAIR_CHUNK in one direction `offset`."""
+        grid, level = self.grid, self.level[s:s + PAIR_CHUNK]
+        code, valid = self.code[s:s + PAIR_CHUNK], np.ones(len(level), dtype=bool)
+        for axis in np.flatnonzero(offset):
+            code, wrapped = step(code, level, grid.dim, int(axis), int(offset[axis]))
+            if not grid.periodic[axis]:
+                valid &= ~wrapped
+        idx = np.flatnonzero(valid)
+        shift = grid.dim * (grid.depth - level[idx])
+        first = code[idx] << shift
+        last = first + (np.int64(1) << shift)
+        leaf = np.searchsorted(target_start, first, side="right") - 1
+        hit = leaf >= 0
+        hit[hit] &= target_end[leaf[hit]] >= last[hit]
+        idx += s
+        if itself:
+            hit &= leaf != idx  # a root-sized periodic cell touching itself
+        return idx[hit], leaf[hit]
 
     def components(self, corners: bool = False) -> tuple[np.ndarray, int]:
         """Label leaves by connected component (face-connected; with `corners`, touching at any
@@ -209,11 +228,7 @@ class Tree:
         root = np.arange(len(self), dtype=np.int64)
         for i, j in self._pairs(None, corners):  # one direction at a time: memory of one, not 26, sets of pairs
             root = union_find(len(self), i, j, root)
-        _, first, labels = np.unique(root, return_index=True, return_inverse=True)
-        order = np.argsort(first, kind="stable")
-        rank = np.empty_like(order)
-        rank[order] = np.arange(order.size)
-        return rank[labels], int(order.size)
+        return root_labels(root)
 
     def split_components(self) -> list["Tree"]:
         """The face-connected components as trees, in Morton order of their first leaf."""
@@ -252,11 +267,12 @@ class Tree:
         n = 1 << grid.depth
         layer = min(max(int(np.floor((value - lo) / (hi - lo) * n)), 0), n - 1)
         span = grid.depth - self.level
-        along = self.coords[:, axis]
+        coords = self.coords
+        along = coords[:, axis]
         keep = ((along << span) <= layer) & (layer < ((along + 1) << span))
         rest = [a for a in range(grid.dim) if a != axis]
         sub = Grid(tuple(grid.root[a] for a in rest), grid.depth, tuple(grid.periodic[a] for a in rest))
-        return Tree.from_cells(sub, self.level[keep], self.coords[keep][:, rest])
+        return Tree.from_cells(sub, self.level[keep], coords[keep][:, rest])
 
     # -- B/W/G body
 
@@ -335,9 +351,14 @@ def _blocks(grid: Grid, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray,
 
 def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
     """Combine unions of disjoint intervals with a boolean function `keep(in_a, in_b)`."""
-    points = np.unique(np.concatenate([np.concatenate([s, e]) for s, e in interval_sets]))
+    return _sweeps(interval_sets, [keep])[0]
+
+
+def _sweeps(interval_sets, keeps) -> list[tuple[np.ndarray, np.ndarray]]:
+    """`_sweep` for several functions `keeps` of the same sets: one sweep, one result each."""
+    points = unique(np.concatenate([np.concatenate([s, e]) for s, e in interval_sets]))
     if points.size < 2:
-        return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        return [(np.zeros(0, np.int64), np.zeros(0, np.int64)) for _ in keeps]
     left = points[:-1]
     member = []
     for s, e in interval_sets:
@@ -345,11 +366,21 @@ def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
         inside = k >= 0
         inside[inside] &= e[k[inside]] > left[inside]
         member.append(inside)
-    mask = keep(*member)
-    return _merge_touching(left[mask], points[1:][mask])
+    out = []
+    for keep in keeps:
+        mask = keep(*member)
+        out.append(_merge_touching(left[mask], points[1:][mask]))
+    return out
 
 
 # ---------------------------------------------------------------- union-find
+
+
+def root_labels(root: np.ndarray) -> tuple[np.ndarray, int]:
+    """Components numbered 0, 1, ... in order of their smallest element, from `union_find` roots
+    (each component's smallest element): the ranks of the roots, without a sort; and their count."""
+    is_root = root == np.arange(len(root))
+    return (np.cumsum(is_root) - 1)[root], int(np.count_nonzero(is_root))
 
 
 def union_find(n: int, i: np.ndarray, j: np.ndarray, parent: np.ndarray | None = None) -> np.ndarray:

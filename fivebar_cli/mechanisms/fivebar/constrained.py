@@ -190,6 +190,14 @@ class ConstrainedModes(modes.FiveBarModes):
         base = self.base.jointspace_test(assembly)
         return lambda lo, hi: restricted(base(lo, hi), lambda k: jointspace_status(self.m, assembly, lo[k], hi[k]))
 
+    def workspace_tests(self, workings):
+        return _restricted_columns(self.base.workspace_tests(workings), workings,
+                                   lambda w, lo, hi: workspace_status(self.m, w, lo, hi))
+
+    def jointspace_tests(self, assemblies):
+        return _restricted_columns(self.base.jointspace_tests(assemblies), assemblies,
+                                   lambda a, lo, hi: jointspace_status(self.m, a, lo, hi))
+
     def parallel_free_test(self, assembly):
         base = self.base.parallel_free_test(assembly)
         return lambda lo, hi: restricted(base(lo, hi), lambda k: jointspace_status(self.m, assembly, lo[k], hi[k]))
@@ -209,6 +217,21 @@ class ConstrainedModes(modes.FiveBarModes):
     def jointspace_signs(self, assembly, lo, hi):
         possible, signs = self.base.jointspace_signs(assembly, lo, hi)
         return _possible(possible, lambda k: jointspace_status(self.m, assembly, lo[k], hi[k])), signs
+
+
+def _restricted_columns(base, modes_, status):
+    """A multi-test's columns each restricted to the constraints in its mode (`restricted`),
+    evaluated on the boxes still open for that column only."""
+
+    def test(lo, hi, open_):
+        out = base(lo, hi, open_)
+        for c, mode in enumerate(modes_):
+            rows = np.flatnonzero(open_[:, c])
+            if len(rows):
+                out[rows, c] = restricted(out[rows, c], lambda k: status(mode, lo[rows[k]], hi[rows[k]]))
+        return out
+
+    return test
 
 
 def _possible(possible: np.ndarray, constraint) -> np.ndarray:

@@ -44,12 +44,19 @@ def working_mode_workspace_test(m, working: tuple[int, int]):
     no parallel: det A != 0) in this working mode; -1: no P of the box is reachable; 0 otherwise.
     The sign of det A is constant on a black cell; `workspace_assembly_sign` reads it.
     """
-    classify = workspace_mode_classifier(m, working)
+    tests = working_mode_workspace_tests(m, (working,))
+    return lambda lo, hi: tests(lo, hi)[:, 0]
 
-    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        status, strict, sign = classify(lo, hi)
-        black = strict & (sign != 0)
-        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+def working_mode_workspace_tests(m, workings):
+    """The box tests of several working modes at once (a `paving.engine.MultiTest`: statuses
+    (n, len(workings))), sharing the reach test and the legs' direction and angle ranges."""
+    classify = workspace_modes_classifier(m, workings)
+
+    def test(lo: np.ndarray, hi: np.ndarray, open_=None) -> np.ndarray:
+        status, strict, signs = classify(lo, hi)
+        black = strict[:, None] & (signs != 0)
+        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
 
     return test
 
@@ -62,7 +69,18 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
     the legs' directions are th3 = alpha1 + su gamma1 and th4 = alpha2 + sv gamma2, and
     sign det A = sign sin(th4 - th3): its range is the sum of four exact ranges.
     """
-    su, sv = working
+    classify = workspace_modes_classifier(m, (working,))
+
+    def one(lo: np.ndarray, hi: np.ndarray):
+        status, strict, signs = classify(lo, hi)
+        return status, strict, signs[:, 0]
+
+    return one
+
+
+def workspace_modes_classifier(m, workings):
+    """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
+    shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once."""
     (c1, r1, big1), (c2, r2, big2) = annuli(m)
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
@@ -71,18 +89,28 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
         d1, d2 = leg_distance2_ranges(m, lo, hi)
         status = reach_status(m, lo, hi, (d1, d2), anchors)
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
-        theta = _leg_direction_range(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, su, delta)
-        theta4 = _leg_direction_range(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, sv, delta)
-        return status, strict, sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
+        leg1 = _leg_angle_ranges(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, delta)
+        leg2 = _leg_angle_ranges(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, delta)
+        signs = np.empty((len(lo), len(workings)), np.int8)
+        for k, (su, sv) in enumerate(workings):
+            theta, theta4 = leg_branch(*leg1, su), leg_branch(*leg2, sv)
+            signs[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
+        return status, strict, signs
 
     return classify
 
 
-def _leg_direction_range(m, lo, hi, d2range, cx, inner, outer, coupler, crank, s, delta):
-    """Range of the direction of P - B_i over boxes: alpha_i + s gamma_i."""
-    a_lo, a_hi = direction_range(lo[:, 0] - cx, hi[:, 0] - cx, lo[:, 1], hi[:, 1])
+def _leg_angle_ranges(m, lo, hi, d2range, cx, inner, outer, coupler, crank, delta):
+    """Ranges over boxes of alpha_i (the direction of P - A_i) and gamma_i (the angle at P of the
+    triangle A_i B_i P)."""
+    alpha = direction_range(lo[:, 0] - cx, hi[:, 0] - cx, lo[:, 1], hi[:, 1])
     m_lo, m_hi = _valid_lengths(*d2range, inner, outer, delta)
-    g_lo, g_hi = triangle_angle_range(m_lo, m_hi, coupler, crank)
+    return alpha, triangle_angle_range(m_lo, m_hi, coupler, crank)
+
+
+def leg_branch(alpha, gamma, s):
+    """Range of the direction of P - B_i, alpha_i + s gamma_i, in the branch of sign s."""
+    (a_lo, a_hi), (g_lo, g_hi) = alpha, gamma
     return (a_lo + g_lo, a_hi + g_hi) if s > 0 else (a_lo - g_hi, a_hi - g_lo)
 
 
@@ -105,11 +133,18 @@ def assembly_mode_joint_test(m, assembly: int):
     sign B22 = sign sin(th4 - th2). The range of beta comes from the exact ranges of the two
     components of B2 - B1 (each a sum of independent sinusoids).
     """
+    tests = assembly_mode_joint_tests(m, (assembly,))
+    return lambda lo, hi: tests(lo, hi)[:, 0]
 
-    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-        status, strict, u, v = joint_mode_classes(m, assembly, lo, hi)
-        black = strict & (u != 0) & (v != 0)
-        return np.where(status == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+def assembly_mode_joint_tests(m, assemblies):
+    """The tests of several assembly modes at once (a `paving.engine.MultiTest`), sharing the
+    coupler triangle's ranges."""
+
+    def test(lo: np.ndarray, hi: np.ndarray, open_=None) -> np.ndarray:
+        status, strict, u, v = joint_modes_classes(m, assemblies, lo, hi)
+        black = strict[:, None] & (u != 0) & (v != 0)
+        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
 
     return test
 
@@ -142,15 +177,29 @@ def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray):
     free of parallel singularities. `aspects.py` uses the pieces to find the boxes that only a
     serial singularity crosses.
     """
-    sa = assembly
+    status, strict, u, v = joint_modes_classes(m, (assembly,), lo, hi)
+    return status, strict, u[:, 0], v[:, 0]
+
+
+def joint_modes_classes(m, assemblies, lo: np.ndarray, hi: np.ndarray):
+    """`joint_mode_classes` of several assembly modes at once: signs of shape (n, len(assemblies))."""
     r, big = abs(m.L3 - m.L4), m.L3 + m.L4
     delta = DELTA_REL * scale(m) ** 2
     trig = box_trig(lo, hi)
     tri = coupler_triangle(m, lo, hi, trig)
     status = assembly_status(m, tri.dmin, tri.dmax)
     strict = _strict(tri.dmin, tri.dmax, r, big, delta)
-    u, v = serial_signs(sa, lo, hi, tri.b, tri.a, tri.e)
+    u, v = serial_signs_of(assemblies, lo, hi, tri)
     return status, strict, u, v
+
+
+def serial_signs_of(assemblies, lo, hi, tri) -> tuple[np.ndarray, np.ndarray]:
+    """`serial_signs` of several assembly modes from one coupler triangle: (n, k) arrays."""
+    u = np.empty((len(lo), len(assemblies)), np.int8)
+    v = np.empty_like(u)
+    for k, sa in enumerate(assemblies):
+        u[:, k], v[:, k] = serial_signs(sa, lo, hi, tri.b, tri.a, tri.e)
+    return u, v
 
 
 @dataclass(frozen=True)
@@ -198,11 +247,10 @@ def serial_signs(assembly: int, lo, hi, b, a, e):
 def _crank_direction_range(m, lo, hi, trig):
     """Range of the direction of B2 - B1 over boxes of (th1, th2), from the exact ranges of its
     components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1."""
-    ones, zeros = np.ones(len(lo)), np.zeros(len(lo))
-    c1 = sinusoid_range(ones, zeros, lo[:, 0], hi[:, 0], trig[0])
-    s1 = sinusoid_range(zeros, ones, lo[:, 0], hi[:, 0], trig[0])
-    c2 = sinusoid_range(ones, zeros, lo[:, 1], hi[:, 1], trig[1])
-    s2 = sinusoid_range(zeros, ones, lo[:, 1], hi[:, 1], trig[1])
+    c1 = sinusoid_range(1.0, 0.0, lo[:, 0], hi[:, 0], trig[0])  # (scalar coefficients: the same
+    s1 = sinusoid_range(0.0, 1.0, lo[:, 0], hi[:, 0], trig[0])  # operations per box, without arrays
+    c2 = sinusoid_range(1.0, 0.0, lo[:, 1], hi[:, 1], trig[1])  # of ones and zeros)
+    s2 = sinusoid_range(0.0, 1.0, lo[:, 1], hi[:, 1], trig[1])
     x_lo, x_hi = m.L0 + m.L2 * c2[0] - m.L1 * c1[1], m.L0 + m.L2 * c2[1] - m.L1 * c1[0]
     y_lo, y_hi = m.L2 * s2[0] - m.L1 * s1[1], m.L2 * s2[1] - m.L1 * s1[0]
     return direction_range(x_lo, x_hi, y_lo, y_hi)
@@ -226,6 +274,8 @@ class FiveBarModes:
     # the box tests and classifiers of exact lengths; RobustFiveBarModes swaps in those of interval lengths
     _workspace_test = staticmethod(working_mode_workspace_test)
     _jointspace_test = staticmethod(assembly_mode_joint_test)
+    _workspace_tests = staticmethod(working_mode_workspace_tests)
+    _jointspace_tests = staticmethod(assembly_mode_joint_tests)
     _parallel_free_test = staticmethod(parallel_free_joint_test)
     _joint_classes = staticmethod(joint_mode_classes)
     _workspace_classifier = staticmethod(workspace_mode_classifier)
@@ -239,6 +289,12 @@ class FiveBarModes:
 
     def jointspace_test(self, assembly):
         return self._jointspace_test(self.m, assembly)
+
+    def workspace_tests(self, workings):
+        return self._workspace_tests(self.m, workings)
+
+    def jointspace_tests(self, assemblies):
+        return self._jointspace_tests(self.m, assemblies)
 
     def parallel_free_test(self, assembly):
         """Joint-space boxes assemblable in `assembly` with det A != 0 (serial singularities allowed)."""

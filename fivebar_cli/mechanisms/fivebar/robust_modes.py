@@ -31,7 +31,18 @@ def _clip(d2range, r_in, r_out, delta):
 def workspace_mode_classifier(m, working: tuple[int, int]):
     """Per box, for one working mode: (status 1/-1/0 of reach, strictly inside both annuli for every
     L, sign of det A over the box and every L where the configuration exists, 0 if not constant)."""
-    su, sv = working
+    classify = workspace_modes_classifier(m, (working,))
+
+    def one(lo, hi):
+        status, strict, signs = classify(lo, hi)
+        return status, strict, signs[:, 0]
+
+    return one
+
+
+def workspace_modes_classifier(m, workings):
+    """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
+    shape (n, len(workings)); the legs' ranges are computed once."""
     delta, _ = robust.margins(m)
 
     def classify(lo, hi):
@@ -44,22 +55,31 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
         a2 = direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1])
         g1 = robust.triangle_angle_range3(*_clip(d1, p1_in, p1_out, delta), m.bounds[3], m.bounds[1])
         g2 = robust.triangle_angle_range3(*_clip(d2, p2_in, p2_out, delta), m.bounds[4], m.bounds[2])
-        t3 = (a1[0] + g1[0], a1[1] + g1[1]) if su > 0 else (a1[0] - g1[1], a1[1] - g1[0])
-        t4 = (a2[0] + g2[0], a2[1] + g2[1]) if sv > 0 else (a2[0] - g2[1], a2[1] - g2[0])
+        signs = np.empty((len(lo), len(workings)), np.int8)
+        for k, (su, sv) in enumerate(workings):
+            t3, t4 = modes.leg_branch(a1, g1, su), modes.leg_branch(a2, g2, sv)
+            signs[:, k] = sin_sign(t4[0] - t3[1], t4[1] - t3[0])
         status = verdict(reach, impossible)
-        return status, strict, sin_sign(t4[0] - t3[1], t4[1] - t3[0])
+        return status, strict, signs
 
     return classify
 
 
 def working_mode_workspace_test(m, working):
     """Black when every P of the box is reachable, non-singular and in this working mode for every L."""
-    classify = workspace_mode_classifier(m, working)
+    tests = working_mode_workspace_tests(m, (working,))
+    return lambda lo, hi: tests(lo, hi)[:, 0]
 
-    def test(lo, hi):
-        status, strict, sign = classify(lo, hi)
+
+def working_mode_workspace_tests(m, workings):
+    """The tests of several working modes at once (a `paving.engine.MultiTest`)."""
+    classify = workspace_modes_classifier(m, workings)
+
+    def test(lo, hi, open_=None):
+        status, strict, signs = classify(lo, hi)
         out = robust.workspace_band(m, lo, hi, possible_too=False)  # no point robust: none in a robust aspect
-        return np.where(status == -1, -1, np.where(strict & (sign != 0), 1, np.where(out, BAND, 0))).astype(np.int8)
+        black = strict[:, None] & (signs != 0)
+        return np.where(status[:, None] == -1, -1, np.where(black, 1, np.where(out[:, None], BAND, 0))).astype(np.int8)
 
     return test
 
@@ -68,12 +88,18 @@ def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
     """Per box: (status 1/-1/0, free of parallel singularity for every L, sign B11, sign B22 over
     the box and every L where it assembles, 0 where not constant); with `with_band` also whether
     no point assembles robustly."""
+    status, strict, u, v, *band = joint_modes_classes(m, (assembly,), lo, hi, with_band)
+    return (status, strict, u[:, 0], v[:, 0], *band)
+
+
+def joint_modes_classes(m, assemblies, lo, hi, with_band: bool = False):
+    """`joint_mode_classes` of several assembly modes at once: signs of shape (n, len(assemblies))."""
     trig = box_trig(lo, hi)
     bounds = robust.crank_distance_bounds(m, lo, hi, trig)
     reach, impossible = robust.joint_status(m, bounds["low"], bounds["high"])
     strict, _ = robust.joint_status(m, bounds["low"], bounds["high"], strict=True)
     tri = coupler_triangle(m, lo, hi, trig, bounds)
-    u, v = modes.serial_signs(assembly, lo, hi, tri.b, tri.a, tri.e)
+    u, v = modes.serial_signs_of(assemblies, lo, hi, tri)
     status = verdict(reach, impossible)
     if with_band:
         return status, strict, u, v, robust.joint_band(m, bounds, possible_too=False)
@@ -97,11 +123,17 @@ def coupler_triangle(m, lo, hi, trig, bounds=None) -> modes.CouplerTriangle:
 
 def assembly_mode_joint_test(m, assembly: int):
     """Black when every (th1, th2) of the box assembles in this mode, non-singular, for every L."""
+    tests = assembly_mode_joint_tests(m, (assembly,))
+    return lambda lo, hi: tests(lo, hi)[:, 0]
 
-    def test(lo, hi):
-        status, strict, u, v, out = joint_mode_classes(m, assembly, lo, hi, with_band=True)
-        black = strict & (u != 0) & (v != 0)
-        return np.where(status == -1, -1, np.where(black, 1, np.where(out, BAND, 0))).astype(np.int8)
+
+def assembly_mode_joint_tests(m, assemblies):
+    """The tests of several assembly modes at once (a `paving.engine.MultiTest`)."""
+
+    def test(lo, hi, open_=None):
+        status, strict, u, v, out = joint_modes_classes(m, assemblies, lo, hi, with_band=True)
+        black = strict[:, None] & (u != 0) & (v != 0)
+        return np.where(status[:, None] == -1, -1, np.where(black, 1, np.where(out[:, None], BAND, 0))).astype(np.int8)
 
     return test
 
@@ -127,6 +159,8 @@ class RobustFiveBarModes(modes.FiveBarModes):
 
     _workspace_test = staticmethod(working_mode_workspace_test)
     _jointspace_test = staticmethod(assembly_mode_joint_test)
+    _workspace_tests = staticmethod(working_mode_workspace_tests)
+    _jointspace_tests = staticmethod(assembly_mode_joint_tests)
     _parallel_free_test = staticmethod(parallel_free_joint_test)
     _joint_classes = staticmethod(joint_mode_classes)
     _workspace_classifier = staticmethod(workspace_mode_classifier)

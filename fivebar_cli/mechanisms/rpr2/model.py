@@ -22,6 +22,7 @@ from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields,
 from fivebar_cli.mechanisms.rpr2 import boxtests, kinematics
 from fivebar_cli.numerics import annuli as ring
 from fivebar_cli.numerics.verdict import verdict
+from fivebar_cli.paving.engine import stacked
 
 
 @dataclass(frozen=True)
@@ -120,6 +121,12 @@ class Rpr2Modes:
 
     def jointspace_test(self, assembly):
         return boxtests.assembly_joint_test(self.m)
+
+    def workspace_tests(self, workings):
+        return stacked([self.workspace_test(w) for w in workings])
+
+    def jointspace_tests(self, assemblies):
+        return stacked([self.jointspace_test(a) for a in assemblies])
 
     def assembly_signs(self, working, points):
         _, _, ok = kinematics.ikp(self.m, points[:, 0], points[:, 1])
