@@ -10,9 +10,11 @@ import csv
 import json
 from pathlib import Path
 
+import yaml
+
 from cli_helpers import PNG_MAGIC, ok, one_line, run_cli
 from conftest import CONFIGS, M2_YAML
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from fivebar_cli.io.qtfile import read_qt
@@ -25,11 +27,13 @@ NAMES = PRINTABLE | st.text(st.characters(blacklist_categories=("Cs",)), min_siz
 
 
 def config(folder: Path, source: Path, name: str) -> Path:
-    """`source` with its `name:` replaced by `name` (a YAML double-quoted string)."""
+    """`source` with its `name:` replaced by `name`, as a YAML double-quoted string that reads back
+    as exactly `name` (YAML escapes: a raw NEL or LINE SEPARATOR inside quotes is a line break,
+    which YAML folds into a space)."""
     lines = source.read_text().splitlines()
     path = folder / source.name
-    path.write_text("\n".join(f"name: {json.dumps(name, ensure_ascii=False)}" if line.startswith("name:") else line
-                              for line in lines) + "\n")
+    quoted = yaml.safe_dump(name, allow_unicode=True, default_style='"', width=1 << 20).strip()
+    path.write_text("\n".join(f"name: {quoted}" if line.startswith("name:") else line for line in lines) + "\n")
     return path
 
 
@@ -47,6 +51,7 @@ def accepted(name: str) -> bool:
 
 @settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(name=NAMES)
+@example(name="0\x850")  # a NEL: a line break inside YAML quotes unless escaped (found by hypothesis)
 def test_every_writing_command_writes_the_name_or_the_file_is_refused(tmp_path_factory, name):
     root = tmp_path_factory.mktemp("name")
     fivebar, rpr3 = config(root, M2_YAML, name), config(root, RPR3, name)
