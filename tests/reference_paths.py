@@ -84,12 +84,15 @@ def shortest_through_boxes(lo: np.ndarray, hi: np.ndarray, start, ends, bound: f
 def shortest_through_tree(tree, start, end, bound: float | None = None) -> float:
     """`shortest_through_boxes` on the leaves of a 2-D tree (lattice boxes computed here from the
     leaves' levels and coordinates), points in the space's units; on a periodic axis over the
-    3 x 3 copies of the cells and of the end (the points wrapped into the root first)."""
+    copies of the cells and of the end that a polyline of length `bound` can reach (the points
+    wrapped into the root first): 3 x 3 without a bound, more for a motion that winds round the
+    torus more than once (found by hypothesis: a motion going two periods the other way round)."""
     grid = tree.grid
     n = 1 << grid.depth
     span = (1 << (grid.depth - tree.level))[:, None]
     lo, hi = tree.coords * span, tree.coords * span + span
-    copies = [np.array(c) for c in product(*[(-1, 0, 1) if p else (0,) for p in grid.periodic])]
+    turns = [1 if bound is None else int(bound // size) + 1 for size in grid.size]
+    copies = [np.array(c) for c in product(*[range(-k, k + 1) if p else (0,) for p, k in zip(grid.periodic, turns)])]
     scale = grid.size / n
 
     def to(p):
