@@ -55,11 +55,12 @@ def reference(layers, level: int) -> np.ndarray:
 def test_paint_is_the_layer_by_layer_blend_to_the_bit(seed, layers, level):
     rng = np.random.default_rng(seed)
     stack = [(random_tree(rng), tuple(rng.random(3))) for _ in range(layers)]
-    assert np.array_equal(paint(stack, level), reference(stack, level))
+    image = paint(stack, level)
+    assert np.array_equal(image[..., :3], reference(stack, level)) and (image[..., 3] == 1).all()  # opaque
 
 
 def test_a_layer_covering_a_pixel_wholly_replaces_what_was_under_it():
     full, red, blue = Tree.full(GRID), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
     half = Tree.from_cells(GRID, 1, np.array([[0, 0], [1, 0]]))  # the lower half
     image = paint([(full, red), (half, blue)], 3)
-    assert (image[:4] == blue).all() and (image[4:] == red).all()
+    assert (image[:4, :, :3] == blue).all() and (image[4:, :, :3] == red).all()

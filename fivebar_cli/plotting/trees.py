@@ -22,7 +22,8 @@ SLICES = 4  # panels of a 3-D paving: slices at the centres of this many equal p
 
 
 def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> np.ndarray:
-    """RGB image: white, with each tree's coverage blended in its colour, layer after layer.
+    """RGBA image (opaque: matplotlib would otherwise stack an alpha channel onto an RGB one at
+    every draw): white, with each tree's coverage blended in its colour, layer after layer.
 
     A layer covering a pixel wholly replaces its colour, so a pixel that no layer covers in part
     takes the colour of the last layer covering it (white if none): one gather. Only the pixels
@@ -36,15 +37,16 @@ def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> 
         if len(tree) and tree.level.max() > level:  # cells finer than a pixel
             mixed |= (cover > 0) & (cover < 1)
     palette = np.array([WHITE, *(colour for _, colour in layers)], dtype=float)
-    image = palette[last]
+    image = np.ones((n * n, 4))
+    image[:, :3] = palette[last]
     blend = np.flatnonzero(mixed)
     if len(blend):
         pixels = np.tile(WHITE, (len(blend), 1))
         for tree, colour in layers:
             c = np.clip(tree.coverage(level).ravel()[blend], 0, 1)[:, None]
             pixels = pixels * (1 - c) + np.asarray(colour) * c
-        image[blend] = pixels
-    return image.reshape(n, n, 3)
+        image[blend, :3] = pixels
+    return image.reshape(n, n, 4)
 
 
 def _outlines(ax, trees: list[Tree]) -> None:
