@@ -272,9 +272,15 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     # two closed black cells of different signs cannot touch (a shared point would have both), so
     # the components of all black leaves are the anchors of every mode set at once
     region.black_labels, _ = paving.inside.components(corners=True)
-    region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined)
+    band_signs = None
+    if space == "jointspace" and hasattr(model, "jointspace_band_signs"):  # one classification for both
+        region.und_possible, region.und_signs, strict = on_cells(
+            lambda lo, hi: model.jointspace_band_signs(assembly, lo, hi), paving.grid, paving.undetermined)
+        band_signs = strict, region.und_signs
+    else:
+        region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined)
     region.und_pairs = _undetermined_pairs(paving)
-    region.bands = serial_bands(model, region)
+    region.bands = serial_bands(model, region, band_signs)
     return region
 
 

@@ -42,13 +42,14 @@ class Band:
     leaf: np.ndarray
 
 
-def serial_bands(model: AspectModel, region) -> list[Band]:
+def serial_bands(model: AspectModel, region, band_signs=None) -> list[Band]:
     """The bands of one joint-space mode region (`aspects.Region`), one per serial singularity that
-    has some: what `find_crossings` needs of the region, computed with it (in its worker)."""
+    has some: what `find_crossings` needs of the region, computed with it (in its worker).
+    `band_signs`: the undetermined cells' `serial_band_signs`, when already at hand."""
     if region.space != "jointspace" or not len(region.paving.undetermined):
         return []
     grid, cells = region.paving.grid, region.paving.undetermined
-    strict, signs = on_cells(lambda lo, hi: model.serial_band_signs(region.assembly, lo, hi), grid, cells)
+    strict, signs = band_signs or on_cells(lambda lo, hi: model.serial_band_signs(region.assembly, lo, hi), grid, cells)
     bands = []
     for changing in range(len(model.serial_names)):  # the one sign that changes across the band
         others = np.delete(signs, changing, axis=1)

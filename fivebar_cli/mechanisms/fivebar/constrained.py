@@ -205,10 +205,14 @@ class ConstrainedModes(modes.FiveBarModes):
     def serial_band_signs(self, assembly, lo, hi):
         """Band cells must also be within every constraint (a crossing is a motion)."""
         strict, signs = self.base.serial_band_signs(assembly, lo, hi)
+        return self._within(assembly, lo, hi, strict), signs
+
+    def _within(self, assembly, lo, hi, strict):
+        """`strict` where the boxes are also certified within every constraint."""
         ok = strict.copy()
         if ok.any():
             ok[ok] = jointspace_status(self.m, assembly, lo[ok], hi[ok]) == 1
-        return ok, signs
+        return ok
 
     def workspace_signs(self, working, lo, hi):
         possible, sign = self.base.workspace_signs(working, lo, hi)
@@ -217,6 +221,11 @@ class ConstrainedModes(modes.FiveBarModes):
     def jointspace_signs(self, assembly, lo, hi):
         possible, signs = self.base.jointspace_signs(assembly, lo, hi)
         return _possible(possible, lambda k: jointspace_status(self.m, assembly, lo[k], hi[k])), signs
+
+    def jointspace_band_signs(self, assembly, lo, hi):
+        possible, signs, strict = self.base.jointspace_band_signs(assembly, lo, hi)
+        return (_possible(possible, lambda k: jointspace_status(self.m, assembly, lo[k], hi[k])), signs,
+                self._within(assembly, lo, hi, strict))
 
 
 def _restricted_columns(base, modes_, status):

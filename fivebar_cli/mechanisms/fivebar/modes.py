@@ -327,3 +327,9 @@ class FiveBarModes:
     def jointspace_signs(self, assembly, lo, hi):
         status, _, u, v = self._joint_classes(self.m, assembly, lo, hi)
         return status != -1, np.column_stack([u, v])
+
+    def jointspace_band_signs(self, assembly, lo, hi):
+        """`jointspace_signs` and `serial_band_signs` of the same boxes from one classification:
+        (may hold an assemblable point, working signs, certified free of parallel singularity)."""
+        status, strict, u, v = self._joint_classes(self.m, assembly, lo, hi)
+        return status != -1, np.column_stack([u, v]), strict
