@@ -273,7 +273,7 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     # the components of all black leaves are the anchors of every mode set at once
     region.black_labels, _ = paving.inside.components(corners=True)
     band_signs = None
-    if space == "jointspace" and hasattr(model, "jointspace_band_signs"):  # one classification for both
+    if space == "jointspace":  # one classification for the free signs and the serial bands
         region.und_possible, region.und_signs, strict = on_cells(
             lambda lo, hi: model.jointspace_band_signs(assembly, lo, hi), paving.grid, paving.undetermined)
         band_signs = strict, region.und_signs

@@ -325,6 +325,11 @@ class AspectModel(Protocol):
         """Per joint-space box: (certified free of parallel singularity, working signs with 0 where
         not constant), to find the cells crossed by one serial singularity only."""
 
+    def jointspace_band_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, ...]:
+        """`jointspace_signs` and `serial_band_signs` of the same boxes (their working signs are the
+        same), from one classification: (may hold an assemblable point, working signs, certified
+        free of parallel singularity). The aspects classify a region's undetermined cells once."""
+
     # Optional (`fivebar path --allow-serial`): a joint-space box test, 1 where every point
     # assembles in `assembly` with det A != 0 (serial singularities allowed), -1 where none does.
     # def parallel_free_test(self, assembly: int) -> BoxTest: ...

@@ -159,3 +159,7 @@ class Rpr2Modes:
     def serial_band_signs(self, assembly, lo, hi):
         inside, _ = boxtests._triangle(self.m, lo, hi, strict=True)
         return inside, boxtests.leg_signs(self.m, lo, hi)
+
+    def jointspace_band_signs(self, assembly, lo, hi):
+        (possible, signs), (strict, _) = self.jointspace_signs(assembly, lo, hi), self.serial_band_signs(assembly, lo, hi)
+        return possible, signs, strict
