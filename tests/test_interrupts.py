@@ -263,14 +263,15 @@ def interrupted_by_ctrl_c(tmp_path_factory, old_aspects):
         return folder, interrupt(args, root, folder, trigger, signal.SIGINT)
 
     before = snapshot(old_aspects)
-    with children_take_ctrl_c(), ThreadPoolExecutor(2) as pool:
+    with ctrl_c_not_ignored(), ThreadPoolExecutor(2) as pool:
         return before, list(pool.map(one, enumerate(jobs)))
 
 
 @contextmanager
-def children_take_ctrl_c():
+def ctrl_c_not_ignored():
     """A process started with SIGINT ignored (pytest run in the background, nohup) passes that on to its
-    children, and Python then leaves Ctrl-C ignored: give the children the default disposition."""
+    children, and Python then leaves Ctrl-C ignored, as does the CLI: meanwhile, Python's default handler
+    (for the children started, and for the CLI run in this process)."""
     previous = signal.getsignal(signal.SIGINT)
     if previous == signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
@@ -349,7 +350,7 @@ def ctrl_c_at_random_times(tmp_path_factory, old_aspects):
             lengths = {**lengths, **phase_lengths(r.seen)}
         return runs
 
-    with children_take_ctrl_c():
+    with ctrl_c_not_ignored():
         first = aim("done", {})
         lengths = phase_lengths(first[-1][3].seen)
         with ThreadPoolExecutor(2) as pool:
@@ -483,7 +484,8 @@ def test_an_interruption_that_a_library_turns_into_its_own_error_is_still_one(tm
         return real(self, *args, **kwargs)
 
     monkeypatch.setattr(matplotlib.transforms.Affine2DBase, "__array__", array)
-    r = run_cli("aspects", M1, "--depth", 4, "-o", tmp_path / "out", "-q")
+    with ctrl_c_not_ignored():
+        r = run_cli("aspects", M1, "--depth", 4, "-o", tmp_path / "out", "-q")
     assert calls
     one_line(r, 130, "fivebar: error: interrupted")
 
