@@ -26,40 +26,73 @@ EIGHT = np.ones((3, 3), bool)
 MIN_PIXELS = 12  # at n = 512; scaled with the number of cells
 
 
-def _cross(a, b):
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+class JointGeometry:
+    """What both assembly modes share at joint values: the cranks' ends B1, B2 and the triangle
+    B1 B2 P (reachable, and the angles that place P)."""
+
+    def __init__(self, L, th1, th2):
+        L0, L1, L2, L3, L4 = L
+        self.L = L
+        self.b1 = L1 * np.cos(th1), L1 * np.sin(th1)
+        self.b2 = L0 + L2 * np.cos(th2), L2 * np.sin(th2)
+        dx, dy = self.b2[0] - self.b1[0], self.b2[1] - self.b1[1]
+        dist = np.hypot(dx, dy)
+        self.ok = (dist < L3 + L4) & (dist > abs(L3 - L4))
+        c = np.clip((dist**2 + L3**2 - L4**2) / (2 * L3 * np.where(dist > 0, dist, 1.0)), -1, 1)
+        self.toward, self.spread = np.arctan2(dy, dx), np.arccos(c)
+
+    def modes(self, assembly):
+        """(valid and non-singular, sign B11, sign B22, P) for one assembly mode."""
+        L0, L3 = self.L[0], self.L[3]
+        (b1x, b1y), (b2x, b2y) = self.b1, self.b2
+        angle = self.toward + assembly * self.spread
+        px, py = b1x + L3 * np.cos(angle), b1y + L3 * np.sin(angle)
+        u = np.sign(b1x * (py - b1y) - b1y * (px - b1x))
+        v = np.sign((b2x - L0) * (py - b2y) - b2y * (px - b2x))
+        return self.ok & (u != 0) & (v != 0), u, v, np.stack([px, py], -1)
+
+
+class WorkGeometry:
+    """What the four working modes share at poses: reachability, and each crank's angle for either
+    sign of its leg (a working mode takes one per leg)."""
+
+    def __init__(self, L, x, y):
+        L0, L1, L2, L3, L4 = L
+        self.L, self.x, self.y = L, x, y
+        m1, m2 = np.hypot(x, y), np.hypot(x - L0, y)
+        self.ok = (m1 > abs(L1 - L3)) & (m1 < L1 + L3) & (m2 > abs(L2 - L4)) & (m2 < L2 + L4)
+        c1 = np.clip((L1**2 + m1**2 - L3**2) / (2 * L1 * np.maximum(m1, 1e-300)), -1, 1)
+        c2 = np.clip((L2**2 + m2**2 - L4**2) / (2 * L2 * np.maximum(m2, 1e-300)), -1, 1)
+        self.toward = np.arctan2(y, x), np.arctan2(y, x - L0)
+        self.spread = np.arccos(c1), np.arccos(c2)
+        self._cranks = {}
+
+    def crank(self, leg: int, sign: int):
+        """(theta, Bx, By) of crank `leg` (0 or 1) when its leg's working-mode sign is `sign`."""
+        if (leg, sign) not in self._cranks:
+            L0, L1, L2 = self.L[:3]
+            th = self.toward[leg] - sign * self.spread[leg]
+            self._cranks[leg, sign] = ((th, L1 * np.cos(th), L1 * np.sin(th)) if leg == 0
+                                       else (th, L0 + L2 * np.cos(th), L2 * np.sin(th)))
+        return self._cranks[leg, sign]
+
+    def modes(self, working):
+        """(valid and non-singular, sign det A, th1, th2) for one working mode."""
+        x, y = self.x, self.y
+        th1, b1x, b1y = self.crank(0, working[0])
+        th2, b2x, b2y = self.crank(1, working[1])
+        t = np.sign((x - b1x) * (y - b2y) - (y - b1y) * (x - b2x))
+        return self.ok & (t != 0), t, th1, th2
 
 
 def joint_modes(L, th1, th2, assembly):
     """(valid and non-singular, sign B11, sign B22, P) at joint values, for one assembly mode."""
-    L0, L1, L2, L3, L4 = L
-    b1 = np.stack([L1 * np.cos(th1), L1 * np.sin(th1)], -1)
-    b2 = np.stack([L0 + L2 * np.cos(th2), L2 * np.sin(th2)], -1)
-    d = b2 - b1
-    dist = np.hypot(d[..., 0], d[..., 1])
-    ok = (dist < L3 + L4) & (dist > abs(L3 - L4))
-    c = np.clip((dist**2 + L3**2 - L4**2) / (2 * L3 * np.where(dist > 0, dist, 1.0)), -1, 1)
-    angle = np.arctan2(d[..., 1], d[..., 0]) + assembly * np.arccos(c)
-    p = b1 + L3 * np.stack([np.cos(angle), np.sin(angle)], -1)
-    u = np.sign(_cross(b1, p - b1))
-    v = np.sign(_cross(b2 - np.array([L0, 0.0]), p - b2))
-    return ok & (u != 0) & (v != 0), u, v, p
+    return JointGeometry(L, th1, th2).modes(assembly)
 
 
 def work_modes(L, x, y, working):
     """(valid and non-singular, sign det A, th1, th2) at poses, for one working mode."""
-    L0, L1, L2, L3, L4 = L
-    m1, m2 = np.hypot(x, y), np.hypot(x - L0, y)
-    ok = (m1 > abs(L1 - L3)) & (m1 < L1 + L3) & (m2 > abs(L2 - L4)) & (m2 < L2 + L4)
-    c1 = np.clip((L1**2 + m1**2 - L3**2) / (2 * L1 * np.maximum(m1, 1e-300)), -1, 1)
-    c2 = np.clip((L2**2 + m2**2 - L4**2) / (2 * L2 * np.maximum(m2, 1e-300)), -1, 1)
-    th1 = np.arctan2(y, x) - working[0] * np.arccos(c1)
-    th2 = np.arctan2(y, x - L0) - working[1] * np.arccos(c2)
-    b1 = np.stack([L1 * np.cos(th1), L1 * np.sin(th1)], -1)
-    b2 = np.stack([L0 + L2 * np.cos(th2), L2 * np.sin(th2)], -1)
-    p = np.stack([x, y], -1)
-    t = np.sign(_cross(p - b1, p - b2))
-    return ok & (t != 0), t, th1, th2
+    return WorkGeometry(L, x, y).modes(working)
 
 
 def _label(mask: np.ndarray, torus: bool) -> np.ndarray:
@@ -102,14 +135,14 @@ def count(L, n: int = 1024) -> int:
     reach = L[1] + L[3]
     s = (np.arange(n) + 0.5) / n * 2 * reach - reach
     x, y = np.meshgrid(s, s, indexing="ij")
-    joint = {}
+    joint, joints, poses = {}, JointGeometry(L, th1, th2), WorkGeometry(L, x, y)
     for am in ASSEMBLY:
-        ok, u, v, p = joint_modes(L, th1, th2, am)
+        ok, u, v, p = joints.modes(am)
         for wm in WORKING:
             joint[wm, am] = (_label(ok & (u == wm[0]) & (v == wm[1]), True), p)
     work = {}
     for wm in WORKING:
-        ok, sign, a1, a2 = work_modes(L, x, y, wm)
+        ok, sign, a1, a2 = poses.modes(wm)
         for am in ASSEMBLY:
             work[wm, am] = (_label(ok & (sign == am), False), a1, a2)
     total = 0

@@ -139,16 +139,16 @@ def counts(L, limits=None, obstacles=(), clearance=0.0, n: int = 1024) -> dict:
     reach = L[1] + L[3]
     s = (np.arange(n) + 0.5) / n * 2 * reach - reach
     x, y = np.meshgrid(s, s, indexing="ij")
-    joint = {}
+    joint, joints, poses = {}, ref.JointGeometry(L, th1, th2), ref.WorkGeometry(L, x, y)
     for am in ref.ASSEMBLY:
-        ok, u, v, p = ref.joint_modes(L, th1, th2, am)
+        ok, u, v, p = joints.modes(am)
         ok &= allowed(L, limits, obstacles, clearance, th1, th2, p)
         for wm in ref.WORKING:
             joint[wm, am] = (_label(ok & (u == wm[0]) & (v == wm[1]), (p1, p2)), p)
     work = {}
     pose = np.stack([x, y], -1)
     for wm in ref.WORKING:
-        ok, sign, a1, a2 = ref.work_modes(L, x, y, wm)
+        ok, sign, a1, a2 = poses.modes(wm)
         ok &= allowed(L, limits, obstacles, clearance, a1, a2, pose)
         for am in ref.ASSEMBLY:
             work[wm, am] = (_label(ok & (sign == am), (False, False)), a1, a2)

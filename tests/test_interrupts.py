@@ -13,6 +13,7 @@ run does not clean them up.
 
 from __future__ import annotations
 
+import json
 import os
 import random
 import re
@@ -22,7 +23,8 @@ import subprocess
 import time
 import warnings
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
+from contextlib import contextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
@@ -32,6 +34,7 @@ from cli_helpers import (ENV, TMP_NAME, CliResult, check_whole, command, default
 from fivebar_cli.analyses.aspect_files import load_aspects
 from fivebar_cli.analyses.view import gather
 from fivebar_cli.errors import InputError
+from fivebar_cli.io.outputs import manifest_path
 from fivebar_cli.io.qtfile import read_qt
 from fivebar_cli.mechanisms.registry import load_config
 
@@ -47,6 +50,7 @@ class Interrupted:
     stderr: str
     fired: bool
     elapsed: float
+    seen: dict[str, float] = field(default_factory=dict)  # when the run's output set was seen "writing", "complete"
 
 
 def temporaries(folder: Path) -> set[str]:
@@ -56,24 +60,63 @@ def temporaries(folder: Path) -> set[str]:
     return found
 
 
+def set_state(folder: Path) -> str | None:
+    """The state its manifest gives the `aspects` output set of `folder` (io.outputs): "writing", "complete", or
+    None when there is none."""
+    try:
+        return json.loads(manifest_path(folder, "aspects").read_text())["state"]
+    except FileNotFoundError:
+        return None
+
+
+class SetWatch:
+    """When the `aspects` output set of a folder was seen to start writing, then to be complete again: its
+    manifest is replaced at both moments (a stat per look, a read when it changed)."""
+
+    def __init__(self, folder: Path):
+        self.folder, self.path = folder, manifest_path(folder, "aspects")
+        self.key = self._key()
+        self.seen: dict[str, float] = {}
+
+    def _key(self):
+        try:
+            st = os.stat(self.path)
+        except FileNotFoundError:
+            return None
+        return st.st_ino, st.st_mtime_ns, st.st_size
+
+    def look(self, now: float) -> None:
+        key = self._key()
+        if key != self.key:
+            self.key = key
+            self.seen.setdefault(set_state(self.folder), now)
+
+
 def interrupt(args, cwd: Path, watch: Path, trigger: tuple[str, float], sig: int) -> Interrupted:
-    """Run, and send `sig` at the trigger: ("time", seconds), ("tmp", n) once n temporary files have been
-    seen (the run is then writing an output), ("png", n) the same for figures."""
+    """Run, and send `sig` at the trigger: ("time", s) s seconds after the start; ("tmp", n) once n temporary
+    files have been seen (the run is then writing an output), ("png", n) the same for figures; ("writing", s),
+    ("complete", s) s seconds after the run's `aspects` output set in `watch` was seen to start writing, to be
+    complete (the result's `seen` says when, from the start)."""
     kind, value = trigger
     start = time.monotonic()
+    outputs = SetWatch(watch)
     proc = subprocess.Popen(command(args), cwd=cwd, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True)
     seen: set[str] = set()
     fired = False
     try:
         while proc.poll() is None and time.monotonic() - start < 120:
+            now = time.monotonic() - start
+            outputs.look(now)
             if kind == "time":
-                if time.monotonic() - start >= value:
-                    break
+                due = now >= value
+            elif kind in ("writing", "complete"):
+                due = kind in outputs.seen and now >= outputs.seen[kind] + value
             else:
                 seen |= {t for t in temporaries(watch) if kind == "tmp" or ".png." in t}
-                if len(seen) >= value:
-                    break
+                due = len(seen) >= value
+            if due:
+                break
             time.sleep(0.001)
         if proc.poll() is None:
             proc.send_signal(sig)
@@ -83,7 +126,7 @@ def interrupt(args, cwd: Path, watch: Path, trigger: tuple[str, float], sig: int
         if proc.poll() is None:
             proc.kill()
             proc.communicate()
-    return Interrupted(proc.returncode, out, err, fired, time.monotonic() - start)
+    return Interrupted(proc.returncode, out, err, fired, time.monotonic() - start, outputs.seen)
 
 
 ASPECT_TRIGGERS = [("tmp", 1), ("tmp", 6), ("png", 1), ("png", 3), ("time", 0.4)]
@@ -220,14 +263,20 @@ def interrupted_by_ctrl_c(tmp_path_factory, old_aspects):
         return folder, interrupt(args, root, folder, trigger, signal.SIGINT)
 
     before = snapshot(old_aspects)
-    # A process started with SIGINT ignored (pytest run in the background, nohup) passes that on to its
-    # children, and Python then leaves Ctrl-C ignored: give the children the default disposition.
+    with ctrl_c_not_ignored(), ThreadPoolExecutor(2) as pool:
+        return before, list(pool.map(one, enumerate(jobs)))
+
+
+@contextmanager
+def ctrl_c_not_ignored():
+    """A process started with SIGINT ignored (pytest run in the background, nohup) passes that on to its
+    children, and Python then leaves Ctrl-C ignored, as does the CLI: meanwhile, Python's default handler
+    (for the children started, and for the CLI run in this process)."""
     previous = signal.getsignal(signal.SIGINT)
     if previous == signal.SIG_IGN:
         signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
-        with ThreadPoolExecutor(2) as pool:
-            return before, list(pool.map(one, enumerate(jobs)))
+        yield
     finally:
         signal.signal(signal.SIGINT, previous)
 
@@ -243,45 +292,92 @@ def test_ctrl_c_exits_130_without_traceback_or_temporary_file(interrupted_by_ctr
         check_whole(folder, before, allow_tmp=False)
 
 
+PHASES = ("computing", "writing", "done")  # of an `aspects` run, as the folder shows them (phase_hit)
+SHOWN = {"computing": {OLD_DEPTH}, "writing": set(), "done": {NEW_DEPTH}}  # the depths read_as_one_run gives then
+
+
+def phase_hit(folder: Path, before: dict[str, bytes]) -> str:
+    """Which phase of an `aspects` run over a copy of `before` a signal hit, by what the run left: the folder
+    as it was (still computing: nothing written), its output set "writing", or this run's complete set."""
+    if snapshot(folder) == before:
+        return "computing"
+    return "writing" if set_state(folder) == "writing" else "done"
+
+
+def phase_trigger(phase: str, fraction: float, lengths: dict[str, float]) -> tuple[str, float]:
+    """The moment `fraction` of the way through `phase`, whose length a run took `lengths[phase]` s (the
+    end of a run, "done", takes ~0.2 s here, but any moment after the outputs are complete is in it)."""
+    if phase == "computing":
+        return "time", round(fraction * lengths["computing"], 3)
+    if phase == "writing":
+        return "writing", round(fraction * lengths["writing"], 3)
+    return "complete", round(fraction * 0.2, 3)
+
+
+def phase_lengths(seen: dict[str, float]) -> dict[str, float]:
+    """How long a run computed, and wrote, as far as it was seen."""
+    lengths = {"computing": seen["writing"]} if "writing" in seen else {}
+    if "writing" in seen and "complete" in seen:
+        lengths["writing"] = seen["complete"] - seen["writing"]
+    return lengths
+
+
 @pytest.fixture(scope="module")
 def ctrl_c_at_random_times(tmp_path_factory, old_aspects):
-    """`aspects --depth 10` (with figures) over copies of the depth-6 outputs, Ctrl-C at 3 random
-    moments of its run: one uniform in each third of the first 6 s (a run takes 3 to 6 s here),
-    so that the computation, the writing and the end are all hit (fixed seed)."""
+    """`aspects --depth 10` (with figures) over copies of the depth-6 outputs, Ctrl-C at a random moment
+    of each phase of its run (fixed seed): once its outputs are complete (as it reports and exits), then,
+    two runs at a time, while it computes (nothing written yet) and while it writes. Moments are fractions
+    of the phases as the first run took them, not times: a loaded machine stretches them (a run took 3.5 s
+    idle, 10 s with both cores busy). A run that passed the phase before its moment (the load dropped) is
+    tried again, twice at most, at half the fraction of the phase as that run took it.
+    Returns the snapshot of the old outputs and [(phase aimed at, trigger, folder, result)]."""
     root = tmp_path_factory.mktemp("ctrl-c-random")
     rng = random.Random(20)
-    moments = [round(rng.uniform(2.0 * k, 2.0 * (k + 1)), 3) for k in range(3)]
+    fractions = {phase: round(rng.uniform(0.1, 0.9), 3) for phase in PHASES}
+    before = snapshot(old_aspects)
 
-    def one(i_moment):
-        i, moment = i_moment
-        folder = root / f"run{i}"
-        shutil.copytree(old_aspects, folder)
-        return moment, folder, interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], root, folder,
-                                         ("time", moment), signal.SIGINT)
+    def aim(phase: str, lengths: dict[str, float]) -> list:
+        runs = []
+        for attempt in range(3):
+            folder = root / f"{phase}-{attempt}"
+            shutil.copytree(old_aspects, folder)
+            trigger = phase_trigger(phase, fractions[phase] / 2 ** attempt, lengths)
+            r = interrupt(["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"], root, folder, trigger,
+                          signal.SIGINT)
+            runs.append((phase, trigger, folder, r))
+            if phase_hit(folder, before) == phase:
+                break
+            lengths = {**lengths, **phase_lengths(r.seen)}
+        return runs
 
-    previous = signal.getsignal(signal.SIGINT)
-    if previous == signal.SIG_IGN:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-    try:
+    with ctrl_c_not_ignored():
+        first = aim("done", {})
+        lengths = phase_lengths(first[-1][3].seen)
         with ThreadPoolExecutor(2) as pool:
-            return list(pool.map(one, enumerate(moments)))
-    finally:
-        signal.signal(signal.SIGINT, previous)
+            rest = pool.map(lambda phase: aim(phase, lengths), ["computing", "writing"])
+            return before, first + [run for runs in rest for run in runs]
 
 
 def test_ctrl_c_at_random_times_never_leaves_a_folder_read_as_one_run(ctrl_c_at_random_times):
-    """Whatever the moment: status 130 with one line, or 0 and nothing said when the run had done
-    its work (a signal during the interpreter's exit is ignored: the run completed); and the readers
-    (`view`, `load_aspects` for `locate` and `path`) take one run's aspects or none."""
-    shown = set()
-    for moment, folder, r in ctrl_c_at_random_times:
+    """Whatever the moment: status 130 with one line (and no temporary file), or 0 and nothing said when
+    the run had done its work (a signal during the interpreter's exit is ignored: the run completed); and
+    the readers (`view`, `load_aspects` for `locate` and `path`) take one run's aspects or none: the old
+    run's while the new one computes, none while it writes, the new run's once it is complete. The
+    moments did hit every phase of the run."""
+    before, runs = ctrl_c_at_random_times
+    hit = set()
+    for aimed, trigger, folder, r in runs:
         if r.status == 130:
             one_line(r, 130, "interrupted")
+            assert not temporaries(folder)
         else:
-            assert r.status == 0 and r.stderr == "", (moment, r.status, r.stderr)
+            assert r.status == 0 and r.stderr == "", (trigger, r.status, r.stderr)
             assert read_as_one_run(folder) == {NEW_DEPTH}
-        shown |= {(moment, d) for d in read_as_one_run(folder)}
-    assert shown, "no interrupted folder showed any aspects: the moments missed every phase of the run"
+        phase = phase_hit(folder, before)
+        assert read_as_one_run(folder) == SHOWN[phase], (aimed, trigger, phase)
+        hit.add(phase)
+    tried = [(aimed, trigger, round(r.elapsed, 2), r.seen) for aimed, trigger, _, r in runs]
+    assert hit == set(PHASES), f"the moments missed a phase of the run: {tried}"
 
 
 # Ctrl-C while the commands are being imported: the finder below sends SIGINT to its own process as
@@ -366,6 +462,32 @@ def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
     line = one_line(r, 143, "terminated")
     assert line.startswith("fivebar: ")
     check_whole(folder, before, allow_tmp=False)
+
+
+@pytest.mark.xfail(strict=True, reason="known bug: cli/main.py maps the ValueError to an internal error (exit 1)")
+def test_an_interruption_that_a_library_turns_into_its_own_error_is_still_one(tmp_path, monkeypatch):
+    """Ctrl-C landing in Python code that matplotlib's C++ code calls back (a transform's __array__ while a
+    path is drawn) raises Interrupted there; the C++ code clears it and raises "ValueError: Invalid affine
+    transformation matrix" instead. The run was interrupted all the same: 130 and one line, not "internal
+    error", exit 1 (seen once, under load, in test_ctrl_c_at_random_times_...: about 1 in 180 random
+    Ctrl-Cs while `aspects` writes, idle or loaded, over all the runs made for issue 21).
+    The signal is sent from inside the first such call, so the moment is fixed."""
+    import matplotlib.transforms
+
+    real = matplotlib.transforms.Affine2DBase.__array__
+    calls = []
+
+    def array(self, *args, **kwargs):
+        calls.append(1)
+        if len(calls) == 1:
+            os.kill(os.getpid(), signal.SIGINT)  # the CLI's handler raises at the next line: still in here
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(matplotlib.transforms.Affine2DBase, "__array__", array)
+    with ctrl_c_not_ignored():
+        r = run_cli("aspects", M1, "--depth", 4, "-o", tmp_path / "out", "-q")
+    assert calls
+    one_line(r, 130, "fivebar: error: interrupted")
 
 
 def test_an_interruption_passes_through_a_librarys_except_exception(tmp_path, monkeypatch):
