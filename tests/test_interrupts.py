@@ -464,7 +464,6 @@ def test_sigterm_is_handled_like_ctrl_c(tmp_path, old_aspects):
     check_whole(folder, before, allow_tmp=False)
 
 
-@pytest.mark.xfail(strict=True, reason="known bug: cli/main.py maps the ValueError to an internal error (exit 1)")
 def test_an_interruption_that_a_library_turns_into_its_own_error_is_still_one(tmp_path, monkeypatch):
     """Ctrl-C landing in Python code that matplotlib's C++ code calls back (a transform's __array__ while a
     path is drawn) raises Interrupted there; the C++ code clears it and raises "ValueError: Invalid affine

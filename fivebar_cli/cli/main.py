@@ -74,9 +74,19 @@ for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(loc
 SIGNAL_WORDS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated", signal.SIGHUP: "hung up"}
 
 
+_received: list[int] = []  # the interruptions of this run, in order (`main` clears it)
+
+
 def _on_signal(signum, frame):
-    """Ctrl-C, SIGTERM, SIGHUP: stop the run where it is (the atomic writers clean up on the way out)."""
-    raise Interrupted(f"{SIGNAL_WORDS[signum]} (no output was left half-written)", signum)
+    """Ctrl-C, SIGTERM, SIGHUP: stop the run where it is (the atomic writers clean up on the way out).
+    Recorded too: a library that calls back into Python from C++ (matplotlib drawing a path) may
+    clear the Interrupted and raise its own error instead; `_run` still reports the interruption."""
+    _received.append(signum)
+    raise _interruption(signum)
+
+
+def _interruption(signum: int) -> Interrupted:
+    return Interrupted(f"{SIGNAL_WORDS[signum]} (no output was left half-written)", signum)
 
 
 def install_signal_handlers(held=None) -> dict:
@@ -130,6 +140,7 @@ def main(argv: list[str] | None = None, held: list[int] | None = None) -> None:
     status (docs/formats.md, "Exit statuses"). With `argv` None (the console script), signals that
     arrive once the command has finished are ignored: the run completed, its status stands. `held`:
     the signals that arrived while the commands were being imported (cli/__init__.py)."""
+    _received.clear()
     previous = install_signal_handlers(held)
     hook = sys.unraisablehook
     sys.unraisablehook = _unraisable(hook)
@@ -185,6 +196,9 @@ def _run(argv) -> int:
     except MemoryError:
         return _fail("out of memory (try a smaller --depth)", 1)
     except Exception as exc:  # noqa: BLE001 - the promise is: no traceback, one line, status 1
+        if _received:  # an interruption a library turned into an error of its own: still the interruption
+            interrupted = _interruption(_received[0])
+            return _fail(interrupted, interrupted.exit_status)
         if os.environ.get("FIVEBAR_DEBUG"):
             raise
         return _fail(f"{type(exc).__name__}: {exc}", 1, "fivebar: internal error: ")
