@@ -64,3 +64,20 @@ def test_a_layer_covering_a_pixel_wholly_replaces_what_was_under_it():
     half = Tree.from_cells(GRID, 1, np.array([[0, 0], [1, 0]]))  # the lower half
     image = paint([(full, red), (half, blue)], 3)
     assert (image[:4, :, :3] == blue).all() and (image[4:, :, :3] == red).all()
+
+
+@settings(max_examples=25, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), level=st.integers(0, 6))
+def test_covered_pixels_are_those_the_coarse_leaves_fill(seed, level):
+    """`covered`: the pixels filled by leaves at most `level` deep, counted here leaf by leaf;
+    for a tree no deeper than `level` exactly the pixels of coverage 1."""
+    tree = random_tree(np.random.default_rng(seed))
+    n = 1 << level
+    expect = np.zeros((n, n), bool)
+    for lev, (x, y) in zip(tree.level, tree.coords):
+        if lev <= level:
+            span = 1 << (level - lev)
+            expect[y * span:(y + 1) * span, x * span:(x + 1) * span] = True
+    assert np.array_equal(tree.covered(level), expect)
+    if tree.level.max() <= level:
+        assert np.array_equal(tree.covered(level), tree.coverage(level) == 1)

@@ -239,6 +239,19 @@ class Tree:
 
     def coverage(self, level: int) -> np.ndarray:
         """Fraction of each pixel of the 2^level x 2^level grid covered by the set, indexed [y, x]."""
+        whole, finer = self._raster(level)
+        image = whole.astype(float)
+        for shift, sel in finer:
+            np.add.at(image, (sel[:, 1] >> shift, sel[:, 0] >> shift), 0.25 ** shift)
+        return image
+
+    def covered(self, level: int) -> np.ndarray:
+        """The pixels of the 2^level x 2^level grid that leaves at most `level` deep cover (bool,
+        [y, x]): for a tree no deeper than `level`, `coverage(level) == 1` without the floats."""
+        return self._raster(level)[0]
+
+    def _raster(self, level: int):
+        """(pixels covered by leaves at most `level` deep, [(levels below, coords) of the finer leaves])."""
         if self.grid.dim != 2:
             raise ValueError("coverage rasters are for quadtrees")
         coords, lev = self.coords, self.level
@@ -252,10 +265,7 @@ class Tree:
             covered = _upsample(covered, leaf_level - at)
             covered[sel[:, 1], sel[:, 0]] = True  # leaves are disjoint
             at = leaf_level
-        image = _upsample(covered, level - at).astype(float)
-        for shift, sel in finer:
-            np.add.at(image, (sel[:, 1] >> shift, sel[:, 0] >> shift), 0.25 ** shift)
-        return image
+        return _upsample(covered, level - at), finer
 
     # -- slices (an octree seen at one value of an axis)
 

@@ -32,13 +32,14 @@ def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> 
     last = np.zeros(n * n, dtype=np.int32)  # 0: white; k: the k-th layer covers it wholly, last
     mixed = np.zeros(n * n, dtype=bool)
     for k, (tree, _) in enumerate(layers, 1):
-        cover = tree.coverage(level).ravel()
-        last[cover >= 1] = k
         if len(tree) and tree.level.max() > level:  # cells finer than a pixel
+            cover = tree.coverage(level).ravel()
+            last[cover >= 1] = k
             mixed |= (cover > 0) & (cover < 1)
-    palette = np.array([WHITE, *(colour for _, colour in layers)], dtype=float)
-    image = np.ones((n * n, 4))
-    image[:, :3] = palette[last]
+        else:  # whole pixels only
+            last[tree.covered(level).ravel()] = k
+    palette = np.array([(*WHITE, 1.0), *((*colour, 1.0) for _, colour in layers)], dtype=float)
+    image = palette[last]
     blend = np.flatnonzero(mixed)
     if len(blend):
         pixels = np.tile(WHITE, (len(blend), 1))
