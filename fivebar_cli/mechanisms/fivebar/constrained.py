@@ -223,9 +223,14 @@ class ConstrainedModes(modes.FiveBarModes):
         return _possible(possible, lambda k: jointspace_status(self.m, assembly, lo[k], hi[k])), signs
 
     def jointspace_band_signs(self, assembly, lo, hi):
+        """As `jointspace_signs` and `serial_band_signs`, with the constraints evaluated once on the
+        boxes either needs (`_possible`, `_within`)."""
         possible, signs, strict = self.base.jointspace_band_signs(assembly, lo, hi)
-        return (_possible(possible, lambda k: jointspace_status(self.m, assembly, lo[k], hi[k])), signs,
-                self._within(assembly, lo, hi, strict))
+        status = np.zeros(len(lo), np.int8)
+        needed = possible | strict
+        if needed.any():
+            status[needed] = jointspace_status(self.m, assembly, lo[needed], hi[needed])
+        return possible & (status != -1), signs, strict & (status == 1)
 
 
 def _restricted_columns(base, modes_, status):

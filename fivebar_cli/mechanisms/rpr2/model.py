@@ -161,5 +161,6 @@ class Rpr2Modes:
         return inside, boxtests.leg_signs(self.m, lo, hi)
 
     def jointspace_band_signs(self, assembly, lo, hi):
-        (possible, signs), (strict, _) = self.jointspace_signs(assembly, lo, hi), self.serial_band_signs(assembly, lo, hi)
-        return possible, signs, strict
+        _, outside = boxtests._triangle(self.m, lo, hi, strict=False)
+        inside, _ = boxtests._triangle(self.m, lo, hi, strict=True)
+        return ~outside, boxtests.leg_signs(self.m, lo, hi), inside  # the leg signs once
