@@ -217,24 +217,26 @@ def test_two_runs_write_identical_bytes(runs):
 # ---------------------------------------------------------------- locate
 
 
-def locate(*args):
-    return run("locate", M1_YAML, "--depth", DEPTH, *args)
+def locate(folder, *args):
+    """`fivebar locate` at DEPTH with -o `folder`: the module's aspects run (its trees reused), or an
+    empty folder (the aspects computed; never the checkout's outputs/)."""
+    return run("locate", M1_YAML, "--depth", DEPTH, "-o", folder, *args)
 
 
-def locate_csv(*args):
-    r = locate(*args, "--csv")
+def locate_csv(folder, *args):
+    r = locate(folder, *args, "--csv")
     assert r.status == 0, r.stderr
     lines = r.stdout.split("\n")
     assert lines[0] == LOCATE_HEADER
     return list(csv.DictReader(io.StringIO(r.stdout)))
 
 
-def test_locate_pose_lists_every_configuration(rows):
+def test_locate_pose_lists_every_configuration(runs, rows):
     """At the representative pose of aspect 1 all four working modes reach P; each row's joints
     close the loop with its working mode, and the ++ configuration lies in aspect 1."""
     first = rows[0]
     x, y = float(first["x"]), float(first["y"])
-    out = locate_csv("--pose", x, y)
+    out = locate_csv(runs[0], "--pose", x, y)
     assert sorted(r["working_mode"] for r in out) == sorted(WM_ORDER)
     for r in out:
         su, sv = (1 if c == "+" else -1 for c in r["working_mode"])
@@ -251,9 +253,9 @@ def test_locate_pose_lists_every_configuration(rows):
             assert modes[r["aspect"]] == (r["working_mode"], r["assembly_mode"])
 
 
-def test_locate_text_output(rows):
+def test_locate_text_output(rows, tmp_path):
     first = rows[0]
-    r = locate("--pose", first["x"], first["y"])
+    r = locate(tmp_path, "--pose", first["x"], first["y"])
     assert r.status == 0, r.stderr
     assert "location 1: pose" in r.stdout and ": 4 configurations (floating-point kinematics, not certified)" in r.stdout
     assert "working mode ++, assembly mode +: " in r.stdout
@@ -261,32 +263,33 @@ def test_locate_text_output(rows):
     assert r.stdout.startswith("M1: 10 aspects at depth 8 computed (all certified)\n")
 
 
-def test_locate_joints_with_filters(rows):
+def test_locate_joints_with_filters(runs, rows):
     """--joints lists the assemblies; --assembly-mode and --working-mode keep only theirs."""
     for q in (rows[0], rows[6]):
         t1, t2 = q["theta1"], q["theta2"]
-        out = locate_csv("--joints", t1, t2, "--assembly-mode", q["assembly_mode"])
+        out = locate_csv(runs[0], "--joints", t1, t2, "--assembly-mode", q["assembly_mode"])
         assert len(out) == 1
         assert out[0]["aspect"] == q["aspect"] and out[0]["working_mode"] == q["working_mode"]
         assert float(out[0]["x"]) == pytest.approx(float(q["x"]), abs=1e-6)
         assert float(out[0]["y"]) == pytest.approx(float(q["y"]), abs=1e-6)
-    out = locate_csv("--pose", rows[0]["x"], rows[0]["y"], "--working-mode", "+-")
+    out = locate_csv(runs[0], "--pose", rows[0]["x"], rows[0]["y"], "--working-mode", "+-")
     assert [r["working_mode"] for r in out] == ["+-"]
-    out = locate_csv("--pose", rows[0]["x"], rows[0]["y"], "--assembly-mode", "-")
+    out = locate_csv(runs[0], "--pose", rows[0]["x"], rows[0]["y"], "--assembly-mode", "-")
     assert out and all(r["assembly_mode"] == "-" for r in out)
 
 
-def test_locate_outside_the_workspace():
-    r = locate("--pose", 30, 0)
+def test_locate_outside_the_workspace(runs):
+    r = locate(runs[0], "--pose", 30, 0)
     assert r.status == 0, r.stderr
+    assert r.stdout.startswith(f"M1: 10 aspects at depth 8 read from {runs[0]} (all certified)\n")  # reused
     assert "no configuration" in r.stdout
-    assert locate_csv("--pose", 30, 0) == []
+    assert locate_csv(runs[0], "--pose", 30, 0) == []
 
 
-def test_locate_on_a_serial_singularity():
+def test_locate_on_a_serial_singularity(runs):
     """P on the outer circle |P - A1| = L1 + L3 = 13, inside the workspace: no aspect."""
     p = (13 * math.cos(math.pi / 3), 13 * math.sin(math.pi / 3))
-    out = locate_csv("--pose", repr(p[0]), repr(p[1]))
+    out = locate_csv(runs[0], "--pose", repr(p[0]), repr(p[1]))
     assert out
     assert all(r["aspect"] == "" for r in out)
     assert all("B11" in r["singular"] for r in out)
@@ -314,10 +317,10 @@ def test_locate_motion_verdict(runs, rows):
     a6 = next(r for r in rows if r["working_mode"] == "++" and r["assembly_mode"] == "-")
     p1 = (float(a1["x"]), float(a1["y"]))
     p2 = _second_pose_in(out, int(a1["aspect"]), p1)
-    r = locate("--pose", *p1, "--pose", *p2, "--working-mode", "++")
+    r = locate(out, "--pose", *p1, "--pose", *p2, "--working-mode", "++")
     assert r.status == 0, r.stderr
     assert f"1 -> 2: yes: both lie in aspect {a1['aspect']}\n" in r.stdout
-    r = locate("--pose", *p1, "--pose", a6["x"], a6["y"], "--working-mode", "++")
+    r = locate(out, "--pose", *p1, "--pose", a6["x"], a6["y"], "--working-mode", "++")
     assert r.status == 0, r.stderr
     assert "1 -> 2: no: different assembly modes (+ for location 1, - for location 2)" in r.stdout
     assert "yes" not in r.stdout
