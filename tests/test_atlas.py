@@ -370,3 +370,25 @@ def test_help_and_in_process_runs_do_not_import_dask(spec_file, tmp_path):
     r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=ENV, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip().splitlines()[-1] == "[]"
+
+
+def test_a_designs_error_keeps_the_parameters_it_names(spec_file, monkeypatch):
+    """A design's error crosses processes as a FivebarError naming the design; a parameter its
+    message names stays data (`errors.Text`), so the command line spells it as an option."""
+    import pickle
+
+    from fivebar_cli.analyses.atlas import engine
+    from fivebar_cli.cli.options import as_flags
+    from fivebar_cli.errors import FivebarError, InputError, Text, param
+
+    def failing(lengths, *args):
+        raise InputError("L1", "depth", "try " + param("depth", 12))
+
+    monkeypatch.setattr(engine, "row", failing)
+    spec = read_spec(spec_file)
+    with pytest.raises(FivebarError) as info:
+        batch_text(spec, 0)
+    said = pickle.loads(pickle.dumps(info.value)).args[0]  # as a worker process sends it
+    first = " ".join(f"L{k}={v!r}" for k, v in enumerate(spec.design(batch_span(spec, 0)[0])))
+    assert isinstance(said, Text) and said.startswith(f"design {batch_span(spec, 0)[0]} ({first}): InputError: ")
+    assert said.endswith("L1: depth: try `depth=12`") and as_flags(said).endswith("L1: depth: try --depth 12")

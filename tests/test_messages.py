@@ -124,3 +124,20 @@ def test_library_spelling_of_names_and_paths(named):
         f"{config}: `tolerance`: 5 would make L2 reach 0.0: lengths must stay positive"
     notes = fb.rpr3.verify(named / "table1.yaml", 3).notes
     assert notes[0].startswith("raise the depth: legs ") and notes[2].endswith(" at depth 3: raise `depth`")
+
+
+def test_both_verify_commands_advise_depth_from_the_one_library_line(tmp_path):
+    """`fivebar verify` and `fivebar rpr3 verify` print the library's undecided line (one owner:
+    `VerifyResult.undecided_line`), the parameter as data: `depth` in Python, --depth on the line."""
+    from fivebar_cli.analyses.pose_verify import verify
+
+    config = REPO / "configs" / "rpr3-verify" / "table1-legs-1-1.5.yaml"
+    result = verify(fb.load(config), 2)
+    line = result.undecided_line()
+    assert result.status == "undecided" and 0 < result.undecided_volume < result.root_volume
+    assert isinstance(line, Text) and line.endswith(": raise `depth`") and not FLAG.search(line)
+    expected = f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth 2: raise --depth"
+    for argv in (("verify",), ("rpr3", "verify")):
+        r = run_cli(*argv, config, "--depth", 2, "-o", tmp_path / "-".join(argv), "--no-plot")
+        assert r.status == 3 and expected in r.stdout.splitlines(), r.stdout
+        assert f"undecided (depth 2 of 2, {result.evaluations} boxes tested)" in r.stdout

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.analyses.pose_aspects import pose_model
+from fivebar_cli.errors import param
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.engine import CHUNK, box_pad, children
 
@@ -65,6 +66,15 @@ class VerifyResult:
     @property
     def evaluations(self) -> int:
         return int(sum(self.per_level))
+
+    def headline(self) -> str:
+        """'free (depth 6 of 14, 1234 boxes tested)': the verdict line of every `verify`."""
+        return f"{self.status} (depth {self.depth} of {self.max_depth}, {self.evaluations} boxes tested)"
+
+    def undecided_line(self) -> str:
+        """What an undecided verdict left open and what to try (the parameter as data: `param`)."""
+        return (f"undecided volume {self.undecided_volume:.6g} of {self.root_volume:.6g} at depth {self.depth}: "
+                + (self.note or "raise " + param("depth")))
 
 
 def verify(m: Mechanism, max_depth: int, sheet: int = 0, on_level=None) -> VerifyResult:

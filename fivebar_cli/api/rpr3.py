@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fivebar_cli.api.values import Table
-from fivebar_cli.errors import InputError, param
+from fivebar_cli.errors import InputError
 from fivebar_cli.io.layout import AREA_FILES, COUNTEREXAMPLE_PNG, SYNTHESIS_FILES
 
 AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
@@ -499,7 +499,7 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
     legs = ", ".join(f"[{lo:.8g}, {hi:.8g}]" for lo, hi in zip(a, b))
     p1, p2 = m.phi_range
     notes = [f"{m.name}: legs {legs}, phi in [{p1:g}, {p2:g}] deg",
-             f"  {result.status} (depth {result.depth} of {result.max_depth}, {result.evaluations} boxes tested)"]
+             "  " + result.headline()]
     pose, counterexample, drawings = result.pose, None, ()
     if result.status == SINGULAR:
         x, y, phi = (*pose.pose, m.phi_range[0])[:3]  # one orientation: the pose is (x, y)
@@ -515,8 +515,7 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
 
         drawings = ((COUNTEREXAMPLE_PNG, pose_figure),)
     if result.status == UNDECIDED:
-        notes.append(f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
-                     f"{result.depth}: " + (result.note or "raise " + param("depth")))
+        notes.append("  " + result.undecided_line())
     row = (m.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
            result.undecided_volume, result.root_volume)
     return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes), drawings, result, counterexample)

@@ -57,8 +57,7 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
         statuses.append(result.status)
         rows.append((m.name, *values, result.status, result.exit_code, result.depth, result.max_depth,
                      result.evaluations, result.undecided_volume, result.root_volume))
-        report(quiet, f"{m.name}: {label + ': ' if label else ''}{result.status} (depth {result.depth} of "
-                      f"{result.max_depth}, {result.evaluations} boxes tested)")
+        report(quiet, f"{m.name}: {label + ': ' if label else ''}" + result.headline())
         if result.status == SINGULAR:
             pose = result.pose
             singular.append((sheet, pose))
@@ -66,8 +65,7 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
                    + ", " + ", ".join(f"{a} = {v:.12g}" for a, v in zip(joint_columns(m), pose.joints))
                    + f", {model.singularity_name} = {pose.value:.3g}")
         if result.status == UNDECIDED:
-            report(quiet, f"  undecided volume {result.undecided_volume:.6g} of {result.root_volume:.6g} at depth "
-                          f"{result.depth}: {result.note or 'raise --depth'}")
+            report(quiet, "  " + result.undecided_line())
     header = ["name", *fields, "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume"]
     # a counterexample of an earlier run is removed when none is found (the set owns it)
     with output_set(folder, f"{m.kind}-verify", VERIFY_FILES, "fivebar verify"):

@@ -16,7 +16,7 @@ from typing import Callable, Iterable, Iterator
 from fivebar_cli.analyses.atlas.metrics import columns, row
 from fivebar_cli.analyses.atlas.parts import Parts, batch_count, batch_span
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
-from fivebar_cli.errors import FivebarError, Interrupted
+from fivebar_cli.errors import FivebarError, Interrupted, Text
 from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import ATLAS_CSV
 
@@ -35,7 +35,8 @@ def batch_text(spec: AtlasSpec, index: int) -> str:
             raise
         except Exception as exc:  # name the design; plain FivebarError: it must cross process boundaries
             shown = " ".join(f"L{k}={v!r}" for k, v in enumerate(lengths))
-            raise FivebarError(f"design {design} ({shown}): {type(exc).__name__}: {exc}") from None
+            said = exc.args[0] if len(exc.args) == 1 and isinstance(exc.args[0], Text) else str(exc)
+            raise FivebarError(f"design {design} ({shown}): {type(exc).__name__}: " + said) from None  # a Text stays one
     return csv_text(columns(spec.tolerance), rows)
 
 
