@@ -55,7 +55,7 @@ def aspects(config_path, depth, budget, tolerance, jobs, out, no_plot, quiet):
       fivebar aspects configs/m1.yaml --depth 10 -o out/m1
       fivebar aspects configs/m1.yaml --depth 8 --tolerance 0.05 -o out/m1-tol --no-plot
       fivebar aspects configs/m1-obstacle.yaml --depth 9 -o out/m1-obstacle --no-plot
-      fivebar aspects configs/m1.yaml --depth 9 --jobs 2 -o out/m1-jobs --no-plot
+      fivebar aspects configs/m1.yaml --depth 9 --jobs 2 --no-plot -o out/m1-jobs
     """
     m = load_with_aspects(config_path, tolerance)
     folder = prepare_out(out, m.name)
