@@ -375,30 +375,37 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     """Every (undetermined cell u, neighbour n) touching at a point, a pair of undetermined cells
     once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
     n - len(black leaves). Undetermined cells are the smallest cells, so looking up their
-    neighbours finds every pair. int32 when the indices fit: these pairs are most of a region's
-    memory (about 7 per undetermined cell)."""
+    neighbours (among themselves, then among the black leaves) finds every pair. int32 when the
+    indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
-    small = np.int32 if len(inside) + len(und) < np.iinfo(np.int32).max else np.int64
-    level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
-    code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
-    order = finest_order(code, level, grid.dim, grid.depth)
-    everything = Tree(grid, level[order], code[order], canonical=True)
-    del level, code  # (temporaries of every cell: the peak memory of an analysis is here)
-    order = order.astype(small)
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order), dtype=small)
-    mine = rank[len(inside):]
-    del rank
-    und_of_sorted = np.argsort(mine, kind="stable").astype(small)  # position among the sorted undetermined cells -> index
-    cells = everything.subset(np.sort(mine, kind="stable"))
-    del mine
+    n_black = len(inside)
+    small = np.int32 if n_black + len(und) < np.iinfo(np.int32).max else np.int64
+    code = interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)
+    order = None  # the cells' Morton order, when they are not in it already (a paving's are)
+    if np.any(code[1:] < code[:-1]):
+        order = np.argsort(code, kind="stable").astype(small)
+        code = code[order]
+    cells = Tree(grid, np.full(len(code), grid.depth, np.int64), code, canonical=True)
+    del code
     us, ns = [], []
-    for i, j in cells.neighbour_pairs(everything, corners=True):
-        u, n = und_of_sorted[i], order[j]
-        once = (n < len(inside)) | (n - len(inside) > u)
+    for i, j in cells.neighbour_pairs(inside, corners=True, itself=True):
+        u, n = i.astype(small), j.astype(small)
+        if order is not None:
+            u = order[i]
+            und_n = n >= n_black
+            n[und_n] = n_black + order[n[und_n] - n_black]
+        once = (n < n_black) | (n - n_black > u)
         us.append(u[once])
         ns.append(n[once])
     return np.concatenate(us), np.concatenate(ns)
+
+
+def _allow(signs: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Rows of signs that do not contradict `values`: every sign 0 (undecided) or equal."""
+    out = np.ones(len(signs), bool)
+    for c in range(signs.shape[1]):
+        out &= (signs[:, c] == 0) | (signs[:, c] == values[c])
+    return out
 
 
 def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:
