@@ -30,7 +30,7 @@ import numpy as np
 from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
-from fivebar_cli.paving.arrays import dense_rank
+from fivebar_cli.paving.arrays import dense_rank, index_type, label_type, rows_equal
 from fivebar_cli.paving.tree import Tree, root_labels, union_find
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
@@ -110,21 +110,31 @@ class ModeSet:
         self.modes = region.modes_with(secondary)
         paving = region.paving
         grid = paving.grid
-        mine = np.flatnonzero(np.all(region.free == self.secondary, axis=1))
-        fits = region.und_possible & np.all((region.und_signs == 0) | (region.und_signs == self.secondary), axis=1)
-        self.grid, self._mine, self._fits = grid, mine, fits
-        black = np.concatenate([np.ones(len(mine), bool), np.zeros(int(np.count_nonzero(fits)), bool)])
+        # a set's arrays per cell stay through the analysis: indices in int32 (when they fit),
+        # anchors and outer components (a few) in the smallest type, undetermined cells as bits
+        small = index_type(len(paving.inside) + len(paving.undetermined))
+        mine = np.flatnonzero(rows_equal(region.free, self.secondary)).astype(small)
+        fits = region.und_possible & _allow(region.und_signs, self.secondary)
+        self.grid, self._mine, self._leaves = grid, mine, len(paving.inside)
+        self._fits = np.packbits(fits)
         anchors = dense_rank(region.black_labels[mine])
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
+        anchors = anchors.astype(label_type(self.n_anchors))
+        self._anchors = anchors  # the anchor of each of the set's black leaves `mine`
         outer, self.n_outer = self._outer_components(mine, fits, anchors)
-        self.outer = outer.astype(np.int32)
+        self.outer = outer.astype(label_type(self.n_outer))
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
-        self.anchor_outer[anchors] = self.outer[black]
-        # int32: a set's arrays per cell stay through the analysis (anchors and outer components are
-        # fewer than the cells, which int32 indexes at any depth the grids allow in memory)
-        self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int32)
-        self.anchor_of_leaf[mine] = anchors
+        self.anchor_outer[anchors] = self.outer[:len(mine)]  # (the set's black cells come first)
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+
+    @property
+    def anchor_of_leaf(self) -> np.ndarray:
+        """The anchor of each black leaf of the region's paving (-1 when the leaf has other modes),
+        int32, built when asked: kept for every mode set of a region, these arrays of all its
+        leaves were a third of the sets' memory."""
+        out = np.full(self._leaves, -1, np.int32)
+        out[self._mine] = self._anchors
+        return out
 
     @property
     def cells(self) -> CellSet:
@@ -132,7 +142,8 @@ class ModeSet:
         refinement, partners): kept for every mode set through a whole analysis, they would be
         most of its memory."""
         paving, grid = self.region.paving, self.grid
-        mine, und = self._mine, paving.undetermined[self._fits]
+        fits = np.unpackbits(self._fits, count=len(paving.undetermined)).view(bool)
+        mine, und = self._mine, paving.undetermined[fits]
         level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
         code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
@@ -142,12 +153,14 @@ class ModeSet:
         """Components of the outer set (black leaves `mine`, undetermined cells `fits`), from the
         region's pairs of touching cells: nodes are the anchors, then the undetermined cells."""
         n_black = len(self.region.tree)
-        node = np.full(n_black + len(fits), -1, np.int64)
-        node[mine] = anchors
         und = np.flatnonzero(fits)
-        node[n_black + und] = self.n_anchors + np.arange(len(und))
+        small = index_type(n_black + len(fits))
+        node = np.full(n_black + len(fits), -1, small)
+        node[mine] = anchors
+        node[n_black + und] = np.arange(self.n_anchors, self.n_anchors + len(und), dtype=small)
         u, n = self.region.und_pairs
-        keep = fits[u] & (node[n] >= 0)
+        keep = fits[u]
+        keep &= node[n] >= 0
         root = union_find(self.n_anchors + len(und), node[n_black + u[keep]], node[n[keep]])
         labels, count = root_labels(root)
         return np.concatenate([labels[anchors], labels[self.n_anchors:]]), count
@@ -158,10 +171,10 @@ class ModeSet:
             return np.zeros(0, bool)
         lo, hi = grid.boxes(grid.depth, coords)
         possible, signs = self.region.signs(lo, hi)
-        return possible & np.all((signs == 0) | (signs == self.secondary), axis=1)
+        return possible & _allow(signs, self.secondary)
 
     def anchor_tree(self, anchor: int) -> Tree:
-        return self.region.tree.subset(np.flatnonzero(self.anchor_of_leaf == anchor))
+        return self.region.tree.subset(self._mine[self._anchors == anchor])
 
     def outer_cells(self, o: int) -> CellSet:
         return self.cells.select(self.outer == o)
@@ -182,7 +195,7 @@ class ModeSet:
         deeper = local.grid
         new_black = local.inside
         if len(new_black):  # black cells of other modes are outside S
-            new_black = new_black.subset(np.all(self.region.free_signs(new_black.centres()) == self.secondary, axis=1))
+            new_black = new_black.subset(rows_equal(self.region.free_signs(new_black.centres()), self.secondary))
         new_und = local.undetermined[self.compatible(deeper, local.undetermined)]
         old = cells.select(cells.black)
         level = np.concatenate([old.level, new_black.level, np.full(len(new_und), deeper.depth, np.int64)])
@@ -204,7 +217,7 @@ class ModeSet:
         small = anchors[groups != biggest]
         cells = self.outer_cells(o)
         grid = cells.grid
-        black_leaf = np.flatnonzero(self.anchor_of_leaf >= 0)
+        black_leaf, anchor_of_leaf = self._mine, self.anchor_of_leaf
         leaves = self.region.tree
         cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
         found = []
@@ -214,7 +227,7 @@ class ModeSet:
             if radius is None:
                 near, window = ~cells.black, cells.black
             else:
-                targets = np.isin(self.anchor_of_leaf[black_leaf], small)
+                targets = np.isin(self._anchors, small)
                 t_lo, t_hi = _integer_boxes(grid, leaves.level[black_leaf[targets]], leaves.code[black_leaf[targets]])
                 near = ~cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
                 window = cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
@@ -226,7 +239,7 @@ class ModeSet:
             labels, _ = components(local, local.black)
             # the window's anchors, located by their cells' first depth index in the refined set
             old = cells.select(window)
-            old_anchor = self.anchor_of_leaf[old.leaf]
+            old_anchor = anchor_of_leaf[old.leaf]
             black_local = local.select(local.black)
             where = _position(black_local, old.level, old.code)
             owner = labels[where]
@@ -246,7 +259,8 @@ class ModeSet:
         cells = self.outer_cells(o)
         grid = cells.grid
         leaves = self.region.tree
-        members = np.flatnonzero(np.isin(self.anchor_of_leaf, group))
+        anchor_of_leaf = self.anchor_of_leaf
+        members = self._mine[np.isin(self._anchors, group)]
         g_lo, g_hi = _integer_boxes(grid, leaves.level[members], leaves.code[members])
         cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
         for extra, radius in JOIN_STEPS:
@@ -262,12 +276,12 @@ class ModeSet:
             outside = cells.select(ring)
             both = _concat(local, CellSet(local.grid, outside.level, outside.code, outside.black, outside.leaf))
             labels, _ = components(both)
-            in_group = (both.leaf >= 0) & np.isin(self.anchor_of_leaf[np.maximum(both.leaf, 0)], group)
+            in_group = (both.leaf >= 0) & np.isin(anchor_of_leaf[np.maximum(both.leaf, 0)], group)
             part = np.isin(labels, np.unique(labels[in_group]))
             if part[len(local.level):].any():
                 continue  # the group's part reaches the ring: try a larger window
             held = both.leaf[part & (both.leaf >= 0)]
-            if len(np.setdiff1d(np.unique(roots[self.anchor_of_leaf[held]]), np.unique(roots[group]))) == 0:
+            if len(np.setdiff1d(np.unique(roots[anchor_of_leaf[held]]), np.unique(roots[group]))) == 0:
                 return True
         return False
 
@@ -277,14 +291,14 @@ class ModeSet:
         until no part of the outer set holds two of them. A part holding none of them but black
         cells is a component of S of its own: the outer component stays undecided then, as it does
         when the budget or the depth limit ends the search first."""
-        cells = self.outer_cells(o)
+        cells, anchor_of_leaf = self.outer_cells(o), self.anchor_of_leaf
         while budget.left > 0 and cells.grid.depth + SPLIT_STEP <= limit:
             old = cells.select(cells.leaf >= 0)  # the paving's leaves
             cells = self._deeper(cells, SPLIT_STEP, budget)
             if cells is None:
                 return False
             outer, count = components(cells)
-            anchor_roots = roots[self.anchor_of_leaf[old.leaf]]
+            anchor_roots = roots[anchor_of_leaf[old.leaf]]
             part_of_old = outer[_position(cells, old.level, old.code)]
             separated = True
             for k in range(count):
