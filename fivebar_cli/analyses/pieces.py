@@ -110,13 +110,13 @@ class ModeSet:
         self.modes = region.modes_with(secondary)
         paving = region.paving
         grid = paving.grid
-        # a set's arrays per cell stay through the analysis: indices in int32 (when they fit),
-        # anchors and outer components (a few) in the smallest type, undetermined cells as bits
-        small = index_type(len(paving.inside) + len(paving.undetermined))
-        mine = np.flatnonzero(rows_equal(region.free, self.secondary)).astype(small)
+        # a set's arrays per cell stay through the analysis: the black leaves and undetermined
+        # cells it holds as bits, anchors and outer components (a few) in the smallest type
+        black = rows_equal(region.free, self.secondary)
+        mine = np.flatnonzero(black)
         fits = region.und_possible & _allow(region.und_signs, self.secondary)
-        self.grid, self._mine, self._leaves = grid, mine, len(paving.inside)
-        self._fits = np.packbits(fits)
+        self.grid, self._black, self._fits = grid, np.packbits(black), np.packbits(fits)
+        self._leaves, self._cells = len(paving.inside), len(paving.undetermined)
         anchors = dense_rank(region.black_labels[mine])
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
         anchors = anchors.astype(label_type(self.n_anchors))
@@ -126,6 +126,11 @@ class ModeSet:
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
         self.anchor_outer[anchors] = self.outer[:len(mine)]  # (the set's black cells come first)
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+
+    @property
+    def _mine(self) -> np.ndarray:
+        """Indices of the region's black leaves that are the set's (sorted)."""
+        return np.flatnonzero(np.unpackbits(self._black, count=self._leaves))
 
     @property
     def anchor_of_leaf(self) -> np.ndarray:
@@ -142,7 +147,7 @@ class ModeSet:
         refinement, partners): kept for every mode set through a whole analysis, they would be
         most of its memory."""
         paving, grid = self.region.paving, self.grid
-        fits = np.unpackbits(self._fits, count=len(paving.undetermined)).view(bool)
+        fits = np.unpackbits(self._fits, count=self._cells).view(bool)
         mine, und = self._mine, paving.undetermined[fits]
         level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
         code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])

@@ -222,7 +222,8 @@ class Tree:
             near, end = own
             leaf = _search_near(near, start, first, s, _morton_sign(offset))
             hit = end[leaf] >= last
-            hit &= leaf != np.arange(s, s + len(leaf))  # a root-sized periodic cell touching itself
+            if level[0] == 0:  # the root cell (the tree's only leaf) is its own neighbour on a torus
+                hit &= leaf != s
         if others is not None:
             other_start, other_end = others
             if own is None:
