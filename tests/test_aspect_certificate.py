@@ -212,3 +212,41 @@ def test_a_component_also_holding_a_partner_group_is_never_taken_as_separated(mo
     separated.clear()
     analysis = analyse_aspects(m, 8, shapes=False)
     assert not analysis.certified and separated == []
+
+
+@pytest.mark.parametrize("space", ["workspace", "jointspace"])
+def test_undetermined_pairs_against_a_grid_of_cells(m1, space):
+    """pieces.undetermined_pairs of M1's mode pavings at depth 7 (the joint space a torus), its
+    undetermined cells in Morton order (as paved) and shuffled, against the cells' neighbours read
+    off a depth-7 grid of cell indices (black leaves first, then undetermined cells): a pair once
+    per direction it is found in (a big black leaf touches a cell along a side and at corners)."""
+    from collections import Counter
+    from dataclasses import replace
+
+    from conftest import leaf_index_grid
+    from fivebar_cli.analyses.aspects import _space_task
+    from fivebar_cli.analyses.pieces import undetermined_pairs
+
+    _, pavings, _ = _space_task((m1, space, 7))
+    paving = pavings[0]
+    n_black, grid = len(paving.inside), paving.grid
+    shuffled = replace(paving, undetermined=paving.undetermined[np.random.default_rng(0).permutation(len(paving.undetermined))])
+    for p in (paving, shuffled):
+        owner = leaf_index_grid(p.inside)
+        x, y = p.undetermined[:, 0], p.undetermined[:, 1]
+        owner[x, y] = n_black + np.arange(len(x))
+        expected = Counter()
+        size = 1 << grid.depth
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1) if dx else (-1, 1):
+                nx, ny = x + dx, y + dy
+                inside = np.ones(len(x), bool)
+                for along, periodic in ((nx, grid.periodic[0]), (ny, grid.periodic[1])):
+                    inside &= periodic | ((along >= 0) & (along < size))
+                nx, ny = nx % size, ny % size
+                n = np.where(inside, owner[nx, ny], -1)
+                u = np.arange(len(x))
+                keep = (n >= 0) & ((n < n_black) | (n - n_black > u))
+                expected.update(zip(u[keep].tolist(), n[keep].tolist()))
+        u, n = undetermined_pairs(p)
+        assert Counter(zip(u.tolist(), n.tolist())) == expected and len(expected) > 1000

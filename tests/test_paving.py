@@ -394,3 +394,45 @@ def test_root_labels_number_components_by_their_smallest_element(n, edges):
                         stack.append(y)
             seen += 1
     assert labels.tolist() == ref and count == seen
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_union_find_against_scipy_on_large_graphs_edge_batch_by_edge_batch(seed):
+    """union_find on a few thousand nodes (long chains: a path in shuffled order, and random
+    edges), its edges given at once or in batches through `parent`, against scipy's components:
+    the same partition, each node's root the smallest node of its component."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    from fivebar_cli.paving.tree import union_find
+
+    rng = np.random.default_rng(seed)
+    n = 5000
+    path = rng.permutation(n - 1)[: int(0.9 * (n - 1))]  # most of the path 0-1-2-...: long chains
+    extra = rng.integers(0, n, (n // 2, 2))
+    i = np.concatenate([path, extra[:, 0]])
+    j = np.concatenate([path + 1, extra[:, 1]])
+    order = rng.permutation(len(i))
+    i, j = i[order], j[order]
+    _, ref = connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)), directed=False)
+    smallest = np.full(ref.max() + 1, n)
+    np.minimum.at(smallest, ref, np.arange(n))
+    root = union_find(n, i, j)
+    assert root.dtype == np.int64 and np.array_equal(root, smallest[ref])
+    batched = None
+    for part in np.array_split(np.arange(len(i)), 5):
+        batched = union_find(n, i[part], j[part], batched)
+    assert np.array_equal(batched, smallest[ref])
+
+
+def test_array_helpers_types_and_rows():
+    from fivebar_cli.paving.arrays import index_type, label_type, rows_equal
+
+    assert [label_type(n) for n in (1, 127, 128, 32767, 32768, 2**31 - 1, 2**31)] == [
+        np.int8, np.int8, np.int16, np.int16, np.int32, np.int32, np.int64]
+    assert index_type(10) == np.int32 and index_type(2**31) == np.int64
+    rng = np.random.default_rng(0)
+    signs = rng.choice(np.array([-1, 0, 1], np.int8), (500, 3))
+    for row in ([1, -1, 1], [0, 0, 0], [-1, 1, 0]):
+        assert np.array_equal(rows_equal(signs, np.array(row, np.int8)), np.all(signs == row, axis=1))
+    assert rows_equal(np.zeros((0, 2), np.int8), np.zeros(2, np.int8)).shape == (0,)

@@ -4,6 +4,8 @@ brute-force point location and a breadth-first flood fill (face contact only, pe
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, example, given, settings
@@ -20,6 +22,7 @@ from conftest import (
     upsample,
 )
 from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving import tree as tree_module
 from fivebar_cli.paving.tree import BodyError, Tree
 
 SETTINGS = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -532,3 +535,87 @@ def test_well_formed_bodies_at_the_depth_limit_parse():
     assert err.value.position == 5
     # non-canonical bodies (four black siblings) are accepted and canonicalised
     assert Tree.from_bwg(grid, "GBBBB") == Tree.full(grid)
+
+
+# ---------------------------------------------------------------- neighbour pairs
+
+
+def brute_pairs(tree: Tree, target: Tree, offset, itself: bool) -> list[tuple[int, int]]:
+    """(i, j) for each leaf i of `tree` whose same-size cell one step along `offset` (wrapping on
+    periodic axes) lies inside leaf j of `target`, in order of i: read off a depth-D grid of leaf
+    indices, leaf by leaf (the definition of `Tree.adjacency`)."""
+    grid, dim, depth = tree.grid, tree.grid.dim, tree.grid.depth
+    owner = leaf_index_grid(target)
+    out = []
+    for i, (lev, code) in enumerate(zip(tree.level.tolist(), tree.code.tolist())):
+        c = np.array(morton_coords(code, lev, dim)) + offset
+        if any(not grid.periodic[a] and not 0 <= c[a] < (1 << lev) for a in range(dim)):
+            continue
+        s = 1 << (depth - lev)
+        block = owner[tuple(slice((v % (1 << lev)) * s, (v % (1 << lev) + 1) * s) for v in c.tolist())]
+        j = int(block.flat[0])
+        if j >= 0 and np.all(block == j) and not (itself and j == i):
+            out.append((i, j))
+    return out
+
+
+@contextmanager
+def window(near: int):
+    """Neighbour searches with windows of `near` leaves (tree.NEAR) for a while."""
+    old = tree_module.NEAR
+    tree_module.NEAR = near
+    try:
+        yield
+    finally:
+        tree_module.NEAR = old
+
+
+def random_tree(rng, grid: Grid, depth: int) -> Tree:
+    arr = blocky(rng, depth, grid.dim, rng.uniform(0.4, 0.95), rng.uniform(0.2, 0.8))
+    return Tree.from_cells(grid, depth, cells_of(arr))
+
+
+@pytest.mark.parametrize("near", [1, 3, 16])  # tiny windows: most searches fall back to the binary search
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([2, 3]), st.booleans())
+def test_neighbour_pairs_against_a_leaf_by_leaf_reference(near, seed, dim, corners):
+    """Tree.neighbour_pairs, direction by direction, equals the definition: within a tree, against
+    another tree, and against another tree and itself (`itself`: other's leaves numbered first)."""
+    with window(near):
+        check_neighbour_pairs(np.random.default_rng(seed), dim, corners)
+
+
+def check_neighbour_pairs(rng, dim: int, corners: bool) -> None:
+    depth = int(rng.integers(0, 6 if dim == 2 else 4))
+    grid = Grid(tuple((-1.0, 1.0) for _ in range(dim)), depth, tuple(bool(b) for b in rng.integers(0, 2, dim)))
+    a = random_tree(rng, grid, depth)
+    b = random_tree(rng, grid, depth) - a  # disjoint from a: a and b are one set of cells
+    offsets = tree_module._offsets(dim, corners)
+    for offset, (i, j) in zip(offsets, a.neighbour_pairs(corners=corners)):
+        assert list(zip(i.tolist(), j.tolist())) == brute_pairs(a, a, offset, True)
+    for offset, (i, j) in zip(offsets, a.neighbour_pairs(b, corners=corners)):
+        assert list(zip(i.tolist(), j.tolist())) == brute_pairs(a, b, offset, False)
+    for offset, (i, j) in zip(offsets, a.neighbour_pairs(b, corners=corners, itself=True)):
+        expected = sorted(brute_pairs(a, b, offset, False) + [(x, len(b) + y) for x, y in brute_pairs(a, a, offset, True)])
+        assert list(zip(i.tolist(), j.tolist())) == expected
+    i, j = a.adjacency(corners=corners)
+    assert sorted(zip(i.tolist(), j.tolist())) == sorted(p for o in offsets for p in brute_pairs(a, a, o, True))
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 4), st.sampled_from([-1, 0, 1]))
+def test_search_near_equals_a_binary_search(seed, near, sign):
+    """_search_near (the leaf holding each query, from the NEAR leaves around the querying one)
+    equals np.searchsorted for queries at any distance on the side `sign` says (both when 0)."""
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(1, 200))
+    start = np.unique(rng.integers(0, 10 * n, n))
+    padded = np.concatenate([np.full(near, -1), start, np.full(near, np.iinfo(np.int64).max)])
+    step = rng.geometric(0.3, len(start)) * rng.choice([1, 5, 50], len(start))
+    side = sign if sign else rng.choice([-1, 1], len(start))
+    first = np.maximum(start + np.where(side > 0, step, -step), 0)
+    for s in (0, len(start) // 3):
+        chunk = first[s:]
+        with window(near):
+            got = tree_module._search_near(padded, start, chunk, s, sign)
+        assert np.array_equal(got, np.searchsorted(start, chunk, side="right") - 1)

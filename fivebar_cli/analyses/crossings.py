@@ -13,7 +13,7 @@ import numpy as np
 from dataclasses import dataclass
 
 from fivebar_cli.mechanisms.base import AspectModel, plural
-from fivebar_cli.paving.arrays import unique_pairs
+from fivebar_cli.paving.arrays import index_type, label_type, unique_pairs
 from fivebar_cli.paving.engine import on_cells
 from fivebar_cli.paving.tree import Tree
 
@@ -59,8 +59,9 @@ def serial_bands(model: AspectModel, region, band_signs=None) -> list[Band]:
         band_tree = Tree.from_cells(grid, grid.depth, cells[band])
         labels, count = band_tree.components()
         i, j = band_tree.adjacency(region.tree)
-        touched = unique_pairs(labels[i], j)
-        bands.append(Band(changing, np.bincount(labels, minlength=count), touched[:, 0], touched[:, 1]))
+        touched = unique_pairs(labels[i], j)  # kept through the analysis: in the smallest types
+        bands.append(Band(changing, np.bincount(labels, minlength=count), touched[:, 0].astype(label_type(count)),
+                          touched[:, 1].astype(index_type(len(region.tree)))))
     return bands
 
 

@@ -30,7 +30,7 @@ import numpy as np
 from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
-from fivebar_cli.paving.arrays import dense_rank
+from fivebar_cli.paving.arrays import dense_rank, index_type, label_type, rows_equal
 from fivebar_cli.paving.tree import Tree, root_labels, union_find
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
@@ -110,21 +110,36 @@ class ModeSet:
         self.modes = region.modes_with(secondary)
         paving = region.paving
         grid = paving.grid
-        mine = np.flatnonzero(np.all(region.free == self.secondary, axis=1))
-        fits = region.und_possible & np.all((region.und_signs == 0) | (region.und_signs == self.secondary), axis=1)
-        self.grid, self._mine, self._fits = grid, mine, fits
-        black = np.concatenate([np.ones(len(mine), bool), np.zeros(int(np.count_nonzero(fits)), bool)])
+        # a set's arrays per cell stay through the analysis: the black leaves and undetermined
+        # cells it holds as bits, anchors and outer components (a few) in the smallest type
+        black = rows_equal(region.free, self.secondary)
+        mine = np.flatnonzero(black)
+        fits = region.und_possible & _allow(region.und_signs, self.secondary)
+        self.grid, self._black, self._fits = grid, np.packbits(black), np.packbits(fits)
+        self._leaves, self._cells = len(paving.inside), len(paving.undetermined)
         anchors = dense_rank(region.black_labels[mine])
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
+        anchors = anchors.astype(label_type(self.n_anchors))
+        self._anchors = anchors  # the anchor of each of the set's black leaves `mine`
         outer, self.n_outer = self._outer_components(mine, fits, anchors)
-        self.outer = outer.astype(np.int32)
+        self.outer = outer.astype(label_type(self.n_outer))
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
-        self.anchor_outer[anchors] = self.outer[black]
-        # int32: a set's arrays per cell stay through the analysis (anchors and outer components are
-        # fewer than the cells, which int32 indexes at any depth the grids allow in memory)
-        self.anchor_of_leaf = np.full(len(paving.inside), -1, np.int32)
-        self.anchor_of_leaf[mine] = anchors
+        self.anchor_outer[anchors] = self.outer[:len(mine)]  # (the set's black cells come first)
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+
+    @property
+    def _mine(self) -> np.ndarray:
+        """Indices of the region's black leaves that are the set's (sorted)."""
+        return np.flatnonzero(np.unpackbits(self._black, count=self._leaves))
+
+    @property
+    def anchor_of_leaf(self) -> np.ndarray:
+        """The anchor of each black leaf of the region's paving (-1 when the leaf has other modes),
+        int32, built when asked: kept for every mode set of a region, these arrays of all its
+        leaves were a third of the sets' memory."""
+        out = np.full(self._leaves, -1, np.int32)
+        out[self._mine] = self._anchors
+        return out
 
     @property
     def cells(self) -> CellSet:
@@ -132,7 +147,8 @@ class ModeSet:
         refinement, partners): kept for every mode set through a whole analysis, they would be
         most of its memory."""
         paving, grid = self.region.paving, self.grid
-        mine, und = self._mine, paving.undetermined[self._fits]
+        fits = np.unpackbits(self._fits, count=self._cells).view(bool)
+        mine, und = self._mine, paving.undetermined[fits]
         level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
         code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
@@ -142,12 +158,14 @@ class ModeSet:
         """Components of the outer set (black leaves `mine`, undetermined cells `fits`), from the
         region's pairs of touching cells: nodes are the anchors, then the undetermined cells."""
         n_black = len(self.region.tree)
-        node = np.full(n_black + len(fits), -1, np.int64)
-        node[mine] = anchors
         und = np.flatnonzero(fits)
-        node[n_black + und] = self.n_anchors + np.arange(len(und))
+        small = index_type(n_black + len(fits))
+        node = np.full(n_black + len(fits), -1, small)
+        node[mine] = anchors
+        node[n_black + und] = np.arange(self.n_anchors, self.n_anchors + len(und), dtype=small)
         u, n = self.region.und_pairs
-        keep = fits[u] & (node[n] >= 0)
+        keep = fits[u]
+        keep &= node[n] >= 0
         root = union_find(self.n_anchors + len(und), node[n_black + u[keep]], node[n[keep]])
         labels, count = root_labels(root)
         return np.concatenate([labels[anchors], labels[self.n_anchors:]]), count
@@ -158,10 +176,10 @@ class ModeSet:
             return np.zeros(0, bool)
         lo, hi = grid.boxes(grid.depth, coords)
         possible, signs = self.region.signs(lo, hi)
-        return possible & np.all((signs == 0) | (signs == self.secondary), axis=1)
+        return possible & _allow(signs, self.secondary)
 
     def anchor_tree(self, anchor: int) -> Tree:
-        return self.region.tree.subset(np.flatnonzero(self.anchor_of_leaf == anchor))
+        return self.region.tree.subset(self._mine[self._anchors == anchor])
 
     def outer_cells(self, o: int) -> CellSet:
         return self.cells.select(self.outer == o)
@@ -182,7 +200,7 @@ class ModeSet:
         deeper = local.grid
         new_black = local.inside
         if len(new_black):  # black cells of other modes are outside S
-            new_black = new_black.subset(np.all(self.region.free_signs(new_black.centres()) == self.secondary, axis=1))
+            new_black = new_black.subset(rows_equal(self.region.free_signs(new_black.centres()), self.secondary))
         new_und = local.undetermined[self.compatible(deeper, local.undetermined)]
         old = cells.select(cells.black)
         level = np.concatenate([old.level, new_black.level, np.full(len(new_und), deeper.depth, np.int64)])
@@ -204,7 +222,7 @@ class ModeSet:
         small = anchors[groups != biggest]
         cells = self.outer_cells(o)
         grid = cells.grid
-        black_leaf = np.flatnonzero(self.anchor_of_leaf >= 0)
+        black_leaf, anchor_of_leaf = self._mine, self.anchor_of_leaf
         leaves = self.region.tree
         cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
         found = []
@@ -214,7 +232,7 @@ class ModeSet:
             if radius is None:
                 near, window = ~cells.black, cells.black
             else:
-                targets = np.isin(self.anchor_of_leaf[black_leaf], small)
+                targets = np.isin(self._anchors, small)
                 t_lo, t_hi = _integer_boxes(grid, leaves.level[black_leaf[targets]], leaves.code[black_leaf[targets]])
                 near = ~cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
                 window = cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
@@ -226,7 +244,7 @@ class ModeSet:
             labels, _ = components(local, local.black)
             # the window's anchors, located by their cells' first depth index in the refined set
             old = cells.select(window)
-            old_anchor = self.anchor_of_leaf[old.leaf]
+            old_anchor = anchor_of_leaf[old.leaf]
             black_local = local.select(local.black)
             where = _position(black_local, old.level, old.code)
             owner = labels[where]
@@ -246,7 +264,8 @@ class ModeSet:
         cells = self.outer_cells(o)
         grid = cells.grid
         leaves = self.region.tree
-        members = np.flatnonzero(np.isin(self.anchor_of_leaf, group))
+        anchor_of_leaf = self.anchor_of_leaf
+        members = self._mine[np.isin(self._anchors, group)]
         g_lo, g_hi = _integer_boxes(grid, leaves.level[members], leaves.code[members])
         cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
         for extra, radius in JOIN_STEPS:
@@ -262,12 +281,12 @@ class ModeSet:
             outside = cells.select(ring)
             both = _concat(local, CellSet(local.grid, outside.level, outside.code, outside.black, outside.leaf))
             labels, _ = components(both)
-            in_group = (both.leaf >= 0) & np.isin(self.anchor_of_leaf[np.maximum(both.leaf, 0)], group)
+            in_group = (both.leaf >= 0) & np.isin(anchor_of_leaf[np.maximum(both.leaf, 0)], group)
             part = np.isin(labels, np.unique(labels[in_group]))
             if part[len(local.level):].any():
                 continue  # the group's part reaches the ring: try a larger window
             held = both.leaf[part & (both.leaf >= 0)]
-            if len(np.setdiff1d(np.unique(roots[self.anchor_of_leaf[held]]), np.unique(roots[group]))) == 0:
+            if len(np.setdiff1d(np.unique(roots[anchor_of_leaf[held]]), np.unique(roots[group]))) == 0:
                 return True
         return False
 
@@ -277,14 +296,14 @@ class ModeSet:
         until no part of the outer set holds two of them. A part holding none of them but black
         cells is a component of S of its own: the outer component stays undecided then, as it does
         when the budget or the depth limit ends the search first."""
-        cells = self.outer_cells(o)
+        cells, anchor_of_leaf = self.outer_cells(o), self.anchor_of_leaf
         while budget.left > 0 and cells.grid.depth + SPLIT_STEP <= limit:
             old = cells.select(cells.leaf >= 0)  # the paving's leaves
             cells = self._deeper(cells, SPLIT_STEP, budget)
             if cells is None:
                 return False
             outer, count = components(cells)
-            anchor_roots = roots[self.anchor_of_leaf[old.leaf]]
+            anchor_roots = roots[anchor_of_leaf[old.leaf]]
             part_of_old = outer[_position(cells, old.level, old.code)]
             separated = True
             for k in range(count):
@@ -375,30 +394,37 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     """Every (undetermined cell u, neighbour n) touching at a point, a pair of undetermined cells
     once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
     n - len(black leaves). Undetermined cells are the smallest cells, so looking up their
-    neighbours finds every pair. int32 when the indices fit: these pairs are most of a region's
-    memory (about 7 per undetermined cell)."""
+    neighbours (among themselves, then among the black leaves) finds every pair. int32 when the
+    indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
-    small = np.int32 if len(inside) + len(und) < np.iinfo(np.int32).max else np.int64
-    level = np.concatenate([inside.level, np.full(len(und), grid.depth, np.int64)])
-    code = np.concatenate([inside.code, interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)])
-    order = finest_order(code, level, grid.dim, grid.depth)
-    everything = Tree(grid, level[order], code[order], canonical=True)
-    del level, code  # (temporaries of every cell: the peak memory of an analysis is here)
-    order = order.astype(small)
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order), dtype=small)
-    mine = rank[len(inside):]
-    del rank
-    und_of_sorted = np.argsort(mine, kind="stable").astype(small)  # position among the sorted undetermined cells -> index
-    cells = everything.subset(np.sort(mine, kind="stable"))
-    del mine
+    n_black = len(inside)
+    small = np.int32 if n_black + len(und) < np.iinfo(np.int32).max else np.int64
+    code = interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)
+    order = None  # the cells' Morton order, when they are not in it already (a paving's are)
+    if np.any(code[1:] < code[:-1]):
+        order = np.argsort(code, kind="stable").astype(small)
+        code = code[order]
+    cells = Tree(grid, np.full(len(code), grid.depth, np.int64), code, canonical=True)
+    del code
     us, ns = [], []
-    for i, j in cells.neighbour_pairs(everything, corners=True):
-        u, n = und_of_sorted[i], order[j]
-        once = (n < len(inside)) | (n - len(inside) > u)
+    for i, j in cells.neighbour_pairs(inside, corners=True, itself=True):
+        u, n = i.astype(small), j.astype(small)
+        if order is not None:
+            u = order[i]
+            und_n = n >= n_black
+            n[und_n] = n_black + order[n[und_n] - n_black]
+        once = (n < n_black) | (n - n_black > u)
         us.append(u[once])
         ns.append(n[once])
     return np.concatenate(us), np.concatenate(ns)
+
+
+def _allow(signs: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Rows of signs that do not contradict `values`: every sign 0 (undecided) or equal."""
+    out = np.ones(len(signs), bool)
+    for c in range(signs.shape[1]):
+        out &= (signs[:, c] == 0) | (signs[:, c] == values[c])
+    return out
 
 
 def _touching(cells: CellSet, inside: np.ndarray) -> np.ndarray:

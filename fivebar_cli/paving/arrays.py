@@ -21,6 +21,30 @@ def unique(a: np.ndarray) -> np.ndarray:
     return s[keep]
 
 
+def index_type(n: int):
+    """int32 for indices below n when they fit (half the memory, and the memory traffic, of
+    int64), else int64."""
+    return np.int32 if n < np.iinfo(np.int32).max else np.int64
+
+
+def label_type(n: int):
+    """The smallest signed integer type that holds the labels 0 .. n - 1 and -1: per-cell labels of
+    a few components (outer components, anchors) in a byte or two, not four or eight."""
+    for t in (np.int8, np.int16, np.int32):
+        if n <= np.iinfo(t).max:
+            return t
+    return np.int64
+
+
+def rows_equal(a: np.ndarray, row: np.ndarray) -> np.ndarray:
+    """np.all(a == row, axis=1) for a 2-D array of a few columns, column by column (numpy's
+    reduction along a short last axis is about 20x slower than these comparisons)."""
+    out = np.ones(len(a), bool)
+    for c in range(a.shape[1]):
+        out &= a[:, c] == row[c]
+    return out
+
+
 def dense_rank(values: np.ndarray) -> np.ndarray:
     """np.unique(values, return_inverse=True)[1] for non-negative integers (labels): each value's
     rank among the distinct values, by a table as long as the largest value, without a sort."""

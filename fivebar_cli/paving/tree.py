@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.arrays import unique
+from fivebar_cli.paving.arrays import index_type, unique
 from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
-from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, floor_log2, interleave, step, trailing_zeros
+from fivebar_cli.paving.morton import axis_mask, deinterleave, finest_key, finest_order, floor_log2, interleave, trailing_zeros
 
 __all__ = ["Tree", "BodyError", "union_find", "root_labels"]
 
@@ -180,54 +180,73 @@ class Tree:
         pairs = list(self._pairs(other, corners))
         return np.concatenate([i for i, _ in pairs]), np.concatenate([j for _, j in pairs])
 
-    def neighbour_pairs(self, other: "Tree | None" = None, corners: bool = False):
+    def neighbour_pairs(self, other: "Tree | None" = None, corners: bool = False, itself: bool = False):
         """The pairs of `adjacency` as (i, j) arrays, one direction at a time (a generator: the
-        memory of one direction's pairs, not of all 8 or 26)."""
-        return self._pairs(other, corners)
+        memory of one direction's pairs, not of all 8 or 26). With `other` and `itself`: the pairs
+        with the leaves of both trees (disjoint sets), `other`'s leaves numbered first, then this
+        tree's (len(other) + index)."""
+        return self._pairs(other, corners, itself)
 
-    def _pairs(self, other: "Tree | None", corners: bool):
-        """The pairs of `adjacency`, one direction at a time (each found PAIR_CHUNK leaves at a
-        time: the temporaries of a block, not of every leaf)."""
-        target = self if other is None else other
+    def _pairs(self, other: "Tree | None", corners: bool, itself: bool = False):
+        """The pairs of `adjacency` (with `itself`: of `neighbour_pairs`), one direction at a time
+        (each found PAIR_CHUNK leaves at a time: the temporaries of a block, not of every leaf)."""
         grid = self.grid
-        if target.grid != grid:
+        if other is not None and other.grid != grid:
             raise ValueError("trees live on different grids")
-        target_start = target.start
-        target_end = target_start + (np.int64(1) << (grid.dim * (grid.depth - target.level)))
+        start = self.start
+        # this tree's own leaves: each search starts from the leaf itself, among its neighbours in
+        # Morton order (`_search_near`); another tree's: a binary search
+        own = (_padded(start), _ends(self, start)) if other is None or itself else None
+        others = None
+        if other is not None:
+            other_start = other.start
+            others = other_start, _ends(other, other_start)
         for offset in _offsets(grid.dim, corners):
-            found = [self._pairs_of(s, offset, target_start, target_end, other is None)
-                     for s in range(0, len(self), PAIR_CHUNK)]
+            found = [self._pairs_of(s, offset, start, own, others) for s in range(0, len(self), PAIR_CHUNK)]
             if not found:
                 yield np.zeros(0, np.int64), np.zeros(0, np.int64)
                 continue
             yield np.concatenate([i for i, _ in found]), np.concatenate([j for _, j in found])
 
-    def _pairs_of(self, s: int, offset, target_start, target_end, itself: bool):
-        """The pairs of leaves s .. s + PAIR_CHUNK in one direction `offset`."""
+    def _pairs_of(self, s: int, offset, start, own, others):
+        """The pairs of leaves s .. s + PAIR_CHUNK in one direction `offset`: the same-size cell
+        across each leaf (its first depth-D index, stepped from the leaf's own), then the leaf
+        holding that index, which is a neighbour when it holds the whole cell: looked up among
+        this tree's leaves (`own`: padded starts and ends), then, for the cells not found there,
+        among `others` (starts and ends) (either may be None)."""
         grid, level = self.grid, self.level[s:s + PAIR_CHUNK]
-        code, valid = self.code[s:s + PAIR_CHUNK], np.ones(len(level), dtype=bool)
-        for axis in np.flatnonzero(offset):
-            code, wrapped = step(code, level, grid.dim, int(axis), int(offset[axis]))
-            if not grid.periodic[axis]:
-                valid &= ~wrapped
-        idx = np.flatnonzero(valid)
-        shift = grid.dim * (grid.depth - level[idx])
-        first = code[idx] << shift
-        last = first + (np.int64(1) << shift)
-        leaf = np.searchsorted(target_start, first, side="right") - 1
-        hit = leaf >= 0
-        hit[hit] &= target_end[leaf[hit]] >= last[hit]
-        idx += s
-        if itself:
-            hit &= leaf != idx  # a root-sized periodic cell touching itself
-        return idx[hit], leaf[hit]
+        size = np.int64(1) << (grid.dim * (grid.depth - level))
+        first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, grid, offset)
+        last = first + size
+        if own is not None:
+            near, end = own
+            leaf = _search_near(near, start, first, s, _morton_sign(offset))
+            hit = end[leaf] >= last
+            if level[0] == 0:  # the root cell (the tree's only leaf) is its own neighbour on a torus
+                hit &= leaf != s
+        if others is not None:
+            other_start, other_end = others
+            if own is None:
+                leaf = np.searchsorted(other_start, first, side="right") - 1
+                hit = other_end[leaf] >= last
+            else:
+                leaf += len(other_start)
+                rest = np.flatnonzero(~hit)
+                found = np.searchsorted(other_start, first[rest], side="right") - 1
+                leaf[rest] = found
+                hit[rest] = other_end[found] >= last[rest]
+        if valid is not None:
+            hit &= valid
+        idx = np.flatnonzero(hit)
+        return idx + s, leaf[idx]
 
     def components(self, corners: bool = False) -> tuple[np.ndarray, int]:
         """Label leaves by connected component (face-connected; with `corners`, touching at any
         point); labels are numbered in Morton order of their first leaf."""
-        root = np.arange(len(self), dtype=np.int64)
+        small = index_type(len(self))
+        root = np.arange(len(self), dtype=small)
         for i, j in self._pairs(None, corners):  # one direction at a time: memory of one, not 26, sets of pairs
-            root = union_find(len(self), i, j, root)
+            _join(root, i.astype(small), j.astype(small))
         return root_labels(root)
 
     def split_components(self) -> list["Tree"]:
@@ -383,6 +402,91 @@ def _sweeps(interval_sets, keeps) -> list[tuple[np.ndarray, np.ndarray]]:
     return out
 
 
+# ---------------------------------------------------------------- neighbour search
+
+NEAR = 16  # a leaf's neighbour is first looked for among the NEAR leaves either side in Morton order
+_FAR = np.iinfo(np.int64).max
+
+
+def _ends(tree: Tree, start: np.ndarray) -> np.ndarray:
+    """One past the last depth-D index of each leaf, then -1: a search that finds no leaf (-1)
+    finds no end either."""
+    grid = tree.grid
+    end = np.empty(len(start) + 1, np.int64)
+    np.add(start, np.int64(1) << (grid.dim * (grid.depth - tree.level)), out=end[:-1])
+    end[-1] = -1
+    return end
+
+
+def _padded(start: np.ndarray) -> np.ndarray:
+    """Sorted leaf starts with NEAR entries below every index (-1) and above every index (_FAR)."""
+    out = np.empty(len(start) + 2 * NEAR, np.int64)
+    out[:NEAR], out[NEAR:-NEAR], out[-NEAR:] = -1, start, _FAR
+    return out
+
+
+def _morton_sign(offset: np.ndarray) -> int:
+    """+1 when a step along `offset` raises the Morton code (no wrap), -1 when it lowers it, 0 when
+    it may do either (components of both signs)."""
+    return 1 if np.all(offset >= 0) else -1 if np.all(offset <= 0) else 0
+
+
+def _step_finest(start: np.ndarray, size: np.ndarray, grid: Grid, offset) -> tuple[np.ndarray, np.ndarray | None]:
+    """First depth-D index of the cell of each leaf's size one step along `offset` from the leaf
+    (`start`: the leaf's first depth-D index, `size`: its count of depth-D cells), by dilated
+    arithmetic on the depth-D indices (wrapping around the root), and which steps stay inside the
+    root along the axes that do not wrap (None: all)."""
+    dim, depth = grid.dim, grid.depth
+    first, valid = start, None
+    for axis in np.flatnonzero(offset):
+        mask = np.int64(axis_mask(dim, int(axis)) & ((1 << (dim * depth)) - 1))
+        along = first & mask
+        if offset[axis] > 0:
+            moved = ((along | ~mask) + (size << axis)) & mask
+            wrapped = moved == 0
+        else:
+            moved = (along - (size << axis)) & mask
+            wrapped = along == 0
+        first = (first & ~mask) | moved
+        if not grid.periodic[axis]:
+            valid = ~wrapped if valid is None else valid & ~wrapped
+    return first, valid
+
+
+def _search_near(near: np.ndarray, start: np.ndarray, first: np.ndarray, s: int, sign: int) -> np.ndarray:
+    """np.searchsorted(start, first, side="right") - 1 for the queries of leaves s, s + 1, ... of
+    the tree whose sorted leaf starts are `start` (`near`: them `_padded`): most neighbours lie a
+    few leaves away in Morton order, so the starts of the NEAR leaves on the side the step goes
+    (`sign`, both sides when 0) are compared with each query as contiguous slices, and only the
+    queries whose answer lies farther are searched (a binary search per query costs about as
+    much as 100 such comparisons)."""
+    n = len(first)
+    base = s + NEAR  # near[base + k] is the start of leaf s + k
+    count = np.zeros(n, np.int8)
+    below = np.empty(n, bool)
+    if sign > 0:  # the leaves after: the answer is s + k + (how many of them start at or before)
+        for d in range(1, NEAR + 1):
+            np.less_equal(near[base + d:base + d + n], first, out=below)
+            count += below
+        leaf = np.arange(s, s + n) + count
+        found = (count < NEAR) & (near[base:base + n] <= first)
+    elif sign < 0:  # the leaves before: s + k - 1 - (how many of them start after)
+        for d in range(1, NEAR + 1):
+            np.greater(near[base - d:base - d + n], first, out=below)
+            count += below
+        leaf = np.arange(s - 1, s - 1 + n) - count
+        found = (count < NEAR) & (near[base:base + n] > first)
+    else:  # both sides: s + k - NEAR - 1 + (how many of the 2 NEAR + 1 start at or before)
+        for d in range(-NEAR, NEAR + 1):
+            np.less_equal(near[base + d:base + d + n], first, out=below)
+            count += below
+        leaf = np.arange(s - NEAR - 1, s - NEAR - 1 + n) + count
+        found = (count > 0) & (count <= 2 * NEAR)
+    far = np.flatnonzero(~found)
+    leaf[far] = np.searchsorted(start, first[far], side="right") - 1
+    return leaf
+
+
 # ---------------------------------------------------------------- union-find
 
 
@@ -396,19 +500,30 @@ def root_labels(root: np.ndarray) -> tuple[np.ndarray, int]:
 def union_find(n: int, i: np.ndarray, j: np.ndarray, parent: np.ndarray | None = None) -> np.ndarray:
     """Connected-component roots (smallest index of each component) by hooking + pointer jumping;
     `parent`: roots found from other edges already (each node's smallest-index root), to add to."""
-    parent = np.arange(n, dtype=np.int64) if parent is None else parent.copy()
+    small = index_type(n)
+    parent = np.arange(n, dtype=small) if parent is None else parent.astype(small)
+    return _join(parent, i.astype(small, copy=False), j.astype(small, copy=False)).astype(np.int64)
+
+
+def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """`union_find` in place on `parent` (every node pointing at its root, on entry and on return):
+    each round hooks the larger root of every edge joining two components to the smaller one,
+    follows the hooked roots' pointers by doubling until each points at a root (only they moved),
+    then points every node at its root's root (one pass); the edges left are those still across."""
     while True:
-        while True:  # pointer jumping until every node points at its root
-            grand = parent[parent]
-            if np.array_equal(grand, parent):
-                break
-            parent = grand
         ri, rj = parent[i], parent[j]
-        cross = ri != rj
-        if not cross.any():
+        cross = np.flatnonzero(ri != rj)
+        if not len(cross):
             return parent
         i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
-        np.minimum.at(parent, np.maximum(ri, rj), np.minimum(ri, rj))
+        hooked = np.maximum(ri, rj)
+        np.minimum.at(parent, hooked, np.minimum(ri, rj))
+        while len(hooked):
+            up = parent[hooked]
+            root = parent[up]
+            parent[hooked] = root
+            hooked = hooked[root != up]
+        parent[:] = parent[parent]
 
 
 def _upsample(image: np.ndarray, levels: int) -> np.ndarray:
