@@ -22,14 +22,15 @@ from typing import Callable
 
 import numpy as np
 
-from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.grid import AxisEnds, Grid, boxes_of
 from fivebar_cli.paving.morton import interleave
 from fivebar_cli.paving.tree import Tree
 
 BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
-# several box tests at once: (lo, hi, open) -> int8 statuses (m, count); column c is read only
-# where open[:, c] (the box is still undetermined for test c), so it may skip the other boxes
-MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+# several box tests at once: (lo, hi, open, ends) -> int8 statuses (m, count); column c is read only
+# where open[:, c] (the box is still undetermined for test c), so it may skip the other boxes;
+# ends: the boxes' bounds per axis as tables (`grid.AxisEnds`), for what depends on one axis alone
+MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray, tuple[AxisEnds, ...]], np.ndarray]
 INSIDE, OUTSIDE, UNDETERMINED, BAND = 1, -1, 0, 2
 CHUNK = 1 << 16
 MAX_REFINE_CELLS = 1 << 26
@@ -97,20 +98,21 @@ def _classify_many(grid: Grid, level: int, coords: np.ndarray, open_: np.ndarray
     pad = box_pad(grid)
     status = np.empty(open_.shape, dtype=np.int8)
     for s in range(0, len(coords), CHUNK):
-        lo, hi = grid.boxes(level, coords[s:s + CHUNK], pad)
-        status[s:s + CHUNK] = tests(lo, hi, open_[s:s + CHUNK])
+        ends = grid.axis_ends(level, coords[s:s + CHUNK], pad)
+        lo, hi = boxes_of(ends)
+        status[s:s + CHUNK] = tests(lo, hi, open_[s:s + CHUNK], ends)
     return status
 
 
 def single(test: BoxTest) -> MultiTest:
     """A box test as a multi-test of one column."""
-    return lambda lo, hi, open_: test(lo, hi)[:, None]
+    return lambda lo, hi, open_, ends=None: test(lo, hi)[:, None]
 
 
 def stacked(tests: list[BoxTest]) -> MultiTest:
     """Box tests as one multi-test: each evaluated on the boxes still open for it only."""
 
-    def test(lo: np.ndarray, hi: np.ndarray, open_: np.ndarray) -> np.ndarray:
+    def test(lo: np.ndarray, hi: np.ndarray, open_: np.ndarray, ends=None) -> np.ndarray:
         out = np.zeros(open_.shape, np.int8)
         for c, one in enumerate(tests):
             mine = open_[:, c]
