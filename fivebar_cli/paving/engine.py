@@ -73,7 +73,18 @@ def children(coords: np.ndarray) -> np.ndarray:
     dim = coords.shape[1]
     k = np.arange(1 << dim)
     offsets = (k[:, None] >> np.arange(dim)[None, :]) & 1
-    return (2 * coords[:, None, :] + offsets[None, :, :]).reshape(-1, dim)
+    out = np.empty((len(coords), 1 << dim, dim), coords.dtype)
+    np.multiply(coords[:, None, :], 2, out=out)
+    out += offsets
+    return out.reshape(-1, dim)
+
+
+def child_codes(codes: np.ndarray, dim: int) -> np.ndarray:
+    """The Morton codes of the children of cells of Morton codes `codes`, in `children`'s order."""
+    out = np.empty((len(codes), 1 << dim), codes.dtype)
+    np.left_shift(codes[:, None], dim, out=out)
+    out |= np.arange(1 << dim, dtype=codes.dtype)
+    return out.reshape(-1)
 
 
 def chunked(fn, *arrays: np.ndarray):
@@ -208,32 +219,34 @@ def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, 
 
 
 def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None, on_level=None) -> list[Paving]:
-    """Breadth-first descent for `count` tests at once: `open_[:, c]`, the boxes still open for test c."""
+    """Breadth-first descent for `count` tests at once: `open_[:, c]`, the boxes still open for test c.
+    The boxes' Morton codes follow them down (a child's is its parent's and its child index)."""
     parts = parts or [{INSIDE: [], OUTSIDE: [], BAND: []} for _ in range(count)]
     per_level = per_level or [[] for _ in range(count)]
     undetermined = [np.zeros((0, grid.dim), dtype=np.int64)] * count
     open_ = np.ones((len(coords), count), dtype=bool)
+    codes = interleave(coords, level)
     while True:
         if on_level is not None:
             on_level(level, len(coords))
         status = _classify_many(grid, level, coords, open_, tests)
-        still = np.zeros_like(open_)
+        status[~open_] = 127  # read only where open
         for c in range(count):
-            mine = open_[:, c]
-            per_level[c].append(int(np.count_nonzero(mine)))
-            answer = np.where(mine, status[:, c], 127)
+            per_level[c].append(int(np.count_nonzero(open_[:, c])))
+            answer = status[:, c]
             for value, kept in parts[c].items():
-                sel = coords[answer == value]
+                sel = codes[answer == value]
                 if len(sel):
-                    kept.append((level, interleave(sel, level)))
-            still[:, c] = answer == UNDETERMINED
+                    kept.append((level, sel))
+        still = status == UNDETERMINED
         if level == grid.depth or not still.any():
             if level == grid.depth:
                 undetermined = [coords[still[:, c]] for c in range(count)]
-            del coords, open_, status, still, answer, mine  # the last level's boxes: free them before the trees
+            del coords, codes, open_, status, still, answer  # the last level's boxes: free them before the trees
             break
         any_open = still.any(axis=1)
         coords = children(coords[any_open])
+        codes = child_codes(codes[any_open], grid.dim)
         open_ = np.repeat(still[any_open], 1 << grid.dim, axis=0)
         level += 1
     out = []
