@@ -222,3 +222,20 @@ def workspace_tests(m, workings, lo, hi, reach_status):
     status, strict, signs = workspace_classes(m, workings, lo, hi, reach_status)
     black = strict[:, None] & (signs != 0)
     return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+
+
+def wrap_angle(a):
+    """(kinematics.ikp's wrap of its joint angles, ranges.direction_range's of its corner offsets)"""
+    return (a + np.pi) % TWO_PI - np.pi
+
+
+def cells_of_points(grid, points):
+    """grid.Grid.cells_of_points as it was (periodic axes wrapped with np.mod)."""
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    rel = (points - grid.lo) / grid.size
+    for axis, wrap in enumerate(grid.periodic):
+        if wrap:
+            rel[:, axis] = np.mod(rel[:, axis], 1.0)
+    inside = np.all((rel >= 0) & (rel <= 1), axis=1)
+    n = 1 << grid.depth
+    return np.clip(np.floor(np.where(inside[:, None], rel, 0) * n), 0, n - 1).astype(np.int64), inside

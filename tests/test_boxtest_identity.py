@@ -88,7 +88,7 @@ def check_workspace(m, lo, hi, ends=None):
                 ref.workspace_tests(m, workings, lo, hi, reach))
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=30, deadline=None)
 @given(mechanisms, st.integers(0, 2**32 - 1))
 def test_joint_space_classes_are_bit_identical(m, seed):
     rng = np.random.default_rng(seed)
@@ -98,7 +98,7 @@ def test_joint_space_classes_are_bit_identical(m, seed):
     check_joint(m, *special_joint_boxes(m))
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=30, deadline=None)
 @given(mechanisms, st.integers(0, 2**32 - 1))
 def test_workspace_classes_are_bit_identical(m, seed):
     rng = np.random.default_rng(seed)
@@ -152,3 +152,16 @@ def test_range_functions_are_bit_identical(intervals):
         assert all(same(g, w) for g, w in zip(got, want))
         assert same(ranges.triangle_angle_range(np.abs(lo), np.abs(hi), 5.0, 8.0),
                     np.stack(ref.triangle_angle_range(np.abs(lo), np.abs(hi), 5.0, 8.0)))
+
+
+def test_angle_wrapping_is_bit_identical(intervals):
+    """The wrap to [-pi, pi) of the IKP's angles and the periodic axes' wrap of points to cells."""
+    lo, hi = intervals
+    with np.errstate(all="ignore"):
+        values = np.concatenate([lo, hi, lo * 1e6, -lo, np.pi * np.arange(-6, 7), np.nextafter(np.pi * np.arange(-6, 7), 0)])
+        assert same(ranges.wrap_angle(values), ref.wrap_angle(values))
+        assert same(ranges.wrap_angle(values[5]), ref.wrap_angle(values[5]))
+        m = FiveBar("m1", 9, 8, 5, 5, 8)
+        grid = m.spaces()["jointspace"].grid(14)
+        points = np.column_stack([values, values[::-1]])
+        assert all(same(g, w) for g, w in zip(grid.cells_of_points(points), ref.cells_of_points(grid, points), strict=True))

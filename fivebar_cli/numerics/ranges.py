@@ -85,15 +85,22 @@ def direction_range(xlo, xhi, ylo, yhi) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _centred(angle: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """(angle - centre + pi) % 2 pi - pi, in place in `angle` (a temporary): numpy's float remainder
-    is fmod, plus the divisor where fmod is negative (+0 where it is 0, which - pi makes the same),
-    at a fifth of its cost."""
+    """(angle - centre + pi) % 2 pi - pi, in place in `angle` (a temporary)."""
     angle -= centre
-    angle += np.pi
-    np.fmod(angle, TWO_PI, out=angle)
-    np.add(angle, TWO_PI, out=angle, where=angle < 0)
-    angle -= np.pi
-    return angle
+    return wrap_angle(angle, out=angle)
+
+
+def wrap_angle(angle, out=None) -> np.ndarray:
+    """(angle + pi) % 2 pi - pi, the same floats (numpy's float remainder is fmod, plus the divisor
+    where fmod is negative; +0 where it is 0, which - pi makes the same) at a fifth of its cost;
+    `out`: an array to write into (`angle` itself, when it is a temporary)."""
+    if np.ndim(angle) == 0:
+        return (angle + np.pi) % TWO_PI - np.pi
+    out = np.add(angle, np.pi, out=out)
+    np.fmod(out, TWO_PI, out=out)
+    np.add(out, TWO_PI, out=out, where=out < 0)
+    out -= np.pi
+    return out
 
 
 def triangle_angle_range(side_lo, side_hi, adjacent: float, opposite: float):

@@ -17,7 +17,7 @@ from fivebar_cli.mechanisms.fivebar.boxtests import (
     DELTA_REL, AngleTables, annuli, assembly_status, crank_distance2_range, leg_distance2_ranges, reach_status,
     workspace_anchors,
 )
-from fivebar_cli.mechanisms.fivebar.kinematics import dkp, ikp, mode_values, scale
+from fivebar_cli.mechanisms.fivebar.kinematics import cranks, dkp, ikp, mode_values, scale
 from fivebar_cli.numerics.ranges import direction_range, sin_sign, sinusoid_range, triangle_angle_range
 from fivebar_cli.numerics.verdict import verdict
 
@@ -262,8 +262,9 @@ def _cos_sin_range(lo, hi, trig):
 
 def joint_working_mode(m, assembly: int, points: np.ndarray) -> np.ndarray:
     """Working-mode signs (u, v), shape (n, 2), at joint-space points in an assembly mode (0 if none)."""
-    p, ok = dkp(m, points[:, 0], points[:, 1], assembly)
-    u, v, _ = mode_values(m, points[:, 0], points[:, 1], np.nan_to_num(p))
+    b = cranks(m, points[:, 0], points[:, 1])
+    p, ok = dkp(m, points[:, 0], points[:, 1], assembly, b)
+    u, v, _ = mode_values(m, points[:, 0], points[:, 1], np.nan_to_num(p), b)
     return np.where(ok[:, None], np.sign(np.stack([u, v], axis=1)), 0).astype(np.int8)
 
 
