@@ -50,13 +50,18 @@ def working_mode_workspace_test(m, working: tuple[int, int]):
 
 def working_mode_workspace_tests(m, workings):
     """The box tests of several working modes at once (a `paving.engine.MultiTest`: statuses
-    (n, len(workings))), sharing the reach test and the legs' direction and angle ranges."""
+    (n, len(workings))), sharing the reach test and the legs' direction and angle ranges. Only a
+    box strictly inside both annuli can be black: the signs are taken for those boxes only."""
     classify = workspace_modes_classifier(m, workings)
 
     def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
-        status, strict, signs = classify(lo, hi)
-        black = strict[:, None] & (signs != 0)
-        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+        status, strict, d = classify.reach(lo, hi)
+        out = np.repeat(np.where(status == -1, -1, 0).astype(np.int8)[:, None], len(workings), axis=1)
+        rows = np.flatnonzero(strict)  # (strict implies reachable: status 1)
+        if len(rows):
+            signs = classify.signs(lo[rows], hi[rows], [(dmin[rows], dmax[rows]) for dmin, dmax in d])
+            out[rows] = signs != 0
+        return out
 
     return test
 
@@ -80,23 +85,33 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
 
 def workspace_modes_classifier(m, workings):
     """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
-    shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once."""
+    shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once. Its parts:
+    `reach(lo, hi)` -> (status, strict, the legs' squared-distance ranges) and
+    `signs(lo, hi, ranges)` -> the signs."""
     (c1, r1, big1), (c2, r2, big2) = annuli(m)
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
 
-    def classify(lo: np.ndarray, hi: np.ndarray):
+    def reach(lo: np.ndarray, hi: np.ndarray):
         d1, d2 = leg_distance2_ranges(m, lo, hi)
         status = reach_status(m, lo, hi, (d1, d2), anchors)
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
-        leg1 = _leg_angle_ranges(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, delta)
-        leg2 = _leg_angle_ranges(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, delta)
-        signs = np.empty((len(lo), len(workings)), np.int8)
+        return status, strict, (d1, d2)
+
+    def signs(lo: np.ndarray, hi: np.ndarray, d) -> np.ndarray:
+        leg1 = _leg_angle_ranges(m, lo, hi, d[0], c1, r1, big1, m.L3, m.L1, delta)
+        leg2 = _leg_angle_ranges(m, lo, hi, d[1], c2, r2, big2, m.L4, m.L2, delta)
+        out = np.empty((len(lo), len(workings)), np.int8)
         for k, (su, sv) in enumerate(workings):
             theta, theta4 = leg_branch(*leg1, su), leg_branch(*leg2, sv)
-            signs[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
-        return status, strict, signs
+            out[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
+        return out
 
+    def classify(lo: np.ndarray, hi: np.ndarray):
+        status, strict, d = reach(lo, hi)
+        return status, strict, signs(lo, hi, d)
+
+    classify.reach, classify.signs = reach, signs
     return classify
 
 
