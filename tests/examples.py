@@ -89,8 +89,9 @@ def help_examples() -> list[Command]:
                 documented = re.search(r"#\s*exit (\d+)\b", text)
                 found.append(Command(f"`{path} --help`", strip_comment(text), None,
                                      int(documented.group(1)) if documented else 0))
-        for name in getattr(command, "commands", {}):
-            walk(command.commands[name], f"{path} {name}", ctx)
+        if isinstance(command, click.Group):  # the commands as click lists them (`cli` imports them on first use)
+            for name in command.list_commands(ctx):
+                walk(command.get_command(ctx, name), f"{path} {name}", ctx)
 
     walk(cli, "fivebar")
     return found

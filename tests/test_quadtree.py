@@ -619,3 +619,25 @@ def test_search_near_equals_a_binary_search(seed, near, sign):
         with window(near):
             got = tree_module._search_near(padded, start, chunk, s, sign)
         assert np.array_equal(got, np.searchsorted(start, chunk, side="right") - 1)
+
+
+@pytest.mark.parametrize("dim, deepest", [(1, 52), (2, 26), (3, 17), (4, 13)])
+def test_morton_codes_bit_by_bit(dim, deepest):
+    """interleave / deinterleave (magic-mask dilation) against the bit-by-bit definition, at mixed
+    levels from 0 to the deepest a grid allows, the first and last cells of each level included."""
+    from fivebar_cli.paving.morton import deinterleave, interleave
+
+    rng = np.random.default_rng(dim)
+    level = np.concatenate([np.arange(deepest + 1), np.arange(deepest + 1), rng.integers(0, deepest + 1, 300)])
+    coords = rng.integers(0, 1 << 62, (len(level), dim)) >> (62 - level[:, None])
+    coords[: deepest + 1] = 0
+    coords[deepest + 1: 2 * deepest + 2] = (1 << level[deepest + 1: 2 * deepest + 2, None]) - 1
+    code = interleave(coords, level)
+    want = [sum(((int(c[j]) >> b) & 1) << (b * dim + j) for b in range(int(lev)) for j in range(dim))
+            for c, lev in zip(coords, level)]
+    assert code.tolist() == want
+    assert [morton_coords(int(k), int(lev), dim) for k, lev in zip(code, level)] == [tuple(c) for c in coords.tolist()]
+    assert deinterleave(code, level, dim).tolist() == coords.tolist()
+    for lev in (0, 1, deepest):  # one level for every cell, as the engine and the trees call them
+        same = coords >> (level[:, None] - np.minimum(level, lev)[:, None])
+        assert deinterleave(interleave(same, lev), lev, dim).tolist() == same.tolist()

@@ -1,13 +1,15 @@
 """The `fivebar` command line: parse options, call one library function, write files, report.
 
-Every command group lives in its own module of this package and is attached here, at import, so
-`from fivebar_cli.cli import cli` has every command. Errors become one line on stderr and an exit
-status: 2 for usage and configuration problems, 1 for anything else. Set FIVEBAR_DEBUG=1 to see
+Every command group lives in its own module of this package, imported when the command is asked
+for (`LazyGroup`: `fivebar aspects` imports neither the atlas's engine nor the other commands;
+`fivebar --help` imports them all, for their one-line help). Errors become one line on stderr and
+an exit status: 2 for usage and configuration problems, 1 for anything else. Set FIVEBAR_DEBUG=1 to see
 the traceback of an unexpected failure.
 """
 
 from __future__ import annotations
 
+import importlib
 import os
 import signal
 import sys
@@ -16,33 +18,69 @@ import warnings
 
 import click
 
-from fivebar_cli.version import __version__
-from fivebar_cli.cli.aspects import aspects
-from fivebar_cli.cli.atlas import atlas
+from fivebar_cli.cli import HeldSignals
 from fivebar_cli.cli.dispatch import ByKind
-from fivebar_cli.cli.examples import examples
-from fivebar_cli.cli.kratio import kratio
-from fivebar_cli.cli.locate import locate
-from fivebar_cli.cli.path import path
-from fivebar_cli.cli.dkp import dkp, joints_dkp
-from fivebar_cli.cli.pose_aspects import pose_aspects
-from fivebar_cli.cli.pose_locate import pose_locate
-from fivebar_cli.cli.pose_path import pose_path
-from fivebar_cli.cli.reproduce import reproduce
-from fivebar_cli.cli.rpr3 import rpr3
-from fivebar_cli.cli.rpr3_octree import pave_cmd as rpr3_pave
-from fivebar_cli.cli.rpr3_octree import verify_cmd as rpr3_verify
-from fivebar_cli.cli.refine import diff, refine
-from fivebar_cli.cli.spaces import jointspace, workspace
-from fivebar_cli.cli.tolerance import tolerance
-from fivebar_cli.cli.verify import verify_cmd
-from fivebar_cli.cli.view import view
+from fivebar_cli.version import __version__
 from fivebar_cli.errors import INTERRUPTS, FivebarError, FivebarWarning, Interrupted
 
 CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
 
-@click.group(context_settings=CONTEXT)
+# name -> "module:attribute" in this package, or two of them: `ByKind(five-bar command, pose command)`
+COMMANDS = {
+    "jointspace": "spaces:jointspace", "workspace": "spaces:workspace",
+    "aspects": ("aspects:aspects", "pose_aspects:pose_aspects"), "locate": ("locate:locate", "pose_locate:pose_locate"),
+    "path": ("path:path", "pose_path:pose_path"), "dkp": "dkp:joints_dkp", "verify": "verify:verify_cmd",
+    "atlas": "atlas:atlas", "kratio": "kratio:kratio", "refine": "refine:refine", "diff": "refine:diff",
+    "tolerance": "tolerance:tolerance", "view": "view:view", "rpr3": "rpr3:rpr3", "reproduce": "reproduce:reproduce",
+    "examples": "examples:examples",
+}
+RPR3_COMMANDS = ("rpr3_octree:pave_cmd", "rpr3_octree:verify_cmd", "dkp:dkp")  # `fivebar rpr3 pave | verify | dkp`
+
+
+class LazyGroup(click.Group):
+    """A group whose commands (`COMMANDS`) are imported on first use: a run imports its own command's
+    module only. The commands are listed in the same (sorted) order, with the same help."""
+
+    def list_commands(self, ctx) -> list[str]:
+        return sorted({*self.commands, *COMMANDS})
+
+    def get_command(self, ctx, name: str):
+        if name not in self.commands and name in COMMANDS:
+            self.add_command(_load(COMMANDS[name]), name)
+        return self.commands.get(name)
+
+
+def _load(spec):
+    """The command `spec` names (`COMMANDS`); the rpr3 group with its commands from other modules."""
+    if isinstance(spec, tuple):
+        return ByKind(_load(spec[0]), _load(spec[1]))
+    module, attribute = spec.split(":")
+    command = getattr(_import(f"fivebar_cli.cli.{module}"), attribute)
+    if module == "rpr3":
+        for sub in RPR3_COMMANDS:
+            command.add_command(_load(sub))
+    return command
+
+
+def _import(name: str):
+    """Import a command's module with the interruptions held (as during start-up, cli/__init__.py: an
+    exception raised by a handler while a module compiles can be lost), then acted on."""
+    held = HeldSignals()
+    ours = [sig for sig in INTERRUPTS if signal.getsignal(sig) is _on_signal]
+    for sig in ours:
+        signal.signal(sig, held)
+    try:
+        module = importlib.import_module(name)
+    finally:
+        for sig in ours:
+            signal.signal(sig, _on_signal)
+    if held:
+        _on_signal(held[0], None)
+    return module
+
+
+@click.group(cls=LazyGroup, context_settings=CONTEXT)
 @click.version_option(__version__, "-V", "--version", prog_name="fivebar")
 def cli() -> None:
     """Certified joint space, workspace and aspects of planar parallel robots.
@@ -61,14 +99,6 @@ def cli() -> None:
       fivebar view out/m1
       fivebar reproduce -o out/check --no-plot
     """
-
-
-for command in (rpr3_pave, rpr3_verify, dkp):  # dkp: `fivebar dkp` under its 3-RPR name, with --legs
-    rpr3.add_command(command)
-for command in (jointspace, workspace, ByKind(aspects, pose_aspects), ByKind(locate, pose_locate),
-                ByKind(path, pose_path), joints_dkp, verify_cmd, atlas, kratio, refine, diff, tolerance, view, rpr3,
-                reproduce, examples):
-    cli.add_command(command)
 
 
 SIGNAL_WORDS = {signal.SIGINT: "interrupted", signal.SIGTERM: "terminated", signal.SIGHUP: "hung up"}

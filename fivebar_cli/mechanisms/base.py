@@ -32,7 +32,7 @@ from fivebar_cli.io.schema import ConfigError
 from fivebar_cli.paving.grid import Grid
 
 BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
-MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]  # paving.engine.MultiTest
+MultiTest = Callable[..., np.ndarray]  # paving.engine.MultiTest: (lo, hi, open, ends) -> statuses
 
 
 @dataclass(frozen=True)

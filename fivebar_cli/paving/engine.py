@@ -22,14 +22,15 @@ from typing import Callable
 
 import numpy as np
 
-from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.grid import AxisEnds, Grid, boxes_of
 from fivebar_cli.paving.morton import interleave
 from fivebar_cli.paving.tree import Tree
 
 BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
-# several box tests at once: (lo, hi, open) -> int8 statuses (m, count); column c is read only
-# where open[:, c] (the box is still undetermined for test c), so it may skip the other boxes
-MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+# several box tests at once: (lo, hi, open, ends) -> int8 statuses (m, count); column c is read only
+# where open[:, c] (the box is still undetermined for test c), so it may skip the other boxes;
+# ends: the boxes' bounds per axis as tables (`grid.AxisEnds`), for what depends on one axis alone
+MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray, tuple[AxisEnds, ...]], np.ndarray]
 INSIDE, OUTSIDE, UNDETERMINED, BAND = 1, -1, 0, 2
 CHUNK = 1 << 16
 MAX_REFINE_CELLS = 1 << 26
@@ -72,7 +73,18 @@ def children(coords: np.ndarray) -> np.ndarray:
     dim = coords.shape[1]
     k = np.arange(1 << dim)
     offsets = (k[:, None] >> np.arange(dim)[None, :]) & 1
-    return (2 * coords[:, None, :] + offsets[None, :, :]).reshape(-1, dim)
+    out = np.empty((len(coords), 1 << dim, dim), coords.dtype)
+    np.multiply(coords[:, None, :], 2, out=out)
+    out += offsets
+    return out.reshape(-1, dim)
+
+
+def child_codes(codes: np.ndarray, dim: int) -> np.ndarray:
+    """The Morton codes of the children of cells of Morton codes `codes`, in `children`'s order."""
+    out = np.empty((len(codes), 1 << dim), codes.dtype)
+    np.left_shift(codes[:, None], dim, out=out)
+    out |= np.arange(1 << dim, dtype=codes.dtype)
+    return out.reshape(-1)
 
 
 def chunked(fn, *arrays: np.ndarray):
@@ -97,20 +109,21 @@ def _classify_many(grid: Grid, level: int, coords: np.ndarray, open_: np.ndarray
     pad = box_pad(grid)
     status = np.empty(open_.shape, dtype=np.int8)
     for s in range(0, len(coords), CHUNK):
-        lo, hi = grid.boxes(level, coords[s:s + CHUNK], pad)
-        status[s:s + CHUNK] = tests(lo, hi, open_[s:s + CHUNK])
+        ends = grid.axis_ends(level, coords[s:s + CHUNK], pad)
+        lo, hi = boxes_of(ends)
+        status[s:s + CHUNK] = tests(lo, hi, open_[s:s + CHUNK], ends)
     return status
 
 
 def single(test: BoxTest) -> MultiTest:
     """A box test as a multi-test of one column."""
-    return lambda lo, hi, open_: test(lo, hi)[:, None]
+    return lambda lo, hi, open_, ends=None: test(lo, hi)[:, None]
 
 
 def stacked(tests: list[BoxTest]) -> MultiTest:
     """Box tests as one multi-test: each evaluated on the boxes still open for it only."""
 
-    def test(lo: np.ndarray, hi: np.ndarray, open_: np.ndarray) -> np.ndarray:
+    def test(lo: np.ndarray, hi: np.ndarray, open_: np.ndarray, ends=None) -> np.ndarray:
         out = np.zeros(open_.shape, np.int8)
         for c, one in enumerate(tests):
             mine = open_[:, c]
@@ -206,32 +219,34 @@ def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, 
 
 
 def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None, on_level=None) -> list[Paving]:
-    """Breadth-first descent for `count` tests at once: `open_[:, c]`, the boxes still open for test c."""
+    """Breadth-first descent for `count` tests at once: `open_[:, c]`, the boxes still open for test c.
+    The boxes' Morton codes follow them down (a child's is its parent's and its child index)."""
     parts = parts or [{INSIDE: [], OUTSIDE: [], BAND: []} for _ in range(count)]
     per_level = per_level or [[] for _ in range(count)]
     undetermined = [np.zeros((0, grid.dim), dtype=np.int64)] * count
     open_ = np.ones((len(coords), count), dtype=bool)
+    codes = interleave(coords, level)
     while True:
         if on_level is not None:
             on_level(level, len(coords))
         status = _classify_many(grid, level, coords, open_, tests)
-        still = np.zeros_like(open_)
+        status[~open_] = 127  # read only where open
         for c in range(count):
-            mine = open_[:, c]
-            per_level[c].append(int(np.count_nonzero(mine)))
-            answer = np.where(mine, status[:, c], 127)
+            per_level[c].append(int(np.count_nonzero(open_[:, c])))
+            answer = status[:, c]
             for value, kept in parts[c].items():
-                sel = coords[answer == value]
+                sel = codes[answer == value]
                 if len(sel):
-                    kept.append((level, interleave(sel, level)))
-            still[:, c] = answer == UNDETERMINED
+                    kept.append((level, sel))
+        still = status == UNDETERMINED
         if level == grid.depth or not still.any():
             if level == grid.depth:
                 undetermined = [coords[still[:, c]] for c in range(count)]
-            del coords, open_, status, still, answer, mine  # the last level's boxes: free them before the trees
+            del coords, codes, open_, status, still, answer  # the last level's boxes: free them before the trees
             break
         any_open = still.any(axis=1)
         coords = children(coords[any_open])
+        codes = child_codes(codes[any_open], grid.dim)
         open_ = np.repeat(still[any_open], 1 << grid.dim, axis=0)
         level += 1
     out = []

@@ -47,10 +47,23 @@ class Grid:
 
     def boxes(self, level: int, coords: np.ndarray, pad: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """Bounds (lo, hi), shape (m, dim), of the cells `coords` at `level`, widened by `pad`."""
+        return boxes_of(self.axis_ends(level, coords, pad))
+
+    def axis_ends(self, level: int, coords: np.ndarray, pad: float = 0.0) -> tuple["AxisEnds", ...]:
+        """The bounds of the cells `coords` at `level`, widened by `pad`, per axis (`AxisEnds`):
+        tables over the span of the cells' coordinates along the axis, when it is no longer than
+        twice their number (the cells a paving tests at one level lie along curves: about one
+        distinct coordinate in six), else one entry per cell."""
         width = np.ldexp(self.size, -level)
-        lo = self.lo + coords * width
-        hi = self.lo + (coords + 1) * width
-        return lo - pad, hi + pad
+        root = self.lo
+        ends = []
+        for k in range(self.dim):
+            c = coords[:, k]
+            first = int(c.min()) if len(c) else 0
+            span = int(c.max()) - first + 1 if len(c) else 0
+            cells, index = (np.arange(first, first + span, dtype=np.int64), c - first) if span <= 2 * len(c) else (c, None)
+            ends.append(AxisEnds(root[k] + cells * width[k] - pad, root[k] + (cells + 1) * width[k] + pad, index))
+        return tuple(ends)
 
     def cells_of_points(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Depth-D cell coordinates of points and a mask of the points inside the root box.
@@ -61,8 +74,46 @@ class Grid:
         rel = (points - self.lo) / self.size
         for axis, wrap in enumerate(self.periodic):
             if wrap:
-                rel[:, axis] = np.mod(rel[:, axis], 1.0)
-        inside = np.all((rel >= 0) & (rel <= 1), axis=1)
+                rel[:, axis] = _unit_mod(rel[:, axis])
+        inside = np.logical_and.reduce([(r >= 0) & (r <= 1) for r in rel.T])  # (np.all(axis=1): 20x slower)
         n = 1 << self.depth
         coords = np.clip(np.floor(np.where(inside[:, None], rel, 0) * n), 0, n - 1).astype(np.int64)
         return coords, inside
+
+
+def _unit_mod(x: np.ndarray) -> np.ndarray:
+    """np.mod(x, 1.0), the same floats (numpy's float remainder is fmod, plus the divisor where
+    fmod is negative) at a fifth of its cost."""
+    out = np.fmod(x, 1.0)
+    np.add(out, 1.0, out=out, where=out < 0)
+    return out
+
+
+@dataclass(frozen=True)
+class AxisEnds:
+    """The bounds of boxes along one axis as tables and an index: box i spans
+    [low[index[i]], high[index[i]]] (`index` None: one entry per box). The boxes of one level
+    share their ends, so a value of an axis's interval alone (a cosine, the range of a sinusoid)
+    is computed once per entry and gathered (`per_box`), at a fraction of the cost."""
+
+    low: np.ndarray
+    high: np.ndarray
+    index: np.ndarray | None = None
+
+    @classmethod
+    def of_boxes(cls, lo: np.ndarray, hi: np.ndarray) -> tuple["AxisEnds", ...]:
+        """The ends of boxes (lo, hi), shape (m, dim), one entry per box."""
+        return tuple(cls(lo[:, k], hi[:, k]) for k in range(lo.shape[1]))
+
+    def per_box(self, table):
+        """A table's values (an array over the entries, or tuples of them) for each box."""
+        if self.index is None:
+            return table
+        if isinstance(table, tuple):
+            return tuple(self.per_box(t) for t in table)
+        return table[self.index]
+
+
+def boxes_of(ends: tuple[AxisEnds, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds (lo, hi), shape (m, dim), of the boxes whose ends per axis are `ends`."""
+    return (np.column_stack([e.per_box(e.low) for e in ends]), np.column_stack([e.per_box(e.high) for e in ends]))

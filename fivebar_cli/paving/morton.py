@@ -1,4 +1,4 @@
-"""Morton (Z-order) codes of integer cell coordinates, vectorised with lookup tables.
+"""Morton (Z-order) codes of integer cell coordinates, vectorised with bit dilation (magic masks).
 
 Bit j of a child index is the high half along axis j, so the Morton order of the cells of a level
 is the preorder of the tree: (x low, y low), (x high, y low), (x low, y high), (x high, y high),
@@ -13,53 +13,54 @@ import numpy as np
 
 
 @lru_cache(maxsize=None)
-def _spread_table(dim: int, bits: int) -> np.ndarray:
-    """table[c] = the `bits` low bits of c spread to every dim-th bit position."""
-    c = np.arange(1 << bits, dtype=np.int64)
-    out = np.zeros_like(c)
-    for b in range(bits):
-        out |= ((c >> b) & 1) << (b * dim)
-    return out
+def _dilation(dim: int, bits: int) -> tuple[tuple[int, int], ...]:
+    """How the `bits` low bits of a coordinate sit in a Morton code, as the classic magic-mask bit
+    dilation (for any dim): (shift, mask) per stage, from groups of one bit (every dim-th bit,
+    shift 0) to groups of 2, 4, ... bits, each group of 2g bits made of two of g bits, the upper one
+    shifted by g (dim - 1); the last stage holds the `bits` bits together."""
+    stages, g = [(0, sum(1 << (i * dim) for i in range(bits)))], 1
+    while g < bits:
+        mask = sum(((1 << 2 * g) - 1) << (i * 2 * g * dim) for i in range(-(-bits // (2 * g))))
+        stages.append((g * (dim - 1), mask & ((1 << (bits * dim)) - 1)))
+        g *= 2
+    return tuple(stages)
 
 
-@lru_cache(maxsize=None)
-def _compact_table(dim: int, bits: int) -> np.ndarray:
-    """table[v, axis] = the bits of axis `axis` gathered from a (bits * dim)-bit Morton chunk v."""
-    v = np.arange(1 << (bits * dim), dtype=np.int64)
-    out = np.zeros((v.size, dim), dtype=np.int64)
-    for b in range(bits):
-        for axis in range(dim):
-            out[:, axis] |= ((v >> (b * dim + axis)) & 1) << b
-    return out
-
-
-def _chunk(dim: int) -> int:
-    return 16 // dim  # coordinate bits per table lookup (tables of 2^16 entries at most)
+def _bits(level) -> int:
+    return int(np.max(level)) if np.size(level) else 0
 
 
 def interleave(coords: np.ndarray, level: int | np.ndarray) -> np.ndarray:
     """Morton codes of integer cell coordinates, shape (m, dim) -> (m,), bit j of a child index = axis j."""
     coords = np.asarray(coords, dtype=np.int64)
     m, dim = coords.shape
-    bits = int(np.max(level)) if np.size(level) else 0
-    step = _chunk(dim)
-    table = _spread_table(dim, step)
+    stages = _dilation(dim, _bits(level))
     code = np.zeros(m, dtype=np.int64)
-    for k in range(0, bits, step):
-        for axis in range(dim):
-            code |= table[(coords[:, axis] >> k) & ((1 << step) - 1)] << (k * dim + axis)
+    for axis in range(dim):
+        x = coords[:, axis] & stages[-1][1]
+        for (shift, _), (_, mask) in zip(stages[:0:-1], stages[-2::-1]):  # groups halved, spread apart
+            x |= x << shift
+            x &= mask
+        if axis:
+            x <<= axis
+        code |= x
     return code
 
 
 def deinterleave(code: np.ndarray, level: int | np.ndarray, dim: int) -> np.ndarray:
     """Inverse of `interleave`: Morton codes -> integer coordinates, shape (m, dim)."""
     code = np.asarray(code, dtype=np.int64)
-    bits = int(np.max(level)) if np.size(level) else 0
-    step = _chunk(dim)
-    table = _compact_table(dim, step)
-    coords = np.zeros((code.size, dim), dtype=np.int64)
-    for k in range(0, bits, step):
-        coords |= table[(code >> (k * dim)) & ((1 << (step * dim)) - 1)] << k
+    stages = _dilation(dim, _bits(level))
+    coords = np.empty((code.size, dim), dtype=np.int64)
+    shifted = np.empty_like(code)
+    for axis in range(dim):
+        x = code >> axis if axis else code.copy()
+        x &= stages[0][1]
+        for shift, mask in stages[1:]:  # groups of one bit, two, four... gathered to the low end
+            np.right_shift(x, shift, out=shifted)
+            x |= shifted
+            x &= mask
+        coords[:, axis] = x
     return coords
 
 

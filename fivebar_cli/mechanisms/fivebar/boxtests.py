@@ -9,12 +9,16 @@ Box tests return 1 (every point valid), -1 (no point valid), 0 (cannot tell).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from functools import cached_property
+
 import numpy as np
 
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics import annuli as ring
 from fivebar_cli.numerics.ranges import angle_inside, circle_intersections, sinusoid_range
 from fivebar_cli.numerics.verdict import verdict
+from fivebar_cli.paving.grid import AxisEnds
 
 DELTA_REL = 1e-12  # safety margin on squared lengths, relative to the squared scale
 ETA_REL = 1e-9  # safety margin on lengths along box edges, relative to the scale
@@ -24,13 +28,34 @@ ANCHOR_TOL_REL = 1e-9  # anchors within this (times scale^2) of the workspace ar
 # ---------------------------------------------------------------- joint space
 
 
-def box_trig(lo: np.ndarray, hi: np.ndarray) -> tuple[tuple, tuple]:
-    """(cos, sin) of both ends of both angles of boxes: ((c, s, c, s) of th1, (c, s, c, s) of th2)."""
-    return tuple((np.cos(lo[:, k]), np.sin(lo[:, k]), np.cos(hi[:, k]), np.sin(hi[:, k])) for k in (0, 1))
+@dataclass(frozen=True)
+class AngleTables:
+    """Boxes of joint angles (th1, th2), per axis: the ends of the boxes as tables (`grid.AxisEnds`:
+    the cells of one level share their ends) with their cos and sin. What depends on one angle's
+    interval alone is computed once per table entry and gathered per box (`along`)."""
+
+    ends: tuple
+    trig: tuple  # per axis: (cos, sin) of its table's low ends, then of its high ends
+
+    @classmethod
+    def of(cls, lo: np.ndarray, hi: np.ndarray, ends=None) -> "AngleTables":
+        """The tables of boxes (lo, hi): `ends` when the caller has them, else one entry per box."""
+        ends = ends if ends is not None else AxisEnds.of_boxes(lo, hi)
+        return cls(ends, tuple((np.cos(e.low), np.sin(e.low), np.cos(e.high), np.sin(e.high)) for e in ends))
+
+    @cached_property
+    def box_trig(self) -> tuple[tuple, tuple]:
+        """(cos, sin) of both ends of both angles per box: ((c, s, c, s) of th1, (c, s, c, s) of th2)."""
+        return tuple(e.per_box(t) for e, t in zip(self.ends, self.trig))
+
+    def along(self, axis: int, fn):
+        """fn(lo, hi, trig) of the intervals of one axis (an array or a tuple of arrays), per box."""
+        e = self.ends[axis]
+        return e.per_box(fn(e.low, e.high, self.trig[axis]))
 
 
-def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, trig=None) -> tuple[np.ndarray, np.ndarray]:
-    """Exact range of |B1B2|^2 over boxes [th1] x [th2].
+def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, angles: AngleTables | None = None):
+    """Exact range of |B1B2|^2 over boxes [th1] x [th2] (`angles`: their tables, if at hand).
 
     d^2 = K - 2 L0 L1 cos th1 + 2 L0 L2 cos th2 - 2 L1 L2 cos(th1 - th2) is smooth, so its extrema
     over a box lie on the edges (sinusoids in one angle: exact) or at interior critical points:
@@ -40,7 +65,8 @@ def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, trig=None) -> tuple
     L0, L1, L2 = m.L0, m.L1, m.L2
     k0 = L0 * L0 + L1 * L1 + L2 * L2
     u0, v0, u1, v1 = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
-    t1, t2 = trig if trig is not None else box_trig(lo, hi)
+    angles = angles if angles is not None else AngleTables.of(lo, hi)
+    t1, t2 = angles.box_trig
     fmin = np.full(len(lo), np.inf)
     fmax = np.full(len(lo), -np.inf)
     for cu, su in ((t1[0], t1[1]), (t1[2], t1[3])):  # edges th1 = const: sinusoid in th2
@@ -51,11 +77,18 @@ def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, trig=None) -> tuple
         base = k0 + 2 * L0 * L2 * cv
         bot, top = sinusoid_range(-2 * L0 * L1 - 2 * L1 * L2 * cv, -2 * L1 * L2 * sv, u0, u1, t1)
         fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
+    holds = [{}, {}]  # per axis: angle -> whether each box's interval holds it (computed per table entry)
     for th1, th2, value in _crank_critical_points(m):
-        inside = angle_inside(th1, u0, u1) & angle_inside(th2, v0, v1)
-        fmin = np.where(inside, np.minimum(fmin, value), fmin)
-        fmax = np.where(inside, np.maximum(fmax, value), fmax)
+        inside = _holds(angles, holds, 0, th1) & _holds(angles, holds, 1, th2)
+        np.minimum(fmin, value, out=fmin, where=inside)
+        np.maximum(fmax, value, out=fmax, where=inside)
     return fmin, fmax
+
+
+def _holds(angles: AngleTables, memo: list[dict], axis: int, angle: float) -> np.ndarray:
+    if angle not in memo[axis]:
+        memo[axis][angle] = angles.along(axis, lambda lo, hi, _: angle_inside(angle, lo, hi))
+    return memo[axis][angle]
 
 
 def _crank_critical_points(m) -> list[tuple[float, float, float]]:

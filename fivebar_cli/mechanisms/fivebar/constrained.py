@@ -39,7 +39,7 @@ from fivebar_cli.mechanisms.constraint_tests import (  # noqa: F401 (arc_status,
 )
 from fivebar_cli.mechanisms.constraint_tests import empty_problem as shared_empty_problem
 from fivebar_cli.mechanisms.fivebar import modes, robust, robust_modes
-from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, box_trig, joint_space_test
+from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, AngleTables, joint_space_test
 from fivebar_cli.mechanisms.fivebar.constraints import LINKS
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics.ranges import direction_range, triangle_angle_range
@@ -112,14 +112,15 @@ def jointspace_ranges(m, assembly: int, lo: np.ndarray, hi: np.ndarray) -> Range
     """The ranges over boxes of (th1, th2) in an assembly mode (module docstring); the actuated
     angles are the box itself (left to the root box)."""
     bounds = m.bounds
-    trig = box_trig(lo, hi)
-    tri = (robust_modes.coupler_triangle if m.is_interval else modes.coupler_triangle)(m, lo, hi, trig)
+    tables = AngleTables.of(lo, hi)
+    tri = (robust_modes.coupler_triangle if m.is_interval else modes.coupler_triangle)(m, lo, hi, tables)
     th3, th4 = modes.coupler_directions(assembly, tri.b, tri.a, tri.e)
     at_p = included_angle_range(tri.d, bounds[3], bounds[4])
     angles = {"B1": (th3[0] - hi[:, 0], th3[1] - lo[:, 0]), "B2": (th4[0] - hi[:, 1], th4[1] - lo[:, 1]),
               "P": at_p if assembly > 0 else (-at_p[1], -at_p[0])}
     if not m.constraints.obstacles:
         return Ranges(angles, None)
+    trig = tables.box_trig
     b1 = arc_box(lo[:, 0], hi[:, 0], bounds[1], trig[0])
     crank2 = arc_box(lo[:, 1], hi[:, 1], bounds[2], trig[1])
     b2 = (crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0])
@@ -237,8 +238,8 @@ def _restricted_columns(base, modes_, status):
     """A multi-test's columns each restricted to the constraints in its mode (`restricted`),
     evaluated on the boxes still open for that column only."""
 
-    def test(lo, hi, open_):
-        out = base(lo, hi, open_)
+    def test(lo, hi, open_, ends=None):
+        out = base(lo, hi, open_, ends)
         for c, mode in enumerate(modes_):
             rows = np.flatnonzero(open_[:, c])
             if len(rows):

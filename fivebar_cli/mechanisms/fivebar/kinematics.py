@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-TWO_PI = 2.0 * np.pi
+from fivebar_cli.numerics.ranges import wrap_angle
 
 
 def scale(m) -> float:
@@ -31,13 +31,14 @@ def cranks(m, th1, th2) -> tuple[np.ndarray, np.ndarray]:
     return b1, b2
 
 
-def dkp(m, th1, th2, assembly: int) -> tuple[np.ndarray, np.ndarray]:
+def dkp(m, th1, th2, assembly: int, crank_points=None) -> tuple[np.ndarray, np.ndarray]:
     """Direct kinematics: P for the assembly mode `assembly` (+1: det A > 0, -1: det A < 0).
 
     Returns (p, ok) where ok is False where the mechanism cannot be assembled
-    (|B1B2| > L3 + L4, |B1B2| < |L3 - L4|, or B1 = B2) and p is NaN there.
+    (|B1B2| > L3 + L4, |B1B2| < |L3 - L4|, or B1 = B2) and p is NaN there. `crank_points`:
+    `cranks(m, th1, th2)` when the caller has them.
     """
-    b1, b2 = cranks(m, th1, th2)
+    b1, b2 = crank_points if crank_points is not None else cranks(m, th1, th2)
     diff = b2 - b1
     d = np.hypot(diff[..., 0], diff[..., 1])
     beta = np.arctan2(diff[..., 1], diff[..., 0])
@@ -65,13 +66,13 @@ def ikp(m, x, y, working: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.n
     ok = (m1 > 0) & (m2 > 0) & (np.abs(c1) <= 1) & (np.abs(c2) <= 1)
     th1 = np.arctan2(y, x) - su * np.arccos(np.clip(np.where(ok, c1, 0.0), -1, 1))
     th2 = np.arctan2(y, x - m.L0) - sv * np.arccos(np.clip(np.where(ok, c2, 0.0), -1, 1))
-    wrap = lambda a: np.where(ok, (a + np.pi) % TWO_PI - np.pi, np.nan)  # noqa: E731
-    return wrap(th1), wrap(th2), ok
+    return np.where(ok, wrap_angle(th1), np.nan), np.where(ok, wrap_angle(th2), np.nan), ok
 
 
-def mode_values(m, th1, th2, p) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(u, v, t): the cross products whose signs are the working modes and the assembly mode."""
-    b1, b2 = cranks(m, th1, th2)
+def mode_values(m, th1, th2, p, crank_points=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(u, v, t): the cross products whose signs are the working modes and the assembly mode
+    (`crank_points`: `cranks(m, th1, th2)` when the caller has them)."""
+    b1, b2 = crank_points if crank_points is not None else cranks(m, th1, th2)
     a2 = np.array([m.L0, 0.0])
     cross = lambda a, b: a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]  # noqa: E731
     return cross(b1, p - b1), cross(b2 - a2, p - b2), cross(p - b1, p - b2)

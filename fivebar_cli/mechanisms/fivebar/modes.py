@@ -14,10 +14,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.mechanisms.fivebar.boxtests import (
-    DELTA_REL, annuli, assembly_status, box_trig, crank_distance2_range, leg_distance2_ranges, reach_status,
+    DELTA_REL, AngleTables, annuli, assembly_status, crank_distance2_range, leg_distance2_ranges, reach_status,
     workspace_anchors,
 )
-from fivebar_cli.mechanisms.fivebar.kinematics import dkp, ikp, mode_values, scale
+from fivebar_cli.mechanisms.fivebar.kinematics import cranks, dkp, ikp, mode_values, scale
 from fivebar_cli.numerics.ranges import direction_range, sin_sign, sinusoid_range, triangle_angle_range
 from fivebar_cli.numerics.verdict import verdict
 
@@ -50,13 +50,18 @@ def working_mode_workspace_test(m, working: tuple[int, int]):
 
 def working_mode_workspace_tests(m, workings):
     """The box tests of several working modes at once (a `paving.engine.MultiTest`: statuses
-    (n, len(workings))), sharing the reach test and the legs' direction and angle ranges."""
+    (n, len(workings))), sharing the reach test and the legs' direction and angle ranges. Only a
+    box strictly inside both annuli can be black: the signs are taken for those boxes only."""
     classify = workspace_modes_classifier(m, workings)
 
-    def test(lo: np.ndarray, hi: np.ndarray, open_=None) -> np.ndarray:
-        status, strict, signs = classify(lo, hi)
-        black = strict[:, None] & (signs != 0)
-        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+    def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
+        status, strict, d = classify.reach(lo, hi)
+        out = np.repeat(np.where(status == -1, -1, 0).astype(np.int8)[:, None], len(workings), axis=1)
+        rows = np.flatnonzero(strict)  # (strict implies reachable: status 1)
+        if len(rows):
+            signs = classify.signs(lo[rows], hi[rows], [(dmin[rows], dmax[rows]) for dmin, dmax in d])
+            out[rows] = signs != 0
+        return out
 
     return test
 
@@ -80,23 +85,33 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
 
 def workspace_modes_classifier(m, workings):
     """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
-    shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once."""
+    shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once. Its parts:
+    `reach(lo, hi)` -> (status, strict, the legs' squared-distance ranges) and
+    `signs(lo, hi, ranges)` -> the signs."""
     (c1, r1, big1), (c2, r2, big2) = annuli(m)
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
 
-    def classify(lo: np.ndarray, hi: np.ndarray):
+    def reach(lo: np.ndarray, hi: np.ndarray):
         d1, d2 = leg_distance2_ranges(m, lo, hi)
         status = reach_status(m, lo, hi, (d1, d2), anchors)
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
-        leg1 = _leg_angle_ranges(m, lo, hi, d1, c1, r1, big1, m.L3, m.L1, delta)
-        leg2 = _leg_angle_ranges(m, lo, hi, d2, c2, r2, big2, m.L4, m.L2, delta)
-        signs = np.empty((len(lo), len(workings)), np.int8)
+        return status, strict, (d1, d2)
+
+    def signs(lo: np.ndarray, hi: np.ndarray, d) -> np.ndarray:
+        leg1 = _leg_angle_ranges(m, lo, hi, d[0], c1, r1, big1, m.L3, m.L1, delta)
+        leg2 = _leg_angle_ranges(m, lo, hi, d[1], c2, r2, big2, m.L4, m.L2, delta)
+        out = np.empty((len(lo), len(workings)), np.int8)
         for k, (su, sv) in enumerate(workings):
             theta, theta4 = leg_branch(*leg1, su), leg_branch(*leg2, sv)
-            signs[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
-        return status, strict, signs
+            out[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
+        return out
 
+    def classify(lo: np.ndarray, hi: np.ndarray):
+        status, strict, d = reach(lo, hi)
+        return status, strict, signs(lo, hi, d)
+
+    classify.reach, classify.signs = reach, signs
     return classify
 
 
@@ -141,8 +156,8 @@ def assembly_mode_joint_tests(m, assemblies):
     """The tests of several assembly modes at once (a `paving.engine.MultiTest`), sharing the
     coupler triangle's ranges."""
 
-    def test(lo: np.ndarray, hi: np.ndarray, open_=None) -> np.ndarray:
-        status, strict, u, v = joint_modes_classes(m, assemblies, lo, hi)
+    def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
+        status, strict, u, v = joint_modes_classes(m, assemblies, lo, hi, ends)
         black = strict[:, None] & (u != 0) & (v != 0)
         return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
 
@@ -181,12 +196,12 @@ def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray):
     return status, strict, u[:, 0], v[:, 0]
 
 
-def joint_modes_classes(m, assemblies, lo: np.ndarray, hi: np.ndarray):
-    """`joint_mode_classes` of several assembly modes at once: signs of shape (n, len(assemblies))."""
+def joint_modes_classes(m, assemblies, lo: np.ndarray, hi: np.ndarray, ends=None):
+    """`joint_mode_classes` of several assembly modes at once: signs of shape (n, len(assemblies));
+    `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand."""
     r, big = abs(m.L3 - m.L4), m.L3 + m.L4
     delta = DELTA_REL * scale(m) ** 2
-    trig = box_trig(lo, hi)
-    tri = coupler_triangle(m, lo, hi, trig)
+    tri = coupler_triangle(m, lo, hi, AngleTables.of(lo, hi, ends))
     status = assembly_status(m, tri.dmin, tri.dmax)
     strict = _strict(tri.dmin, tri.dmax, r, big, delta)
     u, v = serial_signs_of(assemblies, lo, hi, tri)
@@ -215,16 +230,16 @@ class CouplerTriangle:
     b: tuple
 
 
-def coupler_triangle(m, lo, hi, trig) -> CouplerTriangle:
+def coupler_triangle(m, lo, hi, angles: AngleTables) -> CouplerTriangle:
     """The coupler triangle's exact ranges (exact lengths), widened by the safety margin."""
     r, big = abs(m.L3 - m.L4), m.L3 + m.L4
     delta = DELTA_REL * scale(m) ** 2
-    dmin, dmax = crank_distance2_range(m, lo, hi, trig)
+    dmin, dmax = crank_distance2_range(m, lo, hi, angles)
     d_lo, d_hi = _valid_lengths(dmin, dmax, r, big, delta)
     d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
     a = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
     e = triangle_angle_range(d_lo, d_hi, m.L4, m.L3)
-    return CouplerTriangle(dmin, dmax, (d_lo, d_hi), a, e, _crank_direction_range(m, lo, hi, trig))
+    return CouplerTriangle(dmin, dmax, (d_lo, d_hi), a, e, _crank_direction_range(m, angles))
 
 
 def coupler_directions(assembly: int, b, a, e):
@@ -244,22 +259,27 @@ def serial_signs(assembly: int, lo, hi, b, a, e):
     return sin_sign(t3[0] - hi[:, 0], t3[1] - lo[:, 0]), sin_sign(t4[0] - hi[:, 1], t4[1] - lo[:, 1])
 
 
-def _crank_direction_range(m, lo, hi, trig):
+def _crank_direction_range(m, angles: AngleTables):
     """Range of the direction of B2 - B1 over boxes of (th1, th2), from the exact ranges of its
-    components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1."""
-    c1 = sinusoid_range(1.0, 0.0, lo[:, 0], hi[:, 0], trig[0])  # (scalar coefficients: the same
-    s1 = sinusoid_range(0.0, 1.0, lo[:, 0], hi[:, 0], trig[0])  # operations per box, without arrays
-    c2 = sinusoid_range(1.0, 0.0, lo[:, 1], hi[:, 1], trig[1])  # of ones and zeros)
-    s2 = sinusoid_range(0.0, 1.0, lo[:, 1], hi[:, 1], trig[1])
-    x_lo, x_hi = m.L0 + m.L2 * c2[0] - m.L1 * c1[1], m.L0 + m.L2 * c2[1] - m.L1 * c1[0]
-    y_lo, y_hi = m.L2 * s2[0] - m.L1 * s1[1], m.L2 * s2[1] - m.L1 * s1[0]
+    components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1 (each a sum of ranges of
+    one angle: computed per table entry)."""
+    c1_lo, c1_hi, s1_lo, s1_hi = angles.along(0, _cos_sin_range)
+    c2_lo, c2_hi, s2_lo, s2_hi = angles.along(1, _cos_sin_range)
+    x_lo, x_hi = m.L0 + m.L2 * c2_lo - m.L1 * c1_hi, m.L0 + m.L2 * c2_hi - m.L1 * c1_lo
+    y_lo, y_hi = m.L2 * s2_lo - m.L1 * s1_hi, m.L2 * s2_hi - m.L1 * s1_lo
     return direction_range(x_lo, x_hi, y_lo, y_hi)
+
+
+def _cos_sin_range(lo, hi, trig):
+    """The exact ranges of cos and of sin over [lo, hi]: (cos min, cos max, sin min, sin max)."""
+    return (*sinusoid_range(1.0, 0.0, lo, hi, trig), *sinusoid_range(0.0, 1.0, lo, hi, trig))
 
 
 def joint_working_mode(m, assembly: int, points: np.ndarray) -> np.ndarray:
     """Working-mode signs (u, v), shape (n, 2), at joint-space points in an assembly mode (0 if none)."""
-    p, ok = dkp(m, points[:, 0], points[:, 1], assembly)
-    u, v, _ = mode_values(m, points[:, 0], points[:, 1], np.nan_to_num(p))
+    b = cranks(m, points[:, 0], points[:, 1])
+    p, ok = dkp(m, points[:, 0], points[:, 1], assembly, b)
+    u, v, _ = mode_values(m, points[:, 0], points[:, 1], np.nan_to_num(p), b)
     return np.where(ok[:, None], np.sign(np.stack([u, v], axis=1)), 0).astype(np.int8)
 
 

@@ -32,7 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.mechanisms.fivebar.boxtests import DELTA_REL, ETA_REL, box_trig, crank_distance2_range
+from fivebar_cli.mechanisms.fivebar.boxtests import DELTA_REL, ETA_REL, AngleTables, crank_distance2_range
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics.ranges import cos_sin_ranges, direction_range, point_box_distance2
 from fivebar_cli.paving.engine import BAND
@@ -95,20 +95,20 @@ def triangle_angle_range3(side_lo, side_hi, adjacent: tuple[float, float], oppos
     return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
 
 
-def crank_distance_bounds(m, lo, hi, trig=None, refine=None) -> dict:
+def crank_distance_bounds(m, lo, hi, angles: AngleTables | None = None, refine=None) -> dict:
     """What the tests need about d = |B1B2| over the boxes and every length vector (see the module
     docstring), with c the nominal B2 - B1, s = sum Dk |c^.w_k| and E = sum Dk:
     `dmin`, `dmax`: the exact range of |c|; `s_lo`, `s_hi`: a range of s; `low` <= d <= `high`.
 
     s is bounded by [0, E], then, where `refine` (a mask, default all) is set, by its value at the
     box centre give or take its variation over the box (`sharpen`)."""
-    trig = trig if trig is not None else box_trig(lo, hi)
-    dmin2, dmax2 = crank_distance2_range(m, lo, hi, trig)
+    angles = angles if angles is not None else AngleTables.of(lo, hi)
+    dmin2, dmax2 = crank_distance2_range(m, lo, hi, angles)
     total = sum(0.5 * (b[1] - b[0]) for b in m.bounds[:3])
     b = {"dmin": np.sqrt(np.maximum(dmin2, 0.0)), "dmax": np.sqrt(np.maximum(dmax2, 0.0)), "total": total,
          "s_lo": np.zeros(len(lo)), "s_hi": np.full(len(lo), total)}
     if refine is None or refine.any():
-        sharpen(m, b, lo, hi, trig, np.arange(len(lo)) if refine is None else np.flatnonzero(refine))
+        sharpen(m, b, lo, hi, angles.box_trig, np.arange(len(lo)) if refine is None else np.flatnonzero(refine))
     return _finish(b)
 
 
@@ -147,11 +147,11 @@ def _finish(b: dict) -> dict:
     return b
 
 
-def crank_direction_range(m, lo, hi, trig, nominal: bool = False):
+def crank_direction_range(m, angles: AngleTables, nominal: bool = False):
     """Range of the direction of B2 - B1 over the boxes (and every L0, L1, L2 unless `nominal`),
     from the exact ranges of its components, sums of independent products of lengths and sinusoids."""
-    c1, s1 = cos_sin_ranges(lo[:, 0], hi[:, 0], trig[0])
-    c2, s2 = cos_sin_ranges(lo[:, 1], hi[:, 1], trig[1])
+    c1, s1 = angles.along(0, cos_sin_ranges)
+    c2, s2 = angles.along(1, cos_sin_ranges)
     (l0, u0), (l1, u1), (l2, u2) = ((m.L0, m.L0), (m.L1, m.L1), (m.L2, m.L2)) if nominal else m.bounds[:3]
 
     def product(a, b, t):  # exact range of L * f, L in [a, b] > 0, f in t (f's sign picks the end)

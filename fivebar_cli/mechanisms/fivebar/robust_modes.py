@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.mechanisms.fivebar import modes, robust
-from fivebar_cli.mechanisms.fivebar.boxtests import box_trig
+from fivebar_cli.mechanisms.fivebar.boxtests import AngleTables
 from fivebar_cli.numerics.ranges import direction_range, sin_sign
 from fivebar_cli.numerics.verdict import verdict
 from fivebar_cli.paving.engine import BAND
@@ -75,7 +75,7 @@ def working_mode_workspace_tests(m, workings):
     """The tests of several working modes at once (a `paving.engine.MultiTest`)."""
     classify = workspace_modes_classifier(m, workings)
 
-    def test(lo, hi, open_=None):
+    def test(lo, hi, open_=None, ends=None):
         status, strict, signs = classify(lo, hi)
         out = robust.workspace_band(m, lo, hi, possible_too=False)  # no point robust: none in a robust aspect
         black = strict[:, None] & (signs != 0)
@@ -92,13 +92,14 @@ def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
     return (status, strict, u[:, 0], v[:, 0], *band)
 
 
-def joint_modes_classes(m, assemblies, lo, hi, with_band: bool = False):
-    """`joint_mode_classes` of several assembly modes at once: signs of shape (n, len(assemblies))."""
-    trig = box_trig(lo, hi)
-    bounds = robust.crank_distance_bounds(m, lo, hi, trig)
+def joint_modes_classes(m, assemblies, lo, hi, with_band: bool = False, ends=None):
+    """`joint_mode_classes` of several assembly modes at once: signs of shape (n, len(assemblies));
+    `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand."""
+    angles = AngleTables.of(lo, hi, ends)
+    bounds = robust.crank_distance_bounds(m, lo, hi, angles)
     reach, impossible = robust.joint_status(m, bounds["low"], bounds["high"])
     strict, _ = robust.joint_status(m, bounds["low"], bounds["high"], strict=True)
-    tri = coupler_triangle(m, lo, hi, trig, bounds)
+    tri = coupler_triangle(m, lo, hi, angles, bounds)
     u, v = modes.serial_signs_of(assemblies, lo, hi, tri)
     status = verdict(reach, impossible)
     if with_band:
@@ -106,10 +107,10 @@ def joint_modes_classes(m, assemblies, lo, hi, with_band: bool = False):
     return status, strict, u, v
 
 
-def coupler_triangle(m, lo, hi, trig, bounds=None) -> modes.CouplerTriangle:
+def coupler_triangle(m, lo, hi, angles: AngleTables, bounds=None) -> modes.CouplerTriangle:
     """The coupler triangle's ranges over the boxes and every length vector (`modes.CouplerTriangle`;
     `dmin`, `dmax` are those of the nominal |B1B2|^2, `d` the valid |B1B2| of every length vector)."""
-    bounds = bounds if bounds is not None else robust.crank_distance_bounds(m, lo, hi, trig)
+    bounds = bounds if bounds is not None else robust.crank_distance_bounds(m, lo, hi, angles)
     (l3, u3), (l4, u4) = m.bounds[3], m.bounds[4]
     p_in = 0.0 if max(l3, l4) <= min(u3, u4) else min(abs(l3 - u4), abs(l4 - u3))
     _, eta = robust.margins(m)
@@ -117,7 +118,7 @@ def coupler_triangle(m, lo, hi, trig, bounds=None) -> modes.CouplerTriangle:
     d_hi = np.clip(bounds["high"] + eta, p_in, u3 + u4)
     a = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[3], m.bounds[4])
     e = robust.triangle_angle_range3(d_lo, d_hi, m.bounds[4], m.bounds[3])
-    b = robust.crank_direction_range(m, lo, hi, trig)
+    b = robust.crank_direction_range(m, angles)
     return modes.CouplerTriangle(bounds["dmin"] ** 2, bounds["dmax"] ** 2, (d_lo, d_hi), a, e, b)
 
 
@@ -130,8 +131,8 @@ def assembly_mode_joint_test(m, assembly: int):
 def assembly_mode_joint_tests(m, assemblies):
     """The tests of several assembly modes at once (a `paving.engine.MultiTest`)."""
 
-    def test(lo, hi, open_=None):
-        status, strict, u, v, out = joint_modes_classes(m, assemblies, lo, hi, with_band=True)
+    def test(lo, hi, open_=None, ends=None):
+        status, strict, u, v, out = joint_modes_classes(m, assemblies, lo, hi, with_band=True, ends=ends)
         black = strict[:, None] & (u != 0) & (v != 0)
         return np.where(status[:, None] == -1, -1, np.where(black, 1, np.where(out[:, None], BAND, 0))).astype(np.int8)
 

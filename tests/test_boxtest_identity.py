@@ -1,0 +1,165 @@
+"""The five-bar's mode box tests compute the very floats they computed before they were made faster
+(issue 22: ranges of one axis per table entry, remainders and parities without np.mod, amplitudes
+only where an extremum lies inside): every verdict and every range bit for bit equal to the frozen
+code of `reference_boxtests.py`, on random mechanisms, on the cells of random levels (with their
+ends as tables, as the paving engine hands them) and on arbitrary boxes."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from fivebar_cli.mechanisms.fivebar import modes
+from fivebar_cli.mechanisms.fivebar.boxtests import AngleTables, reach_status, workspace_anchors
+from fivebar_cli.mechanisms.fivebar.model import FiveBar, assembles
+from fivebar_cli.numerics import ranges
+from fivebar_cli.paving.engine import box_pad
+from fivebar_cli.paving.grid import boxes_of
+from tests import reference_boxtests as ref
+
+
+def same(a, b) -> bool:
+    """Bit for bit: the same dtype, shape and bytes."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
+def level_cells(m, space: str, rng, n: int = 1500):
+    """(lo, hi, ends) of n cells of a random level of `space`, clustered as a paving's are (or not)."""
+    level = int(rng.integers(1, 21))
+    grid = m.spaces()[space].grid(level)
+    spread = int(rng.choice([1, 40, 1 << level]))
+    centre = rng.integers(0, 1 << level, 2)
+    coords = np.clip(centre + rng.integers(-spread, spread + 1, (n, 2)), 0, (1 << level) - 1)
+    ends = grid.axis_ends(level, coords, box_pad(grid))
+    lo, hi = boxes_of(ends)
+    return lo, hi, ends
+
+
+def loose_boxes(span: float, rng, n: int = 1500):
+    """Boxes anywhere in [-span, span]^2, of widths from 2 span down to 1e-12 span (some empty)."""
+    lo = rng.uniform(-span, span, (n, 2))
+    width = span * np.ldexp(1.0, -rng.integers(-1, 40, (n, 1))) * rng.uniform(0, 1, (n, 2))
+    width[: n // 20] = 0.0
+    return lo, lo + width
+
+
+def special_joint_boxes(m):
+    """Boxes whose ends are the critical angles (0, pi, where B1 = B2), and boxes wider than a turn."""
+    angles = sorted({a for t1, t2, _ in ref.crank_critical_points(m) for a in (t1, t2)} | {-np.pi, np.pi / 2})
+    ends = np.array([(a, b) for a in angles for b in angles])
+    lo = np.concatenate([ends, ends - 1e-3, ends - 1e-13, np.full((3, 2), -np.pi)])
+    hi = np.concatenate([ends + 1e-3, ends, ends + 1e-13, np.array([[np.pi, np.pi], [7.0, 0.1], [-np.pi, 20.0]])])
+    return lo, hi
+
+
+mechanisms = (st.tuples(st.lists(st.floats(0.5, 10.0), min_size=5, max_size=5), st.booleans())
+              .map(lambda t: t[0][:3] + [t[0][3]] * 2 if t[1] else t[0])  # equal couplers: |L3 - L4| = 0
+              .filter(lambda lengths: assembles(lengths) is None)
+              .map(lambda lengths: FiveBar("random", *lengths)))
+
+
+def check_joint(m, lo, hi, ends=None):
+    assemblies = modes.ASSEMBLY_MODES
+    want = ref.joint_classes(m, assemblies, lo, hi)
+    got = modes.joint_modes_classes(m, assemblies, lo, hi, ends)
+    for g, w in zip(got, want[:4]):
+        assert same(g, w)
+    tri = modes.coupler_triangle(m, lo, hi, AngleTables.of(lo, hi, ends))
+    ranges_got = (tri.dmin, tri.dmax, *tri.d, *tri.a, *tri.e, *tri.b)
+    assert all(same(g, w) for g, w in zip(ranges_got, want[4], strict=True))
+    open_ = np.ones((len(lo), 2), bool)
+    assert same(modes.assembly_mode_joint_tests(m, assemblies)(lo, hi, open_, ends), ref.joint_tests(m, assemblies, lo, hi))
+
+
+def check_workspace(m, lo, hi, ends=None):
+    workings = modes.WORKING_MODES
+    anchors = workspace_anchors(m)
+
+    def reach(lo_, hi_, d):
+        return reach_status(m, lo_, hi_, d, anchors)
+
+    got = modes.workspace_modes_classifier(m, workings)(lo, hi)
+    assert all(same(g, w) for g, w in zip(got, ref.workspace_classes(m, workings, lo, hi, reach), strict=True))
+    open_ = np.ones((len(lo), 4), bool)
+    assert same(modes.working_mode_workspace_tests(m, workings)(lo, hi, open_, ends),
+                ref.workspace_tests(m, workings, lo, hi, reach))
+
+
+@settings(max_examples=30, deadline=None)
+@given(mechanisms, st.integers(0, 2**32 - 1))
+def test_joint_space_classes_are_bit_identical(m, seed):
+    rng = np.random.default_rng(seed)
+    lo, hi, ends = level_cells(m, "jointspace", rng)
+    check_joint(m, lo, hi, ends)
+    check_joint(m, *loose_boxes(np.pi, rng))
+    check_joint(m, *special_joint_boxes(m))
+
+
+@settings(max_examples=30, deadline=None)
+@given(mechanisms, st.integers(0, 2**32 - 1))
+def test_workspace_classes_are_bit_identical(m, seed):
+    rng = np.random.default_rng(seed)
+    lo, hi, ends = level_cells(m, "workspace", rng)
+    check_workspace(m, lo, hi, ends)
+    scale = m.L0 + m.L1 + m.L2 + m.L3 + m.L4
+    check_workspace(m, *loose_boxes(scale, rng))
+
+
+def test_cells_of_a_level_are_tables_when_they_cluster():
+    """The engine's cells (clustered) come as tables with an index; scattered ones one entry per cell;
+    either way the bounds are those of `Grid.boxes`'s formula."""
+    m = FiveBar("m1", 9, 8, 5, 5, 8)
+    grid = m.spaces()["jointspace"].grid(12)
+    coords = np.array([[5, 7], [6, 7], [5, 9], [1000, 7]])
+    (x, y) = grid.axis_ends(12, coords[:3], 1e-15)
+    assert x.index.tolist() == [0, 1, 0] and len(x.low) == 2 and y.index.tolist() == [0, 0, 2] and len(y.low) == 3
+    (x, _) = grid.axis_ends(12, coords, 1e-15)
+    assert x.index is None and len(x.low) == 4
+    width = np.ldexp(np.array([2 * np.pi, 2 * np.pi]), -12)
+    lo, hi = grid.boxes(12, coords, 1e-15)
+    assert same(lo, grid.lo + coords * width - 1e-15) and same(hi, grid.lo + (coords + 1) * width + 1e-15)
+
+
+EDGES = np.array([0.0, -0.0, np.pi, -np.pi, 2 * np.pi, 0.5 * np.pi, 1e-300, -1e-300, 1e300, np.inf, -np.inf, np.nan])
+
+
+@pytest.fixture(scope="module")
+def intervals():
+    rng = np.random.default_rng(22)
+    n = 20000
+    lo = np.concatenate([EDGES, np.repeat(EDGES, 3) - np.tile([0, 1e-13, 1], len(EDGES)), rng.uniform(-30, 30, n)])
+    width = np.concatenate([np.zeros(len(EDGES)), np.tile([0, 1e-13, 1], len(EDGES)),
+                            rng.exponential(1, n) * rng.choice([0, 1e-12, 1e-6, 1, 10], n)])
+    return lo, lo + width
+
+
+def test_range_functions_are_bit_identical(intervals):
+    lo, hi = intervals
+    with np.errstate(all="ignore"):
+        assert same(ranges.sin_sign(lo, hi), ref.sin_sign(lo, hi))
+        for angle in (0.0, np.pi, -0.5 * np.pi, 1.234):
+            assert same(ranges.angle_inside(angle, lo, hi), ref.angle_inside(angle, lo, hi))
+        a, b = np.cos(3 * lo), np.sin(5 * lo) * 2
+        assert all(same(g, w) for g, w in zip(ranges.sinusoid_range(a, b, lo, hi), ref.sinusoid_range(a, b, lo, hi)))
+        for a, b in ((1.0, 0.0), (0.0, 1.0), (-2.0, 0.5)):
+            assert all(same(g, w) for g, w in zip(ranges.sinusoid_range(a, b, lo, hi), ref.sinusoid_range(a, b, lo, hi)))
+        n = len(lo) // 2
+        x0, x1, y0, y1 = lo[:n], hi[:n], lo[n:2 * n], hi[n:2 * n]
+        got, want = ranges.direction_range(x0, x1, y0, y1), ref.direction_range(x0, x1, y0, y1)
+        assert all(same(g, w) for g, w in zip(got, want))
+
+
+def test_angle_wrapping_is_bit_identical(intervals):
+    """The wrap to [-pi, pi) of the IKP's angles and the periodic axes' wrap of points to cells."""
+    lo, hi = intervals
+    with np.errstate(all="ignore"):
+        values = np.concatenate([lo, hi, lo * 1e6, -lo, np.pi * np.arange(-6, 7), np.nextafter(np.pi * np.arange(-6, 7), 0)])
+        assert same(ranges.wrap_angle(values), ref.wrap_angle(values))
+        assert same(ranges.wrap_angle(values[5]), ref.wrap_angle(values[5]))
+        m = FiveBar("m1", 9, 8, 5, 5, 8)
+        grid = m.spaces()["jointspace"].grid(14)
+        points = np.column_stack([values, values[::-1]])
+        assert all(same(g, w) for g, w in zip(grid.cells_of_points(points), ref.cells_of_points(grid, points), strict=True))
