@@ -79,11 +79,12 @@ def codac_box(radians: bool):
 
 
 def job_codac(radians: bool) -> dict:
-    try:
-        import codac
-    except ImportError:
+    from codac_peer import import_codac
+
+    m, box = codac_box(radians)  # before codac: it rounds upward from its import on (codac_peer.py)
+    codac = import_codac()
+    if codac is None:
         return {"skip": "codac not installed: pip install codac==2.1.2"}
-    m, box = codac_box(radians)
     x = codac.VectorVar(3)
     angle = x[2] if radians else x[2] * (math.pi / 180)
     c, s = codac.cos(angle), codac.sin(angle)
