@@ -14,7 +14,7 @@ from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.io.files import read_csv_table, write_csv, write_text
-from fivebar_cli.io.geojson import feature, geojson_text
+from fivebar_cli.io.geojson import feature_text, geojson_text
 from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
 from fivebar_cli.io.outputs import of_complete_runs, output_set
 from fivebar_cli.io.qtfile import format_qt, read_qt
@@ -102,7 +102,7 @@ def _aspect_texts(task: tuple) -> tuple[str, str, str]:
     m, a, depth = task
     return (format_qt(a.workspace, **_qt_fields(m, a, "workspace")),
             format_qt(a.jointspace, **_qt_fields(m, a, "jointspace")),
-            geojson_text([feature(a.workspace, aspect_properties(m, a, depth))]))
+            geojson_text([feature_text(a.workspace, aspect_properties(m, a, depth))]))
 
 
 @dataclass(frozen=True)

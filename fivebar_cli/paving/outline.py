@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from fivebar_cli.paving.morton import interleave
-from fivebar_cli.paving.tree import Tree, _sweeps
+from fivebar_cli.paving.tree import Tree
 
 
 def _unit_edges(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
@@ -90,8 +90,8 @@ def _directed_edges(tree: Tree):
     """The boundary as maximal straight segments directed with the set on their left: start and
     end points (n, 2) and directions (0..3, `_STEP`), in depth-D lattice units.
 
-    On each lattice line, the leaves' sides facing one way minus those facing the other way (an
-    interval sweep over the leaves' sides, not their unit edges): memory follows the leaves."""
+    On each lattice line, the leaves' sides facing one way minus those facing the other way: one
+    sort of the sides' ends (memory follows the leaves, not their unit edges)."""
     depth = tree.grid.depth
     span = np.int64(1) << (depth - tree.level)
     lo = tree.coords * span[:, None]
@@ -102,9 +102,7 @@ def _directed_edges(tree: Tree):
         other = 1 - axis
         low_side = (lo[:, other] * width + lo[:, axis], lo[:, other] * width + hi[:, axis])  # set beyond it
         high_side = (hi[:, other] * width + lo[:, axis], hi[:, other] * width + hi[:, axis])  # set before it
-        sides = [tuple(np.sort(v, kind="stable") for v in s) for s in (low_side, high_side)]
-        swept = _sweeps(sides, [lambda a, b: a & ~b, lambda a, b: ~a & b])
-        for (start, end), forward in zip(swept, (axis == 0, axis == 1)):
+        for (start, end), forward in zip(_only_one(low_side, high_side), (axis == 0, axis == 1)):
             line, a, b = start // width, start % width, end - (start // width) * width
             first, last = (a, b) if forward else (b, a)
             p, q = np.empty((len(a), 2), np.int64), np.empty((len(a), 2), np.int64)
@@ -112,6 +110,26 @@ def _directed_edges(tree: Tree):
             d = (0 if axis == 0 else 1) if forward else (2 if axis == 0 else 3)
             out.append((p, q, np.full(len(a), d, np.int64)))
     return tuple(np.concatenate(parts) for parts in zip(*out))
+
+
+def _only_one(a: tuple, b: tuple) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Two unions of disjoint intervals [start, end) of non-negative keys below 2^60: the maximal
+    intervals of a minus b and of b minus a, sorted. One sort of every end, tagged with what it
+    changes: the state (in a) + 2 (in b) is their running sum between consecutive ends."""
+    tag = np.array([1, -1, 2, -2], np.int64)  # entering a, leaving a, entering b, leaving b
+    events = np.sort(np.concatenate([a[0] << 2, (a[1] << 2) | 1, (b[0] << 2) | 2, (b[1] << 2) | 3]))
+    at, state = events >> 2, np.cumsum(tag[events & 3])
+    step = at[1:] > at[:-1]  # elementary intervals [at[i], at[i + 1]) of positive length
+    out = []
+    for wanted in (1, 2):
+        i = np.flatnonzero(step & (state[:-1] == wanted))
+        start, end = at[i], at[i + 1]
+        new = np.ones(len(i), bool)  # merge the touching ones
+        new[1:] = start[1:] != end[:-1]
+        last = np.ones(len(i), bool)
+        last[:-1] = new[1:]
+        out.append((start[new], end[last]))
+    return out
 
 
 def boundary_rings(tree: Tree):
