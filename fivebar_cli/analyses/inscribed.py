@@ -151,14 +151,19 @@ def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     if not len(tree):
         return None
     obstacles = obstacles or _Obstacles(tree)
-    lo, hi = tree.bounds()
+    # which leaves may hold the optimum depends on their level alone (widths are powers of two
+    # apart, far from the factor 4 sqrt 2 of the test): one leaf a level decides, only those kept
+    # get their bounds
+    levels, first = np.unique(tree.level, return_index=True)
+    lo, hi = tree.bounds(first)
     width = hi - lo
     inner = 0.5 * width.min(axis=1)  # f >= this at a leaf's centre (the leaf is in the set)
     best = float(inner.max())
     bound = 4.0 * _reach(width, metric)  # on a canonical leaf: its parent holds a complement point
-    keep = bound > best
-    lo, width = lo[keep], width[keep]
-    bound = bound[keep]
+    keep = np.flatnonzero(np.isin(tree.level, levels[bound > best]))
+    lo, hi = tree.bounds(keep)
+    width = hi - lo
+    bound = 4.0 * _reach(width, metric)
     best_centre = None
     for _ in range(MAX_ROUNDS):
         if not len(lo):
