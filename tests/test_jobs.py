@@ -63,6 +63,14 @@ def test_tasks_started_when_those_they_need_finish(jobs):
         assert list(pool.map(_square_and_pid, [4]))[0][0] == 16  # the same workers, another round
 
 
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_costliest_first_results_still_in_task_order(jobs):
+    seen = []
+    with Workers(jobs, 5) as pool:
+        out = list(pool.map(_square_and_pid, range(5), seen.append, cost=lambda x: (x * 7) % 5))
+    assert [v for v, _ in out] == [0, 1, 4, 9, 16] and seen == [1] * 5
+
+
 def test_a_failing_submitted_task_raises_when_its_result_is_taken():
     with Workers(2, 2) as pool:
         tasks = [pool.submit(_fails, x) for x in (2, 3)]

@@ -91,7 +91,8 @@ def write_aspects(folder: Path, analysis: AspectAnalysis, jobs: int | None = 1) 
         write_csv(folder / CROSSINGS_CSV, CROSSING_HEADER, crossing_rows(analysis)),
     ]
     with Workers(jobs, len(analysis.aspects)) as pool:
-        texts = pool.map(_aspect_texts, [(m, a, analysis.depth) for a in analysis.aspects])
+        texts = pool.map(_aspect_texts, [(m, a, analysis.depth) for a in analysis.aspects],
+                         cost=lambda task: len(task[1].workspace) + len(task[1].jointspace))
         for a, (workspace, jointspace, geojson) in zip(analysis.aspects, texts):
             paths.append(write_text(aspect_path(folder, a.number, "workspace"), workspace))
             paths.append(write_text(aspect_path(folder, a.number, "jointspace"), jointspace))

@@ -72,16 +72,25 @@ class Workers:
             self._pool.terminate()  # what is left to run is not wanted (an error, an interruption)
             self._pool.join()
 
-    def map(self, fn: Callable[[T], R], items: Iterable[T],
-            advance: Callable[[int], None] = lambda n=1: None) -> Iterator[R]:
+    def map(self, fn: Callable[[T], R], items: Iterable[T], advance: Callable[[int], None] = lambda n=1: None,
+            cost: Callable[[T], float] | None = None) -> Iterator[R]:
         """fn(item) for each item, in order, as each is ready (in this process: computed when
-        asked, so that the caller may drop each result before the next is made)."""
+        asked, so that the caller may drop each result before the next is made). With `cost`, the
+        workers take the costliest tasks first (the last ones to finish are then small)."""
         if self._pool is None:
             for item in items:
                 yield fn(item)
                 advance(1)
             return
-        for result in self._pool.imap(fn, items, chunksize=1):
+        if cost is None:
+            results = self._pool.imap(fn, items, chunksize=1)
+        else:
+            items = list(items)
+            tasks = [None] * len(items)
+            for k in sorted(range(len(items)), key=lambda k: -cost(items[k])):
+                tasks[k] = self.submit(fn, items[k])
+            results = (task.get() for task in tasks)
+        for result in results:
             yield result
             advance(1)
 
