@@ -189,15 +189,17 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
         timings["certificate"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
+        bounds = (count.lower, count.upper, count.undecided, count.empty_undecided, count.merged, count.budget.spent)
+        del sets, count  # what the certificate alone needed: dropped before the shapes' tasks
         crossings = find_crossings(model, regions, aspects, leaf_aspect)
         timings["crossings"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         if shapes:
-            aspects = list(pool.map(with_inscribed, aspects))
+            found = pool.map(largest_shapes, [a.workspace for a in aspects], cost=len)  # (the trees alone travel)
+            aspects = [replace(a, circle=circle, square=square) for a, (circle, square) in zip(aspects, found)]
         timings["inscribed"] = time.perf_counter() - t0
     advance(1)
-    return AspectAnalysis(m, model, depth, regions, aspects, crossings, count.lower, count.upper, count.undecided,
-                          count.empty_undecided, count.merged, count.budget.spent, timings)
+    return AspectAnalysis(m, model, depth, regions, aspects, crossings, *bounds, timings)
 
 
 def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timings: dict, advance):
@@ -221,12 +223,6 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
         timings["outer"] += seconds
         advance(1)
     return regions, sets
-
-
-def with_inscribed(a: Aspect) -> Aspect:
-    """The aspect with its largest certified disc and square in the workspace."""
-    circle, square = largest_shapes(a.workspace)
-    return replace(a, circle=circle, square=square)
 
 
 def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:

@@ -104,12 +104,8 @@ def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
         return "MultiPolygon", "[]"
     lattice = coords.astype(np.int64)
     values = [unique(lattice[:, axis]) for axis in (0, 1)]
-    table = np.zeros((max(len(v) for v in values), 2))
-    for axis, v in enumerate(values):
-        table[:len(v), axis] = v
-    space = (lattice_to_space(tree, table) + 0.0).tolist()  # + 0.0: no -0.0
-    x_text = np.array(["[" + repr(row[0]) + "," for row in space[:len(values[0])]], dtype=object)
-    y_text = np.array([repr(row[1]) + "]" for row in space[:len(values[1])]], dtype=object)
+    x_text, y_text = (np.array([before + t + after for t in _value_texts(tree, v, axis)], dtype=object)
+                      for v, axis, before, after in ((values[0], 0, "[", ","), (values[1], 1, "", "]")))
     text = x_text[np.searchsorted(values[0], lattice[:, 0])] + y_text[np.searchsorted(values[1], lattice[:, 1])]
     # brackets opening each ring (and polygon) before its first point, closing after its last
     rings = len(ring_offsets) - 1
@@ -124,6 +120,28 @@ def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
     if len(polygon_offsets) == 2:
         return "Polygon", body
     return "MultiPolygon", "[" + body + "]"
+
+
+_TEXTS: dict = {}  # per axis of the last grid written: {lattice value: its coordinate's text}
+
+
+def _value_texts(tree: Tree, values: np.ndarray, axis: int) -> list[str]:
+    """The text json writes for the space coordinate of each lattice value along `axis`
+    (`lattice_to_space`, `+ 0.0`: no -0.0), each made once for the trees of one grid (the aspects
+    of an analysis share most of their lattice lines)."""
+    key = (tree.grid, axis)
+    if key not in _TEXTS:
+        if len(_TEXTS) >= 2:  # another grid's
+            _TEXTS.clear()
+        _TEXTS[key] = {}
+    known = _TEXTS[key]
+    values = values.tolist()
+    new = [v for v in values if v not in known]
+    if new:
+        points = np.zeros((len(new), 2), np.int64)
+        points[:, axis] = new
+        known.update(zip(new, map(repr, (lattice_to_space(tree, points)[:, axis] + 0.0).tolist())))
+    return [known[v] for v in values]
 
 
 def _json(value) -> str:
