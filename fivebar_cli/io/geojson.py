@@ -58,7 +58,8 @@ def _lattice_geometry(tree: Tree):
     return shapely.orient_polygons(kept, exterior_cw=False)
 
 
-def _faces(tree: Tree, points: np.ndarray, ring: np.ndarray, ring_leaf: np.ndarray, twice_area: np.ndarray) -> np.ndarray:
+def _faces(tree: Tree, points: np.ndarray, ring: np.ndarray, ring_leaf: np.ndarray,
+           twice_area: np.ndarray) -> np.ndarray:
     """The face of each ring (a face: cells joined through edges, not corners, not across a
     periodic seam), numbered by its exterior ring: a face has one counter-clockwise ring; a
     clockwise ring (a hole) belongs to the smallest of them around the cell on its left (a cell of
@@ -115,7 +116,8 @@ def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
     last_of_polygon[polygon_offsets[1:] - 1] = True
     brackets = np.array(["[", "[["], dtype=object)
     text[ring_offsets[:-1]] = brackets[first_of_polygon.astype(int)] + text[ring_offsets[:-1]]
-    text[ring_offsets[1:] - 1] = text[ring_offsets[1:] - 1] + np.array(["]", "]]"], dtype=object)[last_of_polygon.astype(int)]
+    closing = np.array(["]", "]]"], dtype=object)
+    text[ring_offsets[1:] - 1] = text[ring_offsets[1:] - 1] + closing[last_of_polygon.astype(int)]
     body = ",".join(text.tolist())
     if len(polygon_offsets) == 2:
         return "Polygon", body

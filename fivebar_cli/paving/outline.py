@@ -117,7 +117,8 @@ def _only_one(a: tuple, b: tuple) -> list[tuple[np.ndarray, np.ndarray]]:
     intervals of a minus b and of b minus a, sorted. One sort of every end, tagged with what it
     changes: the state (in a) + 2 (in b) is their running sum between consecutive ends."""
     tag = np.array([1, -1, 2, -2], np.int64)  # entering a, leaving a, entering b, leaving b
-    events = np.sort(np.concatenate([a[0] << 2, (a[1] << 2) | 1, (b[0] << 2) | 2, (b[1] << 2) | 3]))
+    ends = [a[0] << 2, (a[1] << 2) | 1, (b[0] << 2) | 2, (b[1] << 2) | 3]
+    events = np.sort(np.concatenate(ends), kind="stable")  # sorted runs: merged
     at, state = events >> 2, np.cumsum(tag[events & 3])
     step = at[1:] > at[:-1]  # elementary intervals [at[i], at[i + 1]) of positive length
     out = []
