@@ -106,19 +106,22 @@ def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
     lattice = coords.astype(np.int64)
     values = [unique(lattice[:, axis]) for axis in (0, 1)]
     x_text, y_text = (np.array([before + t + after for t in _value_texts(tree, v, axis)], dtype=object)
-                      for v, axis, before, after in ((values[0], 0, "[", ","), (values[1], 1, "", "]")))
-    text = x_text[np.searchsorted(values[0], lattice[:, 0])] + y_text[np.searchsorted(values[1], lattice[:, 1])]
-    # brackets opening each ring (and polygon) before its first point, closing after its last
+                      for v, axis, before, after in ((values[0], 0, "[", ","), (values[1], 1, "", "],")))
+    # the points' texts, "[x," then "y],", joined as they are, but for the brackets opening each
+    # ring (and polygon) before its first point and closing it after its last
+    pieces = np.empty(2 * len(lattice), dtype=object)
+    pieces[0::2] = x_text[np.searchsorted(values[0], lattice[:, 0])]
+    pieces[1::2] = y_text[np.searchsorted(values[1], lattice[:, 1])]
     rings = len(ring_offsets) - 1
     first_of_polygon = np.zeros(rings, bool)
     first_of_polygon[polygon_offsets[:-1]] = True
     last_of_polygon = np.zeros(rings, bool)
     last_of_polygon[polygon_offsets[1:] - 1] = True
-    brackets = np.array(["[", "[["], dtype=object)
-    text[ring_offsets[:-1]] = brackets[first_of_polygon.astype(int)] + text[ring_offsets[:-1]]
-    closing = np.array(["]", "]]"], dtype=object)
-    text[ring_offsets[1:] - 1] = text[ring_offsets[1:] - 1] + closing[last_of_polygon.astype(int)]
-    body = ",".join(text.tolist())
+    first, last = 2 * ring_offsets[:-1], 2 * ring_offsets[1:] - 1
+    pieces[first] = np.where(first_of_polygon, "[[", "[").astype(object) + pieces[first]
+    pieces[last] = (np.array([text[:-1] for text in pieces[last]], dtype=object)  # "y]" then "]," or "]],"
+                    + np.where(last_of_polygon, "]],", "],").astype(object))
+    body = "".join(pieces.tolist())[:-1]  # (no comma after the last point)
     if len(polygon_offsets) == 2:
         return "Polygon", body
     return "MultiPolygon", "[" + body + "]"
