@@ -176,8 +176,10 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
                     shapes: bool = True, jobs: int | None = 1) -> AspectAnalysis:
     """Pave the mode regions, find the mode sets' anchors and outer components, link and join the
     anchors into generalized aspects, certify the count, find the crossings; with `shapes`, the
-    largest disc and square of each aspect's workspace (what `aspects.csv` reports). The mode
-    pavings and the shapes are independent tasks, run on `jobs` processes (`analyses.jobs`)."""
+    largest disc and square of each aspect's workspace (what `aspects.csv` reports). The spaces'
+    pavings, the mode regions (each started once its space is paved) and the shapes are tasks run
+    on `jobs` processes (`analyses.jobs.Workers`, one pool for them all); the certificate and the
+    numbering run here, between them."""
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
