@@ -88,9 +88,9 @@ class _Obstacles:
         # small cells sorted by their low x (found by bisection); the few big ones always looked at
         big = self.cells.level < BIG_LEVEL
         order = np.concatenate([np.flatnonzero(~big)[np.argsort(lo[~big, 0], kind="stable")], np.flatnonzero(big)])
-        self.order, self.lo, self.hi = order, lo[order], hi[order]
-        self.x0, self.y0 = self.lo[:, 0].copy(), self.lo[:, 1].copy()  # contiguous: sliced per centre
-        self.x1, self.y1 = self.hi[:, 0].copy(), self.hi[:, 1].copy()
+        self.order = order
+        self.x0, self.y0 = lo[order, 0], lo[order, 1]  # contiguous: sliced per centre
+        self.x1, self.y1 = hi[order, 0], hi[order, 1]
         self.n_small = int(np.count_nonzero(~big))
         self.widest = float((hi[~big, 0] - lo[~big, 0]).max()) if self.n_small else 0.0
         self.root_lo, self.root_hi = tree.grid.lo, tree.grid.lo + tree.grid.size
@@ -99,7 +99,7 @@ class _Obstacles:
         """f at each centre: the distance to the nearest complement cell or to the outside of the
         root. `bounds` (upper bounds on f, one per centre) limit the cells looked at."""
         out = np.min(np.concatenate([centres - self.root_lo, self.root_hi - centres], axis=1), axis=1)
-        if not len(self.lo):
+        if not len(self.x0):
             return out
         bounds = out if bounds is None else np.minimum(bounds, out)
         xs = self.x0[:self.n_small]
@@ -143,8 +143,10 @@ class _Obstacles:
 
     def near(self, metric: str, centre, radius: float) -> np.ndarray:
         """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
-        gap = np.maximum(np.maximum(self.lo - centre, np.asarray(centre) - self.hi), 0.0)
-        d = np.hypot(gap[..., 0], gap[..., 1]) if metric == "l2" else gap.max(axis=-1)
+        cx, cy = centre
+        gx = np.maximum(np.maximum(self.x0 - cx, cx - self.x1), 0.0)
+        gy = np.maximum(np.maximum(self.y0 - cy, cy - self.y1), 0.0)
+        d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
         return np.sort(self.order[d <= radius], kind="stable")
 
 
@@ -260,7 +262,7 @@ def _contained(obstacles: _Obstacles, metric: str, centre: tuple[float, float], 
     (ax, bx), (ay, by) = obstacles.tree.grid.root
     if not (Fraction(ax) + r <= cx <= Fraction(bx) - r and Fraction(ay) + r <= cy <= Fraction(by) - r):
         return False
-    if not len(obstacles.lo):
+    if not len(obstacles.x0):
         return True
     slack = 1e-9 * float(np.max(np.abs(obstacles.tree.grid.root)))
     for x0, x1, y0, y1 in _exact_cells(obstacles.cells, obstacles.near(metric, centre, radius * (1 + NEAR) + slack)):

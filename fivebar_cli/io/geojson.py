@@ -156,14 +156,14 @@ def _json(value) -> str:
 def feature_text(tree: Tree, properties: dict) -> str:
     """One Feature as text: the tree's cells as its geometry, with these properties."""
     kind, coordinates = _coordinates_text(tree, _lattice_geometry(tree))
-    return ('{"geometry":{"coordinates":' + coordinates + ',"type":' + _json(kind) + '},"properties":'
-            + _json(dict(properties)) + ',"type":"Feature"}')
+    return "".join(['{"geometry":{"coordinates":', coordinates, ',"type":', _json(kind), '},"properties":',
+                    _json(dict(properties)), ',"type":"Feature"}'])  # one copy of the coordinates
 
 
 def geojson_text(features: list[str]) -> str:
     """A FeatureCollection of `feature_text`s as deterministic text (sorted keys, one line, final
     newline)."""
-    return '{"features":[' + ",".join(features) + '],"type":"FeatureCollection"}\n'
+    return "".join(['{"features":[', ",".join(features), '],"type":"FeatureCollection"}\n'])
 
 
 def write_geojson(path: str | Path, tree: Tree, properties: dict) -> Path:

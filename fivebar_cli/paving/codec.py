@@ -31,19 +31,19 @@ def encode(tree) -> str:
     if tree.level[0] == 0:
         return "B"
     white = tree.complement()
-    black_start, white_start = tree.start, white.start
-    order = np.argsort(np.concatenate([black_start, white_start]), kind="stable")  # a merge of two sorted runs
-    place = np.empty_like(order)  # each leaf's place in Morton order
-    place[order] = np.arange(len(order))
-    at_black, at_white = place[:len(tree)], place[len(tree):]
-    start = np.concatenate([black_start, white_start])[order]
-    level = np.concatenate([tree.level, white.level])[order]
-    aligned = np.maximum(depth - trailing_zeros(start, dim * depth) // dim, 0)  # highest level starting here
-    runs = level - aligned + 1  # G per grey ancestor starting here, then the leaf's letter
-    letters = np.full(int(runs.sum()), ord("G"), np.uint8)
+    start = np.concatenate([tree.start, white.start])
+    order = np.argsort(start, kind="stable")  # a merge of two sorted runs
+    start = start[order]
+    black = order < len(tree)  # which leaves, in Morton order, are black
+    runs = np.concatenate([tree.level, white.level])[order]
+    del order, white
+    # a G per grey ancestor starting where the leaf starts (down from the highest level at which
+    # its start is aligned), then the leaf's letter
+    runs -= np.maximum(depth - trailing_zeros(start, dim * depth) // dim, 0)
+    runs += 1
     leaf_at = np.cumsum(runs) - 1
-    letters[leaf_at[at_black]] = ord("B")
-    letters[leaf_at[at_white]] = ord("W")
+    letters = np.full(int(leaf_at[-1]) + 1, ord("G"), np.uint8)
+    letters[leaf_at] = np.where(black, ord("B"), ord("W"))
     return letters.tobytes().decode("ascii")
 
 
