@@ -118,8 +118,8 @@ class Workers:
 class Task:
     """A submitted task: `get()` waits for its result (or raises its error)."""
 
-    def __init__(self, id: int):
-        self.id = id
+    def __init__(self, key: int):
+        self.id = key
         self._result = None
 
     def get(self):
@@ -127,6 +127,8 @@ class Task:
 
 
 class _Done:
+    """The result of a task run in this process (what `get` of a pool's result gives)."""
+
     def __init__(self, value):
         self.value = value
 
