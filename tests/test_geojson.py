@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import shape
 
-from fivebar_cli.io.geojson import geojson_text, feature
+from fivebar_cli.io.geojson import feature_text, geojson_text
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree
 
@@ -121,15 +121,20 @@ def tree_of(cells) -> Tree:
     return Tree.from_cells(GRID, 3, np.array(cells))
 
 
+def geometry_of(tree: Tree) -> dict:
+    """The geometry of the tree's Feature, as json reads it back."""
+    return json.loads(feature_text(tree, {}))["geometry"]
+
+
 def test_ring_has_one_hole():
     ring = [(x, y) for x in range(1, 7) for y in range(1, 7) if not (2 < x < 5 and 2 < y < 5)]
-    geometry = shape(feature(tree_of(ring), {})["geometry"])
+    geometry = shape(geometry_of(tree_of(ring)))
     assert geometry.geom_type == "Polygon" and len(geometry.interiors) == 1
     assert geometry.area == pytest.approx(32.0) and len(geometry.exterior.coords) == 5  # collinear edges merged
 
 
 def test_cells_touching_at_a_corner_are_two_polygons():
-    geometry = shape(feature(tree_of([(0, 0), (1, 1)]), {})["geometry"])
+    geometry = shape(geometry_of(tree_of([(0, 0), (1, 1)])))
     assert geometry.geom_type == "MultiPolygon" and len(geometry.geoms) == 2 and geometry.is_valid
 
 
@@ -137,12 +142,25 @@ def test_hole_touching_the_shell_at_a_corner():
     """A 3 x 3 block without its centre and one corner-adjacent cell: the region's hole touches
     its outline at one point; the result stays valid."""
     cells = [(x, y) for x in range(3) for y in range(3) if (x, y) not in ((1, 1), (2, 2))]
-    geometry = shape(feature(tree_of(cells), {})["geometry"])
+    geometry = shape(geometry_of(tree_of(cells)))
     assert geometry.is_valid and geometry.area == pytest.approx(7.0)
 
 
+def test_island_in_a_hole():
+    """A square ring around a hole holding a one-cell island, beside a second ring: three faces,
+    two holes, each hole given to the smallest exterior around it (not the island's)."""
+    grid = Grid(((-2.0, 6.0), (1.0, 9.0)), 4, (False, False))
+    ring = [(x, y) for x in range(7) for y in range(7) if x in (0, 6) or y in (0, 6)]
+    small = [(x, y) for x in range(9, 12) for y in range(3) if (x, y) != (10, 1)]
+    tree = Tree.from_cells(grid, 4, np.array(ring + [(3, 3)] + small))
+    geometry = shape(json.loads(feature_text(tree, {}))["geometry"])
+    assert geometry.geom_type == "MultiPolygon" and geometry.is_valid
+    assert sorted((p.area, len(p.interiors)) for p in geometry.geoms) == [(0.25, 0), (2.0, 1), (6.0, 1)]
+    check_against_cells(tree, geometry)
+
+
 def test_empty_tree():
-    text = geojson_text([feature(Tree.empty(GRID), {"area": 0.0})])
+    text = geojson_text([feature_text(Tree.empty(GRID), {"area": 0.0})])
     assert json.loads(text)["features"][0]["geometry"] == {"type": "MultiPolygon", "coordinates": []}
 
 
@@ -155,7 +173,7 @@ def test_random_sets(seed, density):
     level = int(rng.integers(3, 6))
     n = 1 << level
     tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < density))
-    check_against_cells(tree, shape(feature(tree, {})["geometry"]))
+    check_against_cells(tree, shape(geometry_of(tree)))
 
 
 def _polygonized(tree: Tree):
@@ -172,16 +190,40 @@ def _polygonized(tree: Tree):
     return shapely.transform(shapely.orient_polygons(kept, exterior_cw=False), lambda xy: lattice_to_space(tree, xy))
 
 
-@settings(max_examples=60, deadline=None)
-@given(seed=st.integers(0, 10 ** 6), density=st.floats(0.05, 0.95), periodic=st.booleans())
-def test_traced_rings_are_the_polygonizers_bytes(seed, density, periodic):
-    """The rings traced from the cells (pinches, holes touching holes or the exterior, cells on a
-    periodic axis) give the very text shapely's polygonizer gives from the boundary segments."""
-    from fivebar_cli.io.geojson import geometry_json, tree_geometry
+def _reference_text(geometry, properties: dict) -> str:
+    """The Feature as the writer made it before it wrote the text itself: the shapely polygons'
+    coordinates as nested lists (`+ 0.0`: no -0.0) through json.dumps."""
+    def ring(r) -> list:
+        return (shapely.get_coordinates(r) + 0.0).tolist()
 
+    def polygon(p) -> list:
+        return [ring(p.exterior)] + [ring(h) for h in p.interiors]
+
+    parts = list(shapely.get_parts(geometry)) if not geometry.is_empty else []
+    if len(parts) == 1:
+        value = {"type": "Polygon", "coordinates": polygon(parts[0])}
+    else:
+        value = {"type": "MultiPolygon", "coordinates": [polygon(p) for p in parts]}
+    return json.dumps({"type": "Feature", "properties": properties, "geometry": value}, sort_keys=True,
+                      separators=(",", ":"), allow_nan=False)
+
+
+ROOTS = [((-2.0, 6.0), (1.0, 9.0)),  # integer-valued floats
+         ((-1e-7, 3e-7), (-0.0, 1e-5)),  # exponents, a root at -0.0
+         ((-3.0, 3.0), (-3.0, 5.0)),  # lattice values crossing 0 (no -0.0 written)
+         ((0.1, 0.7), (-1e6, 1e22))]  # digits that do not round-trip short, large exponents
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), density=st.floats(0.05, 0.95), periodic=st.booleans(), root=st.sampled_from(ROOTS))
+def test_traced_rings_are_the_polygonizers_bytes(seed, density, periodic, root):
+    """The rings traced from the cells (pinches, holes touching holes or the exterior, cells on a
+    periodic axis, islands in holes) give the very text json.dumps gives of the polygons shapely's
+    polygonizer finds from the boundary segments (floats with exponents, integer values, zeros)."""
     rng = np.random.default_rng(seed)
-    grid = Grid(((-2.0, 6.0), (1.0, 9.0)), 6, (periodic, False))
+    grid = Grid(root, 6, (periodic, False))
     level = int(rng.integers(2, 7))
     n = 1 << level
     tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < density))
-    assert json.dumps(geometry_json(tree_geometry(tree))) == json.dumps(geometry_json(_polygonized(tree)))
+    properties = {"name": "m\u00e9\"1", "depth": 6, "area": tree.area}
+    assert feature_text(tree, properties) == _reference_text(_polygonized(tree), properties)

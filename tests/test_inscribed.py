@@ -199,3 +199,43 @@ def test_random_cell_sets(seed):
     for metric, found in (("l2", d.r), ("linf", 0.5 * s.side)):
         best, _ = grid_optimum(tree, metric)
         assert found >= 0.95 * best
+
+
+def _one_pass_distance(obstacles, metric: str, centres: np.ndarray, bounds: np.ndarray) -> np.ndarray:
+    """The reference for `_Obstacles.distance`: the distance to the root's outside, then every
+    complement cell whose extent reaches within the bound (as the search uses it), each centre on
+    its own, no span or group."""
+    out = np.min(np.concatenate([centres - obstacles.root_lo, obstacles.root_hi - centres], axis=1), axis=1)
+    b = np.minimum(bounds, out)
+    for k, ((cx, cy), bk) in enumerate(zip(centres, b)):
+        x0, x1, y0, y1 = obstacles.x0, obstacles.x1, obstacles.y0, obstacles.y1
+        near = (y0 <= cy + bk) & (y1 >= cy - bk) & (x1 >= cx - bk) & (x0 <= cx + bk)
+        gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
+        gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
+        d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
+        out[k] = min(out[k], d.min()) if len(d) else out[k]
+    return out
+
+
+@settings(max_examples=30, deadline=None)
+@given(seed=st.integers(0, 10 ** 6))
+def test_grouped_distance_is_the_one_pass_distance(seed):
+    """Centres close to one another (found in one pass over their common cells) and far apart,
+    with bounds above the true distance: the very floats of a pass over every cell."""
+    from fivebar_cli.analyses.inscribed import _Obstacles
+
+    rng = np.random.default_rng(seed)
+    grid = Grid(((-1.5, 2.25), (-3.0, 0.5)), 8, (False, False))
+    level = int(rng.integers(3, 9))
+    n = 1 << level
+    tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < rng.uniform(0.5, 0.98)))
+    if not len(tree):
+        return
+    obstacles = _Obstacles(tree)
+    inside = tree.centres()
+    base = inside[rng.integers(0, len(inside), 3)]
+    centres = np.concatenate([base, base[:1] + rng.normal(0, 0.02, (12, 2)), inside[rng.integers(0, len(inside), 5)]])
+    for metric in ("l2", "linf"):
+        truth = _one_pass_distance(obstacles, metric, centres, np.full(len(centres), np.inf))
+        bounds = truth * rng.uniform(1.01, 3.0, len(centres))
+        assert np.array_equal(obstacles.distance(metric, centres, bounds), truth)

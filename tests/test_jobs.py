@@ -10,7 +10,7 @@ import os
 import pytest
 from cli_helpers import REPO, ok, one_line, run_cli
 
-from fivebar_cli.analyses.jobs import default_jobs, run_tasks, workers
+from fivebar_cli.analyses.jobs import Workers, default_jobs, run_tasks, workers
 
 CONFIGS = REPO / "configs"
 
@@ -37,6 +37,57 @@ def test_results_come_back_in_task_order_from_other_processes():
 def test_a_failing_task_raises_in_the_caller():
     with pytest.raises(ValueError, match="task 3 fails"):
         run_tasks(_fails, range(5), jobs=2)
+
+
+CALLED = []
+
+
+def _recorded(x: int) -> int:
+    CALLED.append(x)
+    return x
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_tasks_started_when_those_they_need_finish(jobs):
+    """Each second-round task is submitted when the first-round task it needs is done; every
+    first-round index comes once; results taken in a fixed order are the same for any N."""
+    with Workers(jobs, 4) as pool:
+        first = [pool.submit(_square_and_pid, x) for x in (2, 3, 5)]
+        then, order = {}, []
+        for k in pool.completed(first):
+            order.append(k)
+            then[k] = pool.submit(_square_and_pid, first[k].get()[0])
+        assert sorted(order) == [0, 1, 2]
+        assert [then[k].get()[0] for k in range(3)] == [16, 81, 625]
+        assert ({pid for _, pid in (t.get() for t in first)} == {os.getpid()}) == (jobs == 1)
+        assert list(pool.map(_square_and_pid, [4]))[0][0] == 16  # the same workers, another round
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_costliest_first_results_still_in_task_order(jobs):
+    seen = []
+    with Workers(jobs, 5) as pool:
+        out = list(pool.map(_square_and_pid, range(5), seen.append, cost=lambda x: (x * 7) % 5))
+    assert [v for v, _ in out] == [0, 1, 4, 9, 16] and seen == [1] * 5
+
+
+def test_a_failing_submitted_task_raises_when_its_result_is_taken():
+    with Workers(2, 2) as pool:
+        tasks = [pool.submit(_fails, x) for x in (2, 3)]
+        assert sorted(pool.completed(tasks)) == [0, 1]
+        assert tasks[0].get() == 2
+        with pytest.raises(ValueError, match="task 3 fails"):
+            tasks[1].get()
+
+
+def test_in_process_results_are_made_as_they_are_taken():
+    """With one job, `map` computes each result when the caller asks for it (the caller writes and
+    drops one aspect's files before the next are made)."""
+    CALLED.clear()
+    with Workers(1, 3) as pool:
+        results = pool.map(_recorded, [1, 2, 3])
+        assert next(results) == 1 and CALLED == [1]
+        assert list(results) == [2, 3] and CALLED == [1, 2, 3]
 
 
 def test_worker_count():

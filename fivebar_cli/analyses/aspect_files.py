@@ -12,9 +12,9 @@ from pathlib import Path
 from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis, signs_text
 from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
-from fivebar_cli.analyses.jobs import run_tasks
+from fivebar_cli.analyses.jobs import Workers
 from fivebar_cli.io.files import read_csv_table, write_csv, write_text
-from fivebar_cli.io.geojson import feature, geojson_text
+from fivebar_cli.io.geojson import feature_text, geojson_text
 from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
 from fivebar_cli.io.outputs import of_complete_runs, output_set
 from fivebar_cli.io.qtfile import format_qt, read_qt
@@ -83,17 +83,20 @@ def aspect_set(folder: Path):
 
 def write_aspects(folder: Path, analysis: AspectAnalysis, jobs: int | None = 1) -> list[Path]:
     """Write the two CSV tables, every aspect tree and every aspect's workspace GeoJSON (inside
-    `aspect_set(folder)`); the texts of the aspects' files are made on `jobs` processes."""
+    `aspect_set(folder)`); the texts of the aspects' files are made on `jobs` processes, and each
+    aspect's are written (and dropped) as they come."""
     m = analysis.mechanism
     paths = [
         write_csv(folder / ASPECTS_CSV, aspect_header(m), aspect_rows(analysis)),
         write_csv(folder / CROSSINGS_CSV, CROSSING_HEADER, crossing_rows(analysis)),
     ]
-    texts = run_tasks(_aspect_texts, [(m, a, analysis.depth) for a in analysis.aspects], jobs)
-    for a, (workspace, jointspace, geojson) in zip(analysis.aspects, texts):
-        paths.append(write_text(aspect_path(folder, a.number, "workspace"), workspace))
-        paths.append(write_text(aspect_path(folder, a.number, "jointspace"), jointspace))
-        paths.append(write_text(aspect_geojson_path(folder, a.number), geojson))
+    with Workers(jobs, len(analysis.aspects)) as pool:
+        texts = pool.map(_aspect_texts, [(m, a, analysis.depth) for a in analysis.aspects],
+                         cost=lambda task: len(task[1].workspace) + len(task[1].jointspace))
+        for a, (workspace, jointspace, geojson) in zip(analysis.aspects, texts):
+            paths.append(write_text(aspect_path(folder, a.number, "workspace"), workspace))
+            paths.append(write_text(aspect_path(folder, a.number, "jointspace"), jointspace))
+            paths.append(write_text(aspect_geojson_path(folder, a.number), geojson))
     return paths
 
 
@@ -102,7 +105,7 @@ def _aspect_texts(task: tuple) -> tuple[str, str, str]:
     m, a, depth = task
     return (format_qt(a.workspace, **_qt_fields(m, a, "workspace")),
             format_qt(a.jointspace, **_qt_fields(m, a, "jointspace")),
-            geojson_text([feature(a.workspace, aspect_properties(m, a, depth))]))
+            geojson_text([feature_text(a.workspace, aspect_properties(m, a, depth))]))
 
 
 @dataclass(frozen=True)

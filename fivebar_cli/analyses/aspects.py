@@ -32,7 +32,7 @@ import numpy as np
 
 from fivebar_cli.analyses.crossings import Band, Crossing, find_crossings, serial_bands
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
-from fivebar_cli.analyses.jobs import run_tasks
+from fivebar_cli.analyses.jobs import Workers
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
@@ -176,46 +176,55 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
                     shapes: bool = True, jobs: int | None = 1) -> AspectAnalysis:
     """Pave the mode regions, find the mode sets' anchors and outer components, link and join the
     anchors into generalized aspects, certify the count, find the crossings; with `shapes`, the
-    largest disc and square of each aspect's workspace (what `aspects.csv` reports). The mode
-    pavings and the shapes are independent tasks, run on `jobs` processes (`analyses.jobs`)."""
+    largest disc and square of each aspect's workspace (what `aspects.csv` reports). The spaces'
+    pavings, the mode regions (each started once its space is paved) and the shapes are tasks run
+    on `jobs` processes (`analyses.jobs.Workers`, one pool for them all); the certificate and the
+    numbering run here, between them."""
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
     timings = {"paving": 0.0, "outer": 0.0}
-    # one paving pass per space for all its modes (their tests share work), then each mode
-    # region's data and mode sets: tasks of similar sizes, so that `jobs` workers stay busy
-    region_tasks = []
-    for keys, pavings, seconds in run_tasks(_space_task, [(m, "workspace", depth), (m, "jointspace", depth)], jobs):
-        region_tasks += [(m, *key, paving) for key, paving in zip(keys, pavings)]
+    with Workers(jobs, region_count(m) + 2) as pool:
+        regions, sets = _regions(m, model, depth, pool, timings, advance)
+        t0 = time.perf_counter()
+        count = _Count(model, sets, Budget(budget), depth)
+        timings["certificate"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
+        bounds = (count.lower, count.upper, count.undecided, count.empty_undecided, count.merged, count.budget.spent)
+        del sets, count  # what the certificate alone needed: dropped before the shapes' tasks
+        crossings = find_crossings(model, regions, aspects, leaf_aspect)
+        timings["crossings"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        if shapes:
+            found = pool.map(largest_shapes, [a.workspace for a in aspects], cost=len)  # (the trees alone travel)
+            aspects = [replace(a, circle=circle, square=square) for a, (circle, square) in zip(aspects, found)]
+        timings["inscribed"] = time.perf_counter() - t0
+    advance(1)
+    return AspectAnalysis(m, model, depth, regions, aspects, crossings, *bounds, timings)
+
+
+def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timings: dict, advance):
+    """The mode regions and their mode sets: one paving pass per space for all its modes (their
+    tests share work), then each mode region's data and mode sets, as tasks of similar sizes
+    started as soon as their space is paved (the other space's paving may still run)."""
+    spaces = [pool.submit(_space_task, (m, space, depth)) for space in ("workspace", "jointspace")]
+    region_tasks = [[], []]
+    for k in pool.completed(spaces):
+        keys, pavings, seconds = spaces[k].get()
+        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, paving))) for key, paving in zip(keys, pavings)]
         timings["paving"] += seconds
     regions, sets = [], []
-    for (*_, paving), (region, region_sets, seconds) in zip(region_tasks, run_tasks(_region_task, region_tasks, jobs, advance)):
+    for paving, task in region_tasks[0] + region_tasks[1]:
+        region, region_sets, seconds = task.get()
         region.paving = paving  # (not sent back: the caller has it)
         region.model = model
         region.test = _mode_test(model, region.space, region.working, region.assembly)
         regions.append(region)
         sets += region_sets
         timings["outer"] += seconds
-    t0 = time.perf_counter()
-    count = _Count(model, sets, Budget(budget), depth)
-    timings["certificate"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
-    crossings = find_crossings(model, regions, aspects, leaf_aspect)
-    timings["crossings"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    if shapes:
-        aspects = run_tasks(with_inscribed, aspects, jobs)
-    timings["inscribed"] = time.perf_counter() - t0
-    advance(1)
-    return AspectAnalysis(m, model, depth, regions, aspects, crossings, count.lower, count.upper, count.undecided,
-                          count.empty_undecided, count.merged, count.budget.spent, timings)
-
-
-def with_inscribed(a: Aspect) -> Aspect:
-    """The aspect with its largest certified disc and square in the workspace."""
-    circle, square = largest_shapes(a.workspace)
-    return replace(a, circle=circle, square=square)
+        advance(1)
+    return regions, sets
 
 
 def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:
@@ -535,9 +544,26 @@ def _representative(model: AspectModel, working, assembly: int, ws: Tree, js: Tr
         pose, _ = model.dkp(joints, assembly)
         return (float(pose[0, 0]), float(pose[0, 1])), (float(joints[0, 0]), float(joints[0, 1]))
     order = np.argsort(ws.level, kind="stable")
-    centres = ws.centres()[order]
-    joints, ok = model.ikp(centres, working)
-    inside = ok.copy()
-    inside[ok] = js.locate(joints[ok]) >= 0
-    k = int(np.argmax(inside)) if inside.any() else 0
-    return (float(centres[k, 0]), float(centres[k, 1])), (float(joints[k, 0]), float(joints[k, 1]))
+    first = None
+    for a, b in _doubling(len(order)):  # the largest cells first: the first one inside is near the start
+        lo, hi = ws.bounds(order[a:b])
+        centres = 0.5 * (lo + hi)
+        joints, ok = model.ikp(centres, working)
+        inside = ok.copy()
+        inside[ok] = js.locate(joints[ok]) >= 0
+        if first is None:  # none inside at all: the largest cell
+            first = centres[0], joints[0]
+        if inside.any():
+            k = int(np.argmax(inside))
+            first = centres[k], joints[k]
+            break
+    (x, y), (t1, t2) = first
+    return (float(x), float(y)), (float(t1), float(t2))
+
+
+def _doubling(n: int, size: int = 64):
+    """Slices [a, b) covering range(n) in order, each twice the one before."""
+    a = 0
+    while a < n:
+        yield a, min(a + size, n)
+        a, size = a + size, 2 * size

@@ -88,9 +88,9 @@ class _Obstacles:
         # small cells sorted by their low x (found by bisection); the few big ones always looked at
         big = self.cells.level < BIG_LEVEL
         order = np.concatenate([np.flatnonzero(~big)[np.argsort(lo[~big, 0], kind="stable")], np.flatnonzero(big)])
-        self.order, self.lo, self.hi = order, lo[order], hi[order]
-        self.x0, self.y0 = self.lo[:, 0].copy(), self.lo[:, 1].copy()  # contiguous: sliced per centre
-        self.x1, self.y1 = self.hi[:, 0].copy(), self.hi[:, 1].copy()
+        self.order = order
+        self.x0, self.y0 = lo[order, 0], lo[order, 1]  # contiguous: sliced per centre
+        self.x1, self.y1 = hi[order, 0], hi[order, 1]
         self.n_small = int(np.count_nonzero(~big))
         self.widest = float((hi[~big, 0] - lo[~big, 0]).max()) if self.n_small else 0.0
         self.root_lo, self.root_hi = tree.grid.lo, tree.grid.lo + tree.grid.size
@@ -99,23 +99,32 @@ class _Obstacles:
         """f at each centre: the distance to the nearest complement cell or to the outside of the
         root. `bounds` (upper bounds on f, one per centre) limit the cells looked at."""
         out = np.min(np.concatenate([centres - self.root_lo, self.root_hi - centres], axis=1), axis=1)
-        if not len(self.lo):
+        if not len(self.x0):
             return out
         bounds = out if bounds is None else np.minimum(bounds, out)
         xs = self.x0[:self.n_small]
-        first = np.searchsorted(xs, centres[:, 0] - bounds - self.widest, side="left")
-        last = np.searchsorted(xs, centres[:, 0] + bounds, side="right")
+        from_x, to_x = centres[:, 0] - bounds - self.widest, centres[:, 0] + bounds
+        first = np.searchsorted(xs, from_x, side="left")
+        last = np.searchsorted(xs, to_x, side="right")
         self._nearest_big(metric, centres, bounds, out)
-        for k in range(len(centres)):  # the small cells of its span (about a hundred each)
-            a, z = first[k], last[k]
-            (cx, cy), b = centres[k], bounds[k]
-            x0, x1, y0, y1 = self.x0[a:z], self.x1[a:z], self.y0[a:z], self.y1[a:z]
-            near = np.flatnonzero((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))
-            if len(near):
-                gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
-                gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
-                d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
-                out[k] = min(out[k], float(d.min()))
+        cx_lo, cy_lo, cy_hi = centres[:, 0] - bounds, centres[:, 1] - bounds, centres[:, 1] + bounds
+        cells = self.x0, self.x1, self.y0, self.y1
+        for group in _near_one_another(centres, bounds):
+            if len(group) == 1:
+                k = int(group[0])
+                out[k] = _nearest(metric, centres[k], bounds[k], [v[first[k]:last[k]] for v in cells], out[k])
+                continue
+            # the small cells any centre of the group may look at, found in one pass over their
+            # common span; each centre then looks at those of its own span (the same cells as in
+            # a pass of its own: its span's cells that pass its test all pass the group's)
+            a, z = first[group].min(), last[group].max()
+            keep = a + np.flatnonzero((self.y0[a:z] <= cy_hi[group].max()) & (self.y1[a:z] >= cy_lo[group].min())
+                                      & (self.x1[a:z] >= cx_lo[group].min()))
+            kept = [v[keep] for v in cells]
+            starts = np.searchsorted(kept[0], from_x[group], side="left")
+            stops = np.searchsorted(kept[0], to_x[group], side="right")
+            for k, i, j in zip(group.tolist(), starts.tolist(), stops.tolist()):
+                out[k] = _nearest(metric, centres[k], bounds[k], [v[i:j] for v in kept], out[k])
         return out
 
     def _nearest_big(self, metric, centres, bounds, out) -> None:
@@ -134,9 +143,43 @@ class _Obstacles:
 
     def near(self, metric: str, centre, radius: float) -> np.ndarray:
         """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
-        gap = np.maximum(np.maximum(self.lo - centre, np.asarray(centre) - self.hi), 0.0)
-        d = np.hypot(gap[..., 0], gap[..., 1]) if metric == "l2" else gap.max(axis=-1)
+        cx, cy = centre
+        gx = np.maximum(np.maximum(self.x0 - cx, cx - self.x1), 0.0)
+        gy = np.maximum(np.maximum(self.y0 - cy, cy - self.y1), 0.0)
+        d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
         return np.sort(self.order[d <= radius], kind="stable")
+
+
+def _nearest(metric: str, centre: np.ndarray, b: float, cells: list[np.ndarray], best: float) -> float:
+    """min(best, the distance from the centre to the nearest of these cells (x0, x1, y0, y1) whose
+    extent reaches within b of it)."""
+    (cx, cy), (x0, x1, y0, y1) = centre, cells
+    near = np.flatnonzero((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))
+    if not len(near):
+        return best
+    gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
+    gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
+    d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
+    return min(best, float(d.min()))
+
+
+def _near_one_another(centres: np.ndarray, bounds: np.ndarray) -> list[np.ndarray]:
+    """The centres in groups (index arrays) whose centres lie within half the group's smallest
+    bound of one another along each axis: their cells to look at mostly coincide. Late
+    rounds of the search, around the optimum, make one group; early ones mostly groups of one."""
+    order = np.lexsort((centres[:, 1], centres[:, 0]))
+    groups, current = [], []
+    for k in order.tolist():
+        if current:
+            x, y = centres[current + [k], 0], centres[current + [k], 1]
+            reach = 0.5 * min(bounds[current].min(), bounds[k])
+            if x.max() - x.min() > reach or y.max() - y.min() > reach:
+                groups.append(np.array(current))
+                current = []
+        current.append(k)
+    if current:
+        groups.append(np.array(current))
+    return groups
 
 
 def _reach(width: np.ndarray, metric: str) -> np.ndarray:
@@ -151,14 +194,19 @@ def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     if not len(tree):
         return None
     obstacles = obstacles or _Obstacles(tree)
-    lo, hi = tree.bounds()
+    # which leaves may hold the optimum depends on their level alone (widths are powers of two
+    # apart, far from the factor 4 sqrt 2 of the test): one leaf a level decides, only those kept
+    # get their bounds
+    levels, first = np.unique(tree.level, return_index=True)
+    lo, hi = tree.bounds(first)
     width = hi - lo
     inner = 0.5 * width.min(axis=1)  # f >= this at a leaf's centre (the leaf is in the set)
     best = float(inner.max())
     bound = 4.0 * _reach(width, metric)  # on a canonical leaf: its parent holds a complement point
-    keep = bound > best
-    lo, width = lo[keep], width[keep]
-    bound = bound[keep]
+    keep = np.flatnonzero(np.isin(tree.level, levels[bound > best]))
+    lo, hi = tree.bounds(keep)
+    width = hi - lo
+    bound = 4.0 * _reach(width, metric)
     best_centre = None
     for _ in range(MAX_ROUNDS):
         if not len(lo):
@@ -214,7 +262,7 @@ def _contained(obstacles: _Obstacles, metric: str, centre: tuple[float, float], 
     (ax, bx), (ay, by) = obstacles.tree.grid.root
     if not (Fraction(ax) + r <= cx <= Fraction(bx) - r and Fraction(ay) + r <= cy <= Fraction(by) - r):
         return False
-    if not len(obstacles.lo):
+    if not len(obstacles.x0):
         return True
     slack = 1e-9 * float(np.max(np.abs(obstacles.tree.grid.root)))
     for x0, x1, y0, y1 in _exact_cells(obstacles.cells, obstacles.near(metric, centre, radius * (1 + NEAR) + slack)):

@@ -4,13 +4,16 @@ for CAD and GIS tools.
 The outline (`paving/outline.py`: minimal boundary rings on the depth-D lattice, exact integers,
 traced from the cells with the set on their left) gives one polygon per face of the set (cells
 joined through edges; faces touching at a corner stay separate polygons, so the result is valid):
-its counter-clockwise ring and its clockwise holes. They are normalized, oriented as RFC 7946 asks
-(exterior rings counter-clockwise, holes clockwise) and only then mapped to the space's
-coordinates. These are the polygons shapely's polygonizer finds from the boundary segments (the
-tests compare the bytes), without its cost, which grew faster than the boundary. Coordinates are in
-the space's own units (not longitude and latitude). The text is deterministic: keys sorted, floats
-in their shortest exact form, no `-0.0`. shapely is imported only here, inside the functions that
-need it.
+its counter-clockwise ring and its clockwise holes. A hole belongs to the smallest exterior ring
+around the cell on its left. They are normalized, oriented as RFC 7946 asks (exterior rings
+counter-clockwise, holes clockwise) and only then mapped to the space's coordinates. These are the
+polygons shapely's polygonizer finds from the boundary segments (the tests compare the bytes),
+without its cost, which grew faster than the boundary. Coordinates are in the space's own units
+(not longitude and latitude). The text is deterministic: keys sorted, floats in their shortest
+exact form, no `-0.0`: the bytes `json.dumps(..., sort_keys=True, separators=(",", ":"))` gives,
+written without building the nested lists (a ring's vertices lie on a few thousand lattice lines:
+each coordinate's text is formatted once, the points assembled from them). shapely is imported
+only here, inside the functions that need it.
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from fivebar_cli.io.files import write_text
-from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.arrays import unique
 from fivebar_cli.paving.outline import boundary_rings, lattice_to_space
 from fivebar_cli.paving.tree import Tree
 
@@ -30,16 +33,21 @@ def tree_geometry(tree: Tree):
     """The union of the tree's cells as a shapely MultiPolygon, in the space's coordinates."""
     import shapely
 
+    return shapely.transform(_lattice_geometry(tree), lambda xy: lattice_to_space(tree, xy))
+
+
+def _lattice_geometry(tree: Tree):
+    """The union of the tree's cells as a normalized shapely MultiPolygon (exteriors
+    counter-clockwise, holes clockwise), in depth-D lattice units."""
+    import shapely
+
     points, ring, ring_leaf = boundary_rings(tree)
     if not len(points):
         return shapely.MultiPolygon()
-    # a face is a set of cells joined through edges (not corners, not across a periodic seam): its
-    # exterior ring runs counter-clockwise, its holes clockwise
-    flat = Tree(Grid(tree.grid.root, tree.grid.depth, (False,) * tree.grid.dim), tree.level, tree.code, canonical=True)
-    face = flat.components()[0][ring_leaf]
     x, y = points[:, 0].astype(float), points[:, 1].astype(float)
     x_next, y_next = _next_in_ring(x, ring), _next_in_ring(y, ring)
     twice_area = np.bincount(ring, x * y_next - x_next * y)
+    face = _faces(tree, points.astype(float), ring, ring_leaf, twice_area)
     order = np.lexsort((twice_area < 0, face))  # per face: its exterior, then its holes
     rank = np.empty_like(order)
     rank[order] = np.arange(len(order))
@@ -47,8 +55,35 @@ def tree_geometry(tree: Tree):
     rings = shapely.linearrings(points[by_ring].astype(float), indices=rank[ring][by_ring])
     _, polygon = np.unique(face[order], return_inverse=True)
     kept = shapely.normalize(shapely.MultiPolygon(list(shapely.polygons(rings, indices=polygon))))
-    kept = shapely.orient_polygons(kept, exterior_cw=False)
-    return shapely.transform(kept, lambda xy: lattice_to_space(tree, xy))
+    return shapely.orient_polygons(kept, exterior_cw=False)
+
+
+def _faces(tree: Tree, points: np.ndarray, ring: np.ndarray, ring_leaf: np.ndarray,
+           twice_area: np.ndarray) -> np.ndarray:
+    """The face of each ring (a face: cells joined through edges, not corners, not across a
+    periodic seam), numbered by its exterior ring: a face has one counter-clockwise ring; a
+    clockwise ring (a hole) belongs to the smallest of them around the cell on its left (a cell of
+    the face; a larger exterior around it holds the whole face in one of its holes)."""
+    import shapely
+
+    exterior = np.flatnonzero(twice_area > 0)
+    face = np.full(len(twice_area), -1, np.int64)
+    face[exterior] = np.arange(len(exterior))
+    holes = np.flatnonzero(twice_area < 0)
+    if not len(holes) or len(exterior) == 1:
+        face[holes] = 0
+        return face
+    starts = np.searchsorted(ring, np.arange(len(twice_area) + 1))
+    is_exterior = np.repeat(twice_area > 0, np.diff(starts))
+    shell_of_ring = np.cumsum(twice_area > 0) - 1
+    shells = shapely.polygons(shapely.linearrings(points[is_exterior], indices=shell_of_ring[ring[is_exterior]]))
+    span = np.int64(1) << (tree.grid.depth - tree.level[ring_leaf[holes]])
+    centre = (tree.coords[ring_leaf[holes]] * span[:, None]).astype(float) + 0.5 * span[:, None]
+    hole, shell = shapely.STRtree(shells).query(shapely.points(centre), predicate="within")
+    smallest = np.lexsort((twice_area[exterior][shell], hole))
+    first = np.r_[True, hole[smallest][1:] != hole[smallest][:-1]]
+    face[holes[hole[smallest][first]]] = shell[smallest][first]
+    return face
 
 
 def _next_in_ring(v: np.ndarray, ring: np.ndarray) -> np.ndarray:
@@ -60,32 +95,77 @@ def _next_in_ring(v: np.ndarray, ring: np.ndarray) -> np.ndarray:
     return out
 
 
-def geometry_json(geometry) -> dict:
-    """GeoJSON geometry of a shapely (Multi)Polygon: a Polygon when it has one part."""
+def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
+    """(GeoJSON geometry type, the text of its coordinates) of a lattice MultiPolygon: a Polygon
+    when it has one part. Each lattice value's float text is made once (repr, as json writes it)."""
     import shapely
 
-    def ring(r) -> list:
-        return (shapely.get_coordinates(r) + 0.0).tolist()  # + 0.0: no -0.0
+    _, coords, (ring_offsets, polygon_offsets, _) = shapely.to_ragged_array([geometry])
+    if not len(polygon_offsets) > 1:
+        return "MultiPolygon", "[]"
+    lattice = coords.astype(np.int64)
+    values = [unique(lattice[:, axis]) for axis in (0, 1)]
+    x_text, y_text = (np.array([before + t + after for t in _value_texts(tree, v, axis)], dtype=object)
+                      for v, axis, before, after in ((values[0], 0, "[", ","), (values[1], 1, "", "],")))
+    # the points' texts, "[x," then "y],", joined as they are, but for the brackets opening each
+    # ring (and polygon) before its first point and closing it after its last
+    pieces = np.empty(2 * len(lattice), dtype=object)
+    pieces[0::2] = x_text[np.searchsorted(values[0], lattice[:, 0])]
+    pieces[1::2] = y_text[np.searchsorted(values[1], lattice[:, 1])]
+    rings = len(ring_offsets) - 1
+    first_of_polygon = np.zeros(rings, bool)
+    first_of_polygon[polygon_offsets[:-1]] = True
+    last_of_polygon = np.zeros(rings, bool)
+    last_of_polygon[polygon_offsets[1:] - 1] = True
+    first, last = 2 * ring_offsets[:-1], 2 * ring_offsets[1:] - 1
+    pieces[first] = np.where(first_of_polygon, "[[", "[").astype(object) + pieces[first]
+    pieces[last] = (np.array([text[:-1] for text in pieces[last]], dtype=object)  # "y]" then "]," or "]],"
+                    + np.where(last_of_polygon, "]],", "],").astype(object))
+    body = "".join(pieces.tolist())[:-1]  # (no comma after the last point)
+    if len(polygon_offsets) == 2:
+        return "Polygon", body
+    return "MultiPolygon", "[" + body + "]"
 
-    def polygon(p) -> list:
-        return [ring(p.exterior)] + [ring(h) for h in p.interiors]
 
-    parts = list(shapely.get_parts(geometry)) if not geometry.is_empty else []
-    if len(parts) == 1:
-        return {"type": "Polygon", "coordinates": polygon(parts[0])}
-    return {"type": "MultiPolygon", "coordinates": [polygon(p) for p in parts]}
+_TEXTS: dict = {}  # per axis of the last grid written: {lattice value: its coordinate's text}
 
 
-def feature(tree: Tree, properties: dict) -> dict:
-    return {"type": "Feature", "properties": dict(properties), "geometry": geometry_json(tree_geometry(tree))}
+def _value_texts(tree: Tree, values: np.ndarray, axis: int) -> list[str]:
+    """The text json writes for the space coordinate of each lattice value along `axis`
+    (`lattice_to_space`, `+ 0.0`: no -0.0), each made once for the trees of one grid (the aspects
+    of an analysis share most of their lattice lines)."""
+    key = (tree.grid, axis)
+    if key not in _TEXTS:
+        if len(_TEXTS) >= 2:  # another grid's
+            _TEXTS.clear()
+        _TEXTS[key] = {}
+    known = _TEXTS[key]
+    values = values.tolist()
+    new = [v for v in values if v not in known]
+    if new:
+        points = np.zeros((len(new), 2), np.int64)
+        points[:, axis] = new
+        known.update(zip(new, map(repr, (lattice_to_space(tree, points)[:, axis] + 0.0).tolist())))
+    return [known[v] for v in values]
 
 
-def geojson_text(features: list[dict]) -> str:
-    """A FeatureCollection as deterministic text (sorted keys, one line, final newline)."""
-    return json.dumps({"type": "FeatureCollection", "features": features}, sort_keys=True,
-                      separators=(",", ":"), allow_nan=False) + "\n"
+def _json(value) -> str:
+    return json.dumps(value, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def feature_text(tree: Tree, properties: dict) -> str:
+    """One Feature as text: the tree's cells as its geometry, with these properties."""
+    kind, coordinates = _coordinates_text(tree, _lattice_geometry(tree))
+    return "".join(['{"geometry":{"coordinates":', coordinates, ',"type":', _json(kind), '},"properties":',
+                    _json(dict(properties)), ',"type":"Feature"}'])  # one copy of the coordinates
+
+
+def geojson_text(features: list[str]) -> str:
+    """A FeatureCollection of `feature_text`s as deterministic text (sorted keys, one line, final
+    newline)."""
+    return "".join(['{"features":[', ",".join(features), '],"type":"FeatureCollection"}\n'])
 
 
 def write_geojson(path: str | Path, tree: Tree, properties: dict) -> Path:
     """Atomically write one tree as a FeatureCollection of one Feature."""
-    return write_text(path, geojson_text([feature(tree, properties)]))
+    return write_text(path, geojson_text([feature_text(tree, properties)]))

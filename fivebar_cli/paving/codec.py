@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.morton import finest_key
+from fivebar_cli.paving.morton import trailing_zeros
 
 
 class BodyError(ValueError):
@@ -19,49 +19,32 @@ class BodyError(ValueError):
 
 
 def encode(tree) -> str:
+    """The preorder body of a tree. Its leaves are the black leaves and the white ones (the
+    complement's canonical leaves: the maximal cells without black, whose parents hold black); in
+    Morton order, each leaf follows a G for every grey ancestor that starts where it starts (the
+    levels above it at which its first depth-D index is aligned, the root excepted when it is not
+    0): no node is looked up, one merge of two sorted arrays."""
     grid = tree.grid
-    dim, depth, k = grid.dim, grid.depth, 1 << grid.dim
+    dim, depth = grid.dim, grid.depth
     if len(tree) == 0:
         return "W"
     if tree.level[0] == 0:
         return "B"
-    grey_level, grey_code = [], []
-    start = tree.start
-    for lev in range(depth):  # grey nodes: the proper ancestors of black leaves
-        # leaves are in Morton order, so their ancestors at one level are sorted: dropping repeats
-        # of the previous value is np.unique without its sort
-        anc = start[tree.level > lev] >> (dim * (depth - lev))
-        anc = anc[np.concatenate([[True], anc[1:] != anc[:-1]])] if anc.size else anc
-        grey_level.append(np.full(anc.size, lev, dtype=np.int64))
-        grey_code.append(anc)
-    g_level, g_code = np.concatenate(grey_level), np.concatenate(grey_code)
-    child_level = np.repeat(g_level + 1, k)
-    child_code = (np.repeat(g_code, k) << dim) | np.tile(np.arange(k, dtype=np.int64), g_code.size)
-    key_grey = finest_key(g_code, g_level, dim, depth)
-    key_child = finest_key(child_code, child_level, dim, depth)
-    # children that are neither grey nor black are white
-    is_grey = _member(child_level, child_code, g_level, g_code, depth, dim)
-    is_black = _member(child_level, child_code, tree.level, tree.code, depth, dim)
-    white = ~is_grey & ~is_black
-    levels = np.concatenate([g_level, tree.level, child_level[white]])
-    keys = np.concatenate([key_grey, tree.start, key_child[white]])
-    letters = np.concatenate(
-        [np.full(g_level.size, ord("G")), np.full(len(tree), ord("B")), np.full(int(white.sum()), ord("W"))]
-    ).astype(np.uint8)
-    # preorder: by first finest-level index, then level (a parent before its first child); one
-    # key (distinct per node) and a sort that merges the sorted runs of grey, black, white nodes
-    order = np.argsort(keys * (depth + 1) + levels, kind="stable")
-    return letters[order].tobytes().decode("ascii")
-
-
-def _member(level, code, set_level, set_code, depth, dim) -> np.ndarray:
-    """Whether each (level, code) node belongs to the node set (set_level, set_code)."""
-    if set_code.size == 0:
-        return np.zeros(level.size, dtype=bool)
-    key = finest_key(code, level, dim, depth) * (depth + 1) + level
-    set_key = np.sort(finest_key(set_code, set_level, dim, depth) * (depth + 1) + set_level, kind="stable")
-    pos = np.minimum(np.searchsorted(set_key, key), set_key.size - 1)
-    return set_key[pos] == key
+    white = tree.complement()
+    start = np.concatenate([tree.start, white.start])
+    order = np.argsort(start, kind="stable")  # a merge of two sorted runs
+    start = start[order]
+    black = order < len(tree)  # which leaves, in Morton order, are black
+    runs = np.concatenate([tree.level, white.level])[order]
+    del order, white
+    # a G per grey ancestor starting where the leaf starts (down from the highest level at which
+    # its start is aligned), then the leaf's letter
+    runs -= np.maximum(depth - trailing_zeros(start, dim * depth) // dim, 0)
+    runs += 1
+    leaf_at = np.cumsum(runs) - 1
+    letters = np.full(int(leaf_at[-1]) + 1, ord("G"), np.uint8)
+    letters[leaf_at] = np.where(black, ord("B"), ord("W"))
+    return letters.tobytes().decode("ascii")
 
 
 def decode(grid, body: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

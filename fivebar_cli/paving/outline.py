@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from fivebar_cli.paving.morton import interleave
-from fivebar_cli.paving.tree import Tree, _sweeps
+from fivebar_cli.paving.tree import Tree
 
 
 def _unit_edges(tree: Tree) -> tuple[np.ndarray, np.ndarray]:
@@ -90,21 +90,21 @@ def _directed_edges(tree: Tree):
     """The boundary as maximal straight segments directed with the set on their left: start and
     end points (n, 2) and directions (0..3, `_STEP`), in depth-D lattice units.
 
-    On each lattice line, the leaves' sides facing one way minus those facing the other way (an
-    interval sweep over the leaves' sides, not their unit edges): memory follows the leaves."""
+    On each lattice line, the leaves' sides facing one way minus those facing the other way: one
+    sort of the sides' ends, in place (memory: a few words a leaf, not its unit edges)."""
     depth = tree.grid.depth
     span = np.int64(1) << (depth - tree.level)
-    lo = tree.coords * span[:, None]
+    lo = tree.coords
+    lo *= span[:, None]
     hi = lo + span[:, None]
+    del span
     width = (np.int64(1) << depth) + 1  # positions along a line run 0..2^depth
     out = []
     for axis in (0, 1):  # sides along x (horizontal lines y = const), then along y
         other = 1 - axis
-        low_side = (lo[:, other] * width + lo[:, axis], lo[:, other] * width + hi[:, axis])  # set beyond it
-        high_side = (hi[:, other] * width + lo[:, axis], hi[:, other] * width + hi[:, axis])  # set before it
-        sides = [tuple(np.sort(v, kind="stable") for v in s) for s in (low_side, high_side)]
-        swept = _sweeps(sides, [lambda a, b: a & ~b, lambda a, b: ~a & b])
-        for (start, end), forward in zip(swept, (axis == 0, axis == 1)):
+        # the low sides of the leaves (the set beyond them) and their high sides (the set before)
+        sides = _only_one(lo[:, other] * width, hi[:, other] * width, lo[:, axis], hi[:, axis])
+        for (start, end), forward in zip(sides, (axis == 0, axis == 1)):
             line, a, b = start // width, start % width, end - (start // width) * width
             first, last = (a, b) if forward else (b, a)
             p, q = np.empty((len(a), 2), np.int64), np.empty((len(a), 2), np.int64)
@@ -112,6 +112,37 @@ def _directed_edges(tree: Tree):
             d = (0 if axis == 0 else 1) if forward else (2 if axis == 0 else 3)
             out.append((p, q, np.full(len(a), d, np.int64)))
     return tuple(np.concatenate(parts) for parts in zip(*out))
+
+
+_TAG = np.array([1, -1, 2, -2], np.int8)  # an end's change of state: entering a, leaving a, entering b, leaving b
+
+
+def _only_one(line_a: np.ndarray, line_b: np.ndarray, start: np.ndarray, end: np.ndarray):
+    """Two unions of disjoint intervals of non-negative keys below 2^60, a: [line_a + start,
+    line_a + end) and b: [line_b + start, line_b + end): the maximal intervals of a minus b and of b
+    minus a, sorted. One sort of every end, tagged with what it changes: the state (in a) + 2 (in
+    b) is their running sum between consecutive ends (int8: 0..3)."""
+    n = len(start)
+    events = np.empty(4 * n, np.int64)
+    for k, (line, pos) in enumerate(((line_a, start), (line_a, end), (line_b, start), (line_b, end))):
+        part = events[k * n:(k + 1) * n]
+        np.add(line, pos, out=part)
+        part <<= 2
+        part |= k
+    events.sort(kind="stable")  # sorted runs: merged
+    state = np.cumsum(_TAG[np.bitwise_and(events, 3, dtype=np.int8, casting="unsafe")], dtype=np.int8)
+    events >>= 2  # the ends' keys
+    step = events[1:] > events[:-1]  # elementary intervals [events[i], events[i + 1]) of positive length
+    out = []
+    for wanted in (1, 2):
+        i = np.flatnonzero(step & (state[:-1] == wanted))
+        start, end = events[i], events[i + 1]
+        new = np.ones(len(i), bool)  # merge the touching ones
+        new[1:] = start[1:] != end[:-1]
+        last = np.ones(len(i), bool)
+        last[:-1] = new[1:]
+        out.append((start[new], end[last]))
+    return out
 
 
 def boundary_rings(tree: Tree):
