@@ -135,18 +135,14 @@ class _Obstacles:
             return
         cx, cy, b = centres[:, :1], centres[:, 1:], bounds[:, None]
         x0, x1, y0, y1 = self.x0[big], self.x1[big], self.y0[big], self.y1[big]
-        gx = np.maximum(np.maximum(x0 - cx, cx - x1), 0.0)
-        gy = np.maximum(np.maximum(y0 - cy, cy - y1), 0.0)
-        d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
+        d = _cell_distance(metric, cx, cy, x0, x1, y0, y1)
         d[~((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))] = np.inf
         np.minimum(out, d.min(axis=1), out=out)
 
     def near(self, metric: str, centre, radius: float) -> np.ndarray:
         """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
         cx, cy = centre
-        gx = np.maximum(np.maximum(self.x0 - cx, cx - self.x1), 0.0)
-        gy = np.maximum(np.maximum(self.y0 - cy, cy - self.y1), 0.0)
-        d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
+        d = _cell_distance(metric, cx, cy, self.x0, self.x1, self.y0, self.y1)
         return np.sort(self.order[d <= radius], kind="stable")
 
 
@@ -157,10 +153,16 @@ def _nearest(metric: str, centre: np.ndarray, b: float, cells: list[np.ndarray],
     near = np.flatnonzero((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))
     if not len(near):
         return best
-    gx = np.maximum(np.maximum(x0[near] - cx, cx - x1[near]), 0.0)
-    gy = np.maximum(np.maximum(y0[near] - cy, cy - y1[near]), 0.0)
-    d = np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
+    d = _cell_distance(metric, cx, cy, x0[near], x1[near], y0[near], y1[near])
     return min(best, float(d.min()))
+
+
+def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:
+    """The distance ("l2" or "linf") from points (cx, cy) to cells [x0, x1] x [y0, y1], in floats
+    (0 inside a cell); the arrays broadcast (every centre against every cell)."""
+    gx = np.maximum(np.maximum(x0 - cx, cx - x1), 0.0)
+    gy = np.maximum(np.maximum(y0 - cy, cy - y1), 0.0)
+    return np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
 
 
 def _near_one_another(centres: np.ndarray, bounds: np.ndarray) -> list[np.ndarray]:

@@ -398,7 +398,7 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
     indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
     n_black = len(inside)
-    small = np.int32 if n_black + len(und) < np.iinfo(np.int32).max else np.int64
+    small = index_type(n_black + len(und))
     code = interleave(und, grid.depth) if len(und) else np.zeros(0, np.int64)
     order = None  # the cells' Morton order, when they are not in it already (a paving's are)
     if np.any(code[1:] < code[:-1]):

@@ -25,6 +25,7 @@ import numpy as np
 
 from fivebar_cli.io.files import write_text
 from fivebar_cli.paving.arrays import unique
+from fivebar_cli.paving.morton import deinterleave
 from fivebar_cli.paving.outline import boundary_rings, lattice_to_space
 from fivebar_cli.paving.tree import Tree
 
@@ -77,8 +78,10 @@ def _faces(tree: Tree, points: np.ndarray, ring: np.ndarray, ring_leaf: np.ndarr
     is_exterior = np.repeat(twice_area > 0, np.diff(starts))
     shell_of_ring = np.cumsum(twice_area > 0) - 1
     shells = shapely.polygons(shapely.linearrings(points[is_exterior], indices=shell_of_ring[ring[is_exterior]]))
-    span = np.int64(1) << (tree.grid.depth - tree.level[ring_leaf[holes]])
-    centre = (tree.coords[ring_leaf[holes]] * span[:, None]).astype(float) + 0.5 * span[:, None]
+    leaf = ring_leaf[holes]  # (the coordinates of these leaves only, not of the whole tree)
+    span = np.int64(1) << (tree.grid.depth - tree.level[leaf])
+    coords = deinterleave(tree.code[leaf], tree.level[leaf], tree.grid.dim)
+    centre = (coords * span[:, None]).astype(float) + 0.5 * span[:, None]
     hole, shell = shapely.STRtree(shells).query(shapely.points(centre), predicate="within")
     smallest = np.lexsort((twice_area[exterior][shell], hole))
     first = np.r_[True, hole[smallest][1:] != hole[smallest][:-1]]

@@ -80,7 +80,12 @@ class Tree:
     def end(self) -> np.ndarray:
         """One past the last depth-D Morton index of each leaf (computed when asked, not kept: a
         tree's memory is its leaves, 16 bytes each)."""
-        return self.start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level)))
+        return self.start + self._sizes(self.level)
+
+    def _sizes(self, level: np.ndarray) -> np.ndarray:
+        """How many depth-D cells a leaf of each level holds: it covers the depth-D Morton indices
+        [start, start + size)."""
+        return np.int64(1) << (self.grid.dim * (self.grid.depth - level))
 
     @property
     def coords(self) -> np.ndarray:
@@ -161,7 +166,7 @@ class Tree:
         start = self.start
         leaf = np.searchsorted(start, index, side="right") - 1
         ok = inside & (leaf >= 0)
-        ok[ok] &= (start + (np.int64(1) << (self.grid.dim * (self.grid.depth - self.level))))[leaf[ok]] > index[ok]
+        ok[ok] &= start[leaf[ok]] + self._sizes(self.level[leaf[ok]]) > index[ok]
         return np.where(ok, leaf, -1)
 
     # -- adjacency and connected components
@@ -215,7 +220,7 @@ class Tree:
         this tree's leaves (`own`: padded starts and ends), then, for the cells not found there,
         among `others` (starts and ends) (either may be None)."""
         grid, level = self.grid, self.level[s:s + PAIR_CHUNK]
-        size = np.int64(1) << (grid.dim * (grid.depth - level))
+        size = self._sizes(level)
         first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, grid, offset)
         last = first + size
         if own is not None:
@@ -380,14 +385,9 @@ def _blocks(grid: Grid, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray,
 
 def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
     """Combine unions of disjoint intervals with a boolean function `keep(in_a, in_b)`."""
-    return _sweeps(interval_sets, [keep])[0]
-
-
-def _sweeps(interval_sets, keeps) -> list[tuple[np.ndarray, np.ndarray]]:
-    """`_sweep` for several functions `keeps` of the same sets: one sweep, one result each."""
     points = unique(np.concatenate([np.concatenate([s, e]) for s, e in interval_sets]))
     if points.size < 2:
-        return [(np.zeros(0, np.int64), np.zeros(0, np.int64)) for _ in keeps]
+        return np.zeros(0, np.int64), np.zeros(0, np.int64)
     left = points[:-1]
     member = []
     for s, e in interval_sets:
@@ -395,11 +395,8 @@ def _sweeps(interval_sets, keeps) -> list[tuple[np.ndarray, np.ndarray]]:
         inside = k >= 0
         inside[inside] &= e[k[inside]] > left[inside]
         member.append(inside)
-    out = []
-    for keep in keeps:
-        mask = keep(*member)
-        out.append(_merge_touching(left[mask], points[1:][mask]))
-    return out
+    mask = keep(*member)
+    return _merge_touching(left[mask], points[1:][mask])
 
 
 # ---------------------------------------------------------------- neighbour search
@@ -411,9 +408,8 @@ _FAR = np.iinfo(np.int64).max
 def _ends(tree: Tree, start: np.ndarray) -> np.ndarray:
     """One past the last depth-D index of each leaf, then -1: a search that finds no leaf (-1)
     finds no end either."""
-    grid = tree.grid
     end = np.empty(len(start) + 1, np.int64)
-    np.add(start, np.int64(1) << (grid.dim * (grid.depth - tree.level)), out=end[:-1])
+    np.add(start, tree._sizes(tree.level), out=end[:-1])
     end[-1] = -1
     return end
 
