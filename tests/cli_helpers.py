@@ -122,6 +122,19 @@ def run_process(*args, cwd: Path | str | None = None, memory_limit: bool = False
     return CliResult(r.returncode, r.stdout, r.stderr)
 
 
+def modules_imported(runs: list[list], prefixes: tuple[str, ...], cwd: Path | str) -> list[str]:
+    """The modules whose names start with one of `prefixes` that `fivebar` imported, run in process
+    with each argv of `runs` in turn, in a fresh interpreter (every run must succeed), sorted."""
+    argvs = [[str(a) for a in argv] for argv in runs]
+    code = ("import sys\nfrom fivebar_cli.cli import main\n"
+            f"for argv in {argvs!r}:\n"
+            "    try:\n        main(argv)\n    except SystemExit as e:\n        assert e.code in (0, None), e.code\n"
+            f"print(' '.join(sorted(m for m in sys.modules if m.startswith({tuple(prefixes)!r}))))\n")
+    r = subprocess.run([sys.executable, "-c", code], cwd=cwd, env=ENV, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return r.stdout.splitlines()[-1].split()  # (the runs' own output before it)
+
+
 def ok(result: CliResult) -> CliResult:
     """The run succeeded (status 0), else fail with its stderr."""
     assert result.status == 0, (result.status, result.stderr[-2000:])

@@ -8,12 +8,10 @@ import csv
 import io
 import json
 import shutil
-import subprocess
-import sys
 
 import numpy as np
 import pytest
-from cli_helpers import ENV, PNG_MAGIC, REPO, ok, one_line, run_cli
+from cli_helpers import PNG_MAGIC, REPO, modules_imported, ok, one_line, run_cli
 from conftest import unchecked_fivebar
 
 from fivebar_cli.analyses.atlas.engine import batch_text, plan_atlas, run_plan
@@ -363,13 +361,9 @@ def test_missing_spec_file(tmp_path):
 
 
 def test_help_and_in_process_runs_do_not_import_dask(spec_file, tmp_path):
-    code = ("import sys\nfrom fivebar_cli.cli import main\nfor argv in (['--help'], ['atlas', '--help'], "
-            f"['atlas', {str(spec_file)!r}, '--workers', '0', '--depth', '2', '-o', 'o', '-q', '--no-plot']):\n"
-            "    try:\n        main(argv)\n    except SystemExit as e:\n        assert e.code in (0, None), e.code\n"
-            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('dask', 'distributed')))\n")
-    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=ENV, capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0, r.stderr
-    assert r.stdout.strip().splitlines()[-1] == "[]"
+    runs = [["--help"], ["atlas", "--help"], ["atlas", spec_file, "--workers", "0", "--depth", "2", "-o", "o", "-q",
+                                              "--no-plot"]]
+    assert modules_imported(runs, ("dask", "distributed"), tmp_path) == []
 
 
 def test_a_designs_error_keeps_the_parameters_it_names(spec_file, monkeypatch):

@@ -4,16 +4,13 @@
 
 from __future__ import annotations
 
-import subprocess
-import sys
-
 import click
 
 from fivebar_cli.cli import cli
 from fivebar_cli.cli import aspects, atlas, dkp, examples, kratio, locate, path, pose_aspects, pose_locate, pose_path
 from fivebar_cli.cli import refine, reproduce, rpr3, rpr3_octree, spaces, tolerance, verify, view
 from fivebar_cli.cli.dispatch import ByKind
-from tests.cli_helpers import ENV, REPO
+from tests.cli_helpers import REPO, modules_imported
 
 
 def _eager_group() -> click.Group:
@@ -54,13 +51,8 @@ def test_the_lazy_group_lists_and_helps_every_command_as_the_eager_one():
 
 
 def test_a_command_imports_its_own_module_only(tmp_path):
-    code = ("import sys\nfrom fivebar_cli.cli import main\n"
-            f"argv = ['aspects', {str(REPO / 'configs' / 'm1.yaml')!r}, '--depth', '3', '--no-plot', '-q', '-o', 'o']\n"
-            "try:\n    main(argv)\nexcept SystemExit as e:\n    assert e.code in (0, None), e.code\n"
-            "print(*sorted(m for m in sys.modules if m.startswith(('fivebar_cli.cli.', 'fivebar_cli.analyses.atlas'))))")
-    r = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=ENV, capture_output=True, text=True, timeout=120)
-    assert r.returncode == 0, r.stderr
-    assert r.stdout.split() == ["fivebar_cli.cli.aspects", "fivebar_cli.cli.dispatch", "fivebar_cli.cli.main",
-                                "fivebar_cli.cli.numbers", "fivebar_cli.cli.options", "fivebar_cli.cli.pose_aspects",
-                                "fivebar_cli.cli.poses"]
+    argv = ["aspects", REPO / "configs" / "m1.yaml", "--depth", "3", "--no-plot", "-q", "-o", "o"]
+    assert modules_imported([argv], ("fivebar_cli.cli.", "fivebar_cli.analyses.atlas"), tmp_path) == [
+        "fivebar_cli.cli.aspects", "fivebar_cli.cli.dispatch", "fivebar_cli.cli.main", "fivebar_cli.cli.numbers",
+        "fivebar_cli.cli.options", "fivebar_cli.cli.pose_aspects", "fivebar_cli.cli.poses"]
     assert (tmp_path / "o" / "aspects.csv").is_file()
