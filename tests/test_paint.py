@@ -79,5 +79,5 @@ def test_covered_pixels_are_those_the_coarse_leaves_fill(seed, level):
             span = 1 << (level - lev)
             expect[y * span:(y + 1) * span, x * span:(x + 1) * span] = True
     assert np.array_equal(tree.covered(level), expect)
-    if tree.level.max() <= level:
+    if tree.level.max(initial=0) <= level:  # an empty tree too: no pixel covered, none of coverage 1
         assert np.array_equal(tree.covered(level), tree.coverage(level) == 1)
