@@ -31,20 +31,24 @@ def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> 
     n = 1 << level
     last = np.zeros(n * n, dtype=np.int32)  # 0: white; k: the k-th layer covers it wholly, last
     mixed = np.zeros(n * n, dtype=bool)
+    covers = []  # each layer's coverage where it has cells finer than a pixel (None: whole pixels only)
     for k, (tree, _) in enumerate(layers, 1):
         if len(tree) and tree.level.max() > level:  # cells finer than a pixel
             cover = tree.coverage(level).ravel()
             last[cover >= 1] = k
             mixed |= (cover > 0) & (cover < 1)
         else:  # whole pixels only
+            cover = None
             last[tree.covered(level).ravel()] = k
+        covers.append(cover)
     palette = np.array([(*WHITE, 1.0), *((*colour, 1.0) for _, colour in layers)], dtype=float)
     image = palette[last]
     blend = np.flatnonzero(mixed)
     if len(blend):
         pixels = np.tile(WHITE, (len(blend), 1))
-        for tree, colour in layers:
-            c = np.clip(tree.coverage(level).ravel()[blend], 0, 1)[:, None]
+        for (tree, colour), cover in zip(layers, covers):
+            cover = tree.coverage(level).ravel() if cover is None else cover
+            c = np.clip(cover[blend], 0, 1)[:, None]
             pixels = pixels * (1 - c) + np.asarray(colour) * c
         image[blend, :3] = pixels
     return image.reshape(n, n, 4)
