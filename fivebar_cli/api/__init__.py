@@ -4,6 +4,7 @@ this API's first client."""
 
 from fivebar_cli.api import rpr3
 from fivebar_cli.api.calls import aspects, atlas, examples, load, locate, path, pave, read_qt, refine, view
+from fivebar_cli.api.studies import Report, kratio, tolerance
 from fivebar_cli.api.values import Aspect, Aspects, Location, Paving, Table
 from fivebar_cli.api.values import Path_ as Path
 from fivebar_cli.errors import FivebarError, InputError
@@ -11,5 +12,6 @@ from fivebar_cli.mechanisms.base import Mechanism
 
 __all__ = [
     "load", "pave", "refine", "read_qt", "aspects", "locate", "path", "atlas", "view", "examples", "rpr3",
+    "tolerance", "kratio", "Report",
     "Mechanism", "Paving", "Aspects", "Aspect", "Location", "Path", "Table", "FivebarError", "InputError",
 ]
