@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_DEPTH
-from fivebar_cli.api.calls import load, source_name
+from fivebar_cli.api.calls import check_depth, load, source_name
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
 
@@ -52,7 +52,7 @@ class Report:
 
         return csv_text(self.columns, self.data)
 
-    def save(self, folder: str | Path, figures: bool = True) -> list[Path]:
+    def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
         """The command's files in `folder` as one output set: the CSV and, with `figures`, its PNG
         figures (drawn on the backend in use); returns the paths written."""
         from fivebar_cli.io.files import write_csv
@@ -166,12 +166,6 @@ def tolerance(mech, tolerances=DEFAULT_TOLERANCES, depth: int = 10, *, jobs: int
     return Report(f"Tolerance {m.name}, depth {depth}", HEADER, tuple(r.cells() for r in study.rows), tuple(notes),
                   ("tolerance", TOLERANCE_FILES, "fivebar tolerance", TOLERANCE_CSV),
                   ((TOLERANCE_BANDS_PNG, bands), (TOLERANCE_ASPECTS_PNG, aspect_areas)))
-
-
-def check_depth(depth, limit: int, field: str = "depth") -> None:
-    """A depth is an integer in 0..limit (InputError naming `field` otherwise)."""
-    if isinstance(depth, bool) or not isinstance(depth, int) or not 0 <= depth <= limit:
-        raise InputError("", param(field), f"must be an integer in 0..{limit}, got {depth!r}")
 
 
 # ---------------------------------------------------------------- kratio
