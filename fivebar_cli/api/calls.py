@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
-from fivebar_cli.api.values import Aspect, Aspects, Location, Path_, Paving, Table
+from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
 
@@ -221,57 +221,7 @@ def m_name(mech) -> str:
     return mech.name if isinstance(mech, Mechanism) else str(mech)
 
 
-# ---------------------------------------------------------------- locate and path
-
-
-def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
-           working_mode: str | None = None, advance=None) -> Location:
-    """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
-    it at `depth` (the aspects are computed unless given: `advance` as for `aspects`).
-
-    Over a space of poses (3-RPR, 3-RRR), `pose` is (x, y, phi_deg), located in every working mode
-    (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
-    --working-mode`): one row per working mode, with `sheet` (its fields: {} for a 3-RPR), `class`
-    (None on or near a singularity) and `aspect`.
-
-    Examples
-    --------
-    >>> import fivebar_cli as fb
-    >>> [(r["working_mode"], r["aspect"]) for r in fb.locate(fb.load("rpr2"), pose=(0, 8), depth=6).rows()]
-    [('++', 1)]
-    """
-    import numpy as np
-
-    m = with_aspects(_mechanism(mech), m_name(mech))
-    if (pose is None) == (joints is None):
-        raise InputError(m.name, "pose", "give either pose or joints")
-    sheets = None
-    if m.pose_aspect_model() is not None:  # the input checked before the aspects are computed
-        from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, working_sheets
-        from fivebar_cli.analyses.pose_paths import wrap_pose
-
-        if pose is None:
-            raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
-        sheets = working_sheets(m, working_mode)
-    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False, advance=advance)
-    if sheets is not None:
-        model = m.pose_aspect_model()
-        point = wrap_pose(m.spaces()[model.space], np.asarray(pose, float))
-        rows = []
-        for sheet in sheets:
-            cls, aspect = aspect_at(found.analysis.aspects, model, point, sheet)
-            legs, _ = model.ikp(point[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
-            rows.append({"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
-                         "sheet": dict(model.sheets[sheet].fields),
-                         "class": dict(model.classes[cls].fields) if cls >= 0 else None,
-                         "aspect": aspect.number if aspect is not None else None})
-        return Location(m, found.depth, tuple(rows))
-    from fivebar_cli.analyses.locate import aspect_of, configurations, row
-
-    space, value = ("workspace", pose) if pose is not None else ("jointspace", joints)
-    rows = tuple(row(m, c, aspect_of(found.analysis.aspects, c), 1)
-                 for c in configurations(m, tuple(map(float, value)), space))
-    return Location(m, found.depth, rows)
+# ---------------------------------------------------------------- path (locate: locations.py)
 
 
 def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = False,

@@ -333,26 +333,7 @@ class Aspects:
         return ax
 
 
-# ---------------------------------------------------------------- locate and path
-
-
-@dataclass(frozen=True, repr=False)
-class Location:
-    """Every configuration at a pose or at joint values, with its modes and its aspect (the rows of
-    `fivebar locate --csv`)."""
-
-    mechanism: Mechanism
-    depth: int
-    configurations: tuple[dict, ...]
-
-    def rows(self) -> list[dict]:
-        return [dict(c) for c in self.configurations]
-
-    def __repr__(self) -> str:
-        aspects = ", ".join(str(c["aspect"]) for c in self.configurations if c.get("aspect") is not None)
-        return (f"<Location {self.mechanism.name}, depth {self.depth}: "
-                f"{plural(len(self.configurations), 'configuration')}" + (f" in aspects {aspects}" if aspects else "")
-                + ">")
+# ---------------------------------------------------------------- path (Location: locations.py)
 
 
 @dataclass(frozen=True, repr=False)
