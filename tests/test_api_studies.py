@@ -109,6 +109,21 @@ def test_locate_several_locations_is_the_command(tmp_path, m1_at_6):
     assert any(str(line).startswith("  1 -> 2: ") for line in apart.lines())
 
 
+def test_verify_is_the_command_as_a_value(tmp_path):
+    """fb.verify gives verify.csv, counterexample.csv and counterexample.png as `fivebar verify`, its
+    lines and its exit status; the singular pose it reports has det A = 0 up to its bisection."""
+    rrr3 = REPO / "configs" / "rrr3-symmetric.yaml"
+    v = fb.verify(rrr3, 2, working_mode="+-+")
+    cli = run_cli("verify", rrr3, "--working-mode", "+-+", "--depth", "2", "-o", tmp_path / "cli")
+    assert cli.status == v.exit_code == 1
+    assert cli.stdout.splitlines()[:len(v.notes)] == _printed(v.notes)
+    v.save(tmp_path / "api", figures=True)
+    assert _files(tmp_path / "api") == _files(tmp_path / "cli")
+    assert [r["status"] for r in v.rows()] == ["singular pose found"]
+    pose = v.tables[0][2][0]
+    assert abs(pose[-1]) < 1e-6  # det_a at the singular pose
+
+
 @pytest.mark.parametrize("call, field", [
     (lambda: fb.tolerance("m1", [-0.1], 5), "`tolerances`"),
     (lambda: fb.tolerance("m1", [], 5), "`tolerances`"),
@@ -121,6 +136,9 @@ def test_locate_several_locations_is_the_command(tmp_path, m1_at_6):
     (lambda: fb.path("m1", {"joints": (0, 1)}, {"joints": (1, 1)}, depth=17), "`depth`"),
     (lambda: fb.path("rpr2", {"pose": (0, 8)}, {"pose": (1, 7)}, allow_serial=True), "`allow_serial`"),
     (lambda: fb.locate("m1", depth=6), "pose"),
+    (lambda: fb.verify("m1", 5), "type"),
+    (lambda: fb.verify("rrr3-symmetric", 5, working_mode="+++x"), "`working_mode`"),
+    (lambda: fb.verify("rpr3-caro", 18), "`depth`"),
 ])
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(fb.InputError) as caught:
@@ -129,8 +147,8 @@ def test_bad_input_names_the_field(call, field):
 
 
 def test_docstring_examples_run():
-    from fivebar_cli.api import locations, studies
+    from fivebar_cli.api import locations, poses, studies
 
-    for module in (studies, locations):
+    for module in (studies, locations, poses):
         result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
         assert result.failed == 0 and result.attempted > 0

@@ -35,6 +35,7 @@ class Report:
     notes: tuple[str, ...]
     output: tuple = field(compare=False)
     drawings: tuple = field(default=(), compare=False)
+    tables: tuple = field(default=(), compare=False)  # more CSVs of the set: (file name, columns, data)
 
     def rows(self) -> list[dict]:
         """The rows of the CSV, as dicts by column name."""
@@ -53,7 +54,7 @@ class Report:
         return csv_text(self.columns, self.data)
 
     def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
-        """The command's files in `folder` as one output set: the CSV and, with `figures`, its PNG
+        """The command's files in `folder` as one output set: the CSVs and, with `figures`, its PNG
         figures (drawn on the backend in use); returns the paths written."""
         from fivebar_cli.io.files import write_csv
         from fivebar_cli.io.outputs import output_set
@@ -63,6 +64,7 @@ class Report:
         name, owns, command, table = self.output
         with output_set(folder, name, owns, command):
             paths = [write_csv(folder / table, self.columns, self.data)]
+            paths += [write_csv(folder / file, columns, data) for file, columns, data in self.tables]
             if figures:
                 paths += [draw_and_save(make, folder / file) for file, make in self.drawings]
         return paths
