@@ -27,7 +27,16 @@ class Report:
     """A command's table as a value: `columns`, `data` (the CSV's cells: '' where it has none),
     `notes` (the lines the command prints), `drawings` ((file name, make) per figure) and where
     `save` writes them (`output`: the output set's name, the patterns it owns, the command, the
-    CSV's file name)."""
+    CSV's file name).
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> k = fb.kratio("m1", [3])
+    >>> len(k), k.columns[:3], [r["evaluations"] for r in k.rows()]
+    (2, ('space', 'mechanism', 'depth'), [77, 69])
+    >>> paths = k.save("out/python-kratio")  # kratio.csv; with figures=True kratio.png too  # doctest: +SKIP
+    """
 
     what: str
     columns: tuple[str, ...]
