@@ -7,7 +7,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
-from fivebar_cli.api.values import Aspect, Aspects, Location, Path_, Paving, Table
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
+from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
 
@@ -220,61 +221,12 @@ def m_name(mech) -> str:
     return mech.name if isinstance(mech, Mechanism) else str(mech)
 
 
-# ---------------------------------------------------------------- locate and path
-
-
-def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
-           working_mode: str | None = None, advance=None) -> Location:
-    """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
-    it at `depth` (the aspects are computed unless given: `advance` as for `aspects`).
-
-    Over a space of poses (3-RPR, 3-RRR), `pose` is (x, y, phi_deg), located in every working mode
-    (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
-    --working-mode`): one row per working mode, with `sheet` (its fields: {} for a 3-RPR), `class`
-    (None on or near a singularity) and `aspect`.
-
-    Examples
-    --------
-    >>> import fivebar_cli as fb
-    >>> [(r["working_mode"], r["aspect"]) for r in fb.locate(fb.load("rpr2"), pose=(0, 8), depth=6).rows()]
-    [('++', 1)]
-    """
-    import numpy as np
-
-    m = with_aspects(_mechanism(mech), m_name(mech))
-    if (pose is None) == (joints is None):
-        raise InputError(m.name, "pose", "give either pose or joints")
-    sheets = None
-    if m.pose_aspect_model() is not None:  # the input checked before the aspects are computed
-        from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, working_sheets
-        from fivebar_cli.analyses.pose_paths import wrap_pose
-
-        if pose is None:
-            raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
-        sheets = working_sheets(m, working_mode)
-    found = aspects if aspects is not None else globals()["aspects"](m, depth, shapes=False, advance=advance)
-    if sheets is not None:
-        model = m.pose_aspect_model()
-        point = wrap_pose(m.spaces()[model.space], np.asarray(pose, float))
-        rows = []
-        for sheet in sheets:
-            cls, aspect = aspect_at(found.analysis.aspects, model, point, sheet)
-            legs, _ = model.ikp(point[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
-            rows.append({"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
-                         "sheet": dict(model.sheets[sheet].fields),
-                         "class": dict(model.classes[cls].fields) if cls >= 0 else None,
-                         "aspect": aspect.number if aspect is not None else None})
-        return Location(m, found.depth, tuple(rows))
-    from fivebar_cli.analyses.locate import aspect_of, configurations, row
-
-    space, value = ("workspace", pose) if pose is not None else ("jointspace", joints)
-    rows = tuple(row(m, c, aspect_of(found.analysis.aspects, c), 1)
-                 for c in configurations(m, tuple(map(float, value)), space))
-    return Location(m, found.depth, rows)
+# ---------------------------------------------------------------- path (locate: locations.py)
 
 
 def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = False,
-         assembly_mode: str | None = None, working_mode: str | None = None, folder=None) -> Path_:
+         assembly_mode: str | None = None, working_mode: str | None = None, folder=None,
+         source: str | None = None) -> Path_:
     """A certified singularity-free motion from `start` to `goal` (NoPath, a FivebarError, when none
     is found at this depth, with the reason).
 
@@ -283,7 +235,10 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     may cross serial singularities, never parallel ones; `working_mode` is that of every pose
     endpoint that names none. 3-RPR, 3-RRR: each endpoint is a pose (x, y, phi_deg), for a 3-RRR
     in `working_mode` ('+-+': needed, as `fivebar path --working-mode`). `folder`: an `aspects`
-    output folder whose trees are reused.
+    output folder whose trees are reused (and whose workspace tree of the motion's aspect is the
+    figure's backdrop). `source`: how messages name the mechanism (default: its file, or its
+    name). `depth` is at most `MAX_ASPECT_DEPTH` (16); the result's `notes` are the lines
+    `fivebar path` prints, `save(folder, figures=True)` writes its path.csv and path.png.
 
     Examples
     --------
@@ -295,7 +250,9 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     """
     import numpy as np
 
-    m = with_aspects(_mechanism(mech), m_name(mech))
+    source = source or source_name(mech)
+    m = with_aspects(_mechanism(mech), source)
+    check_depth(depth, MAX_ASPECT_DEPTH)
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
         from fivebar_cli.analyses.pose_aspects import motion_sheet
@@ -305,24 +262,58 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
         space = m.spaces()[m.pose_aspect_model().space]
         ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
         for p, label in zip(ends, ("start", "goal")):
-            check_pose(m, p, label, m.name)
+            check_pose(m, p, label, source)
         saved = None
         if folder is not None:
             from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
 
             saved = load_pose_aspects(Path(folder), m, depth)
-        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), m.name, saved, (sheet, sheet))
+        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), source, saved, (sheet, sheet))
         walk = motion.motion.unwrapped()
         length = float(np.sum(np.linalg.norm(np.diff(walk, axis=0), axis=1)))
         return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
                      length, motion)
     from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_points, resolve
 
+    check_serial(m, allow_serial, source)
     endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode", working_mode)) if "pose" in e
                  else Endpoint("joints", tuple(e["joints"])) for e in (start, goal)]
-    first, last = resolve(m, endpoints, assembly_mode, m.name)
-    result = find_path(m, depth, first, last, allow_serial, Path(folder) if folder else None)
-    return Path_(m, depth, path_columns(m), path_points(result), result.length, result)
+    first, last = resolve(m, endpoints, assembly_mode, source)
+    trees = Path(folder) if folder is not None else None
+    result = find_path(m, depth, first, last, allow_serial, trees, max_depth=MAX_ASPECT_DEPTH)
+    return Path_(m, depth, path_columns(m), path_points(result), result.length, result, _path_notes(result, trees),
+                 trees)
+
+
+def check_serial(m: Mechanism, allow_serial: bool, source) -> None:
+    """`allow_serial` needs a kind with a test for parallel singularities (InputError otherwise)."""
+    if allow_serial and not hasattr(m.aspect_model(), "parallel_free_test"):
+        raise InputError(str(source), param("allow_serial"), f"a {m.kind} has no test for parallel singularities")
+
+
+def _path_notes(result, trees) -> tuple[str, ...]:
+    """What `fivebar path` prints about a motion of a five-bar or 2-RPR."""
+    start, end = result.start, result.end
+    if result.allow_serial:
+        what = (f"motion free of parallel singularities, det A {start.assembly}, working mode {start.working} to "
+                f"{end.working} (serial singularities may be crossed)")
+    else:
+        where = (f"aspect {result.aspect.number}, {'certified' if result.aspect.certified else 'not certified'}"
+                 if result.aspect is not None else "one generalized aspect")
+        what = f"singularity-free motion in {where}: working mode {start.working}, det A {start.assembly}"
+    notes = [f"{result.mechanism.name}: {what}, depth {result.depth}",
+             f"  from {start.label} to {end.label}: {len(result.joints)} waypoints, joint-space length "
+             f"{result.length:.6g}; every segment lies in the certified cells ({result.checked_cells} cells, "
+             "checked in exact arithmetic)"]
+    if result.source == "saved":
+        notes.append(f"  aspect trees read from {trees}")
+    return tuple(notes)
+
+
+def check_depth(depth, limit: int, field: str = "depth") -> None:
+    """A depth is an integer in 0..limit (InputError naming `field` otherwise)."""
+    if isinstance(depth, bool) or not isinstance(depth, int) or not 0 <= depth <= limit:
+        raise InputError("", param(field), f"must be an integer in 0..{limit}, got {depth!r}")
 
 
 # ---------------------------------------------------------------- atlas and view

@@ -333,32 +333,14 @@ class Aspects:
         return ax
 
 
-# ---------------------------------------------------------------- locate and path
-
-
-@dataclass(frozen=True, repr=False)
-class Location:
-    """Every configuration at a pose or at joint values, with its modes and its aspect (the rows of
-    `fivebar locate --csv`)."""
-
-    mechanism: Mechanism
-    depth: int
-    configurations: tuple[dict, ...]
-
-    def rows(self) -> list[dict]:
-        return [dict(c) for c in self.configurations]
-
-    def __repr__(self) -> str:
-        aspects = ", ".join(str(c["aspect"]) for c in self.configurations if c.get("aspect") is not None)
-        return (f"<Location {self.mechanism.name}, depth {self.depth}: "
-                f"{plural(len(self.configurations), 'configuration')}" + (f" in aspects {aspects}" if aspects else "")
-                + ">")
+# ---------------------------------------------------------------- path (Location: locations.py)
 
 
 @dataclass(frozen=True, repr=False)
 class Path_:
     """A certified motion: `points` (joints then pose per waypoint, the columns of path.csv),
-    `length` in the joint space (five-bar, 2-RPR) or in the scaled space of poses (3-RPR)."""
+    `length` in the joint space (five-bar, 2-RPR) or in the scaled space of poses (3-RPR); `notes`,
+    the lines `fivebar path` prints about it (five-bar, 2-RPR)."""
 
     mechanism: Mechanism
     depth: int
@@ -366,6 +348,8 @@ class Path_:
     points: np.ndarray
     length: float
     result: object = field(compare=False)  # the library's PathResult (or pose motion)
+    notes: tuple[str, ...] = ()
+    trees: Path | None = field(default=None, compare=False)  # the `aspects` folder whose trees were reused
 
     def __post_init__(self):
         object.__setattr__(self, "points", _frozen(self.points))
@@ -376,15 +360,31 @@ class Path_:
     def rows(self) -> list[dict]:
         return [dict(zip(self.columns, map(float, p))) for p in self.points]
 
-    def save(self, folder: str | Path) -> list[Path]:
-        """path.csv, as `fivebar path` writes it (shortest exact floats)."""
+    def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
+        """path.csv, as `fivebar path` writes it (shortest exact floats), and with `figures` (five-bar,
+        2-RPR) path.png: the motion over the workspace cells of its aspect (on the backend in use)."""
         from fivebar_cli.analyses.paths import path_csv
         from fivebar_cli.io.files import write_text
-        from fivebar_cli.io.layout import PATH_CSV, PATH_FILES
+        from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG
         from fivebar_cli.io.outputs import output_set
 
+        folder = Path(folder)
         with output_set(folder, "path", PATH_FILES, "fivebar path"):
-            return [write_text(Path(folder) / PATH_CSV, path_csv(self.columns, self.points))]
+            paths = [write_text(folder / PATH_CSV, path_csv(self.columns, self.points))]
+            if figures:
+                paths.append(self._figure(folder / PATH_PNG))
+        return paths
+
+    def _figure(self, path: Path) -> Path:
+        from fivebar_cli.analyses.paths import PathResult, component_of, workspace_backdrop
+        from fivebar_cli.errors import FivebarError
+        from fivebar_cli.plotting.paths import figure_path
+        from fivebar_cli.plotting.saving import draw_and_save
+
+        if not isinstance(self.result, PathResult):
+            raise FivebarError("the figure of a motion over a space of poses is drawn by `fivebar path` only")
+        backdrop = workspace_backdrop(self.result, self.trees)
+        return draw_and_save(lambda: figure_path(self.result, component_of(self.result), backdrop), path)
 
     def plot(self, ax=None):
         """The motion as a polyline in its first two joint coordinates; returns the axes."""

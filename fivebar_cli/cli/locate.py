@@ -3,23 +3,15 @@ a singularity (the answer `path` shares: `analyses.locate.decide`)."""
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import click
 
-from fivebar_cli.analyses.aspect_files import load_aspects
-from fivebar_cli.analyses.aspects import analyse_aspects
-from fivebar_cli.analyses.locate import (
-    NO, UNDECIDED, Pieces, aspect_of, configurations, decide, deeper, mode_verdict, overall, row,
-)
+from fivebar_cli.api.locations import locate as locate_in
 from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
 from fivebar_cli.cli.options import (
     CONFIG, MAX_ASPECT_DEPTH, as_flags, budget_option, depth_option, load_with_aspects, option_errors, reuse_options,
     tolerance_option,
 )
-from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import output_dir
-from fivebar_cli.mechanisms.base import plural
 
 
 @click.command(short_help="Aspect of a configuration; singularity-free motion or not.")
@@ -68,105 +60,11 @@ def locate(config_path, poses, joints, working_mode, assembly_mode, depth, budge
         raise click.UsageError("give at least one --pose X Y or --joints TH1 TH2")
     m = load_with_aspects(config_path, tolerance)
     check_joints(m, joints, config_path)
-    folder = output_dir(out, m.name)
-    saved = load_aspects(folder, m, depth)
-    found = saved if saved is not None else analyse_aspects(m, depth, budget=budget, shapes=False).aspects
-    model, robust = m.aspect_model(), m.is_interval
-    names = [a.name for a in m.spaces()["jointspace"].axes]
-    locations = [("pose", tuple(p)) for p in poses] + [("joints", tuple(j)) for j in joints]
-    kept = []  # per location: (configuration, its row)
-    for k, (kind, value) in enumerate(locations, start=1):
-        found_here = [c for c in configurations(m, value, "workspace" if kind == "pose" else "jointspace")
-                      if (not working_mode or c.working == working_mode)
-                      and (not assembly_mode or c.assembly == assembly_mode)]
-        kept.append([(replace(c, label=f"location {k}"), {**row(m, c, aspect_of(found, c), k),
-                                                           "location": f"{kind} {value[0]:g} {value[1]:g}"})
-                     for c in found_here])
+    found = locate_in(m, pose=list(poses) or None, joints=list(joints) or None, depth=depth,
+                      working_mode=working_mode, assembly_mode=assembly_mode, budget=budget,
+                      folder=output_dir(out, m.name), source=str(config_path))
     if as_csv:
-        keys = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular",
-                "aspect_certified", *(("violates",) if m.constraints else ()))
-        cell = {None: "", True: "true", False: "false"}
-        click.echo(csv_text(keys, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
-                                    for k in keys] for rows in kept for _, r in rows]), nl=False)
+        click.echo(found.csv(), nl=False)
         return
-    source = f"read from {folder}" if saved is not None else "computed"
-    click.echo(f"{m.name}: {_aspect_count(found, robust)} at depth {depth} {source} ({_certified_count(found)})")
-    wanted = "".join(f" in {what} {mode}" for what, mode in (("working mode", working_mode),
-                                                             ("assembly mode", assembly_mode)) if mode)
-    for k, ((kind, value), rows) in enumerate(zip(locations, kept), start=1):
-        count = plural(len(rows), 'configuration') if rows else "no configuration"
-        reason = "" if rows or wanted else ": unreachable or cannot assemble"
-        click.echo(f"location {k}: {kind} ({value[0]:g}, {value[1]:g}): {count}{wanted} "
-                   f"(floating-point kinematics, not certified{reason})")
-        for c, r in rows:
-            click.echo(f"  working mode {r['working_mode']}, assembly mode {r['assembly_mode']}: "
-                       f"x = {r['x']:.6g}, y = {r['y']:.6g}, {names[0]} = {r[names[0]]:.6g}, "
-                       f"{names[1]} = {r[names[1]]:.6g} -> {_where(r, depth)}")
-    if len(locations) < 2:
-        return
-    click.echo("singularity-free motions between locations:")
-    pieces = Pieces()
-    for i in range(len(locations)):
-        for j in range(i + 1, len(locations)):
-            empty = next((k for k in (i, j) if not kept[k]), None)
-            if empty is not None:
-                click.echo(f"  {i + 1} -> {j + 1}: not decided: location {empty + 1} has no configuration{wanted} "
-                           "(floating-point kinematics): there is nothing to join")
-                continue
-            pairs = [(a, b, decide(model, found, a, b, depth, robust, MAX_ASPECT_DEPTH, pieces,
-                                   constrained=bool(m.constraints)))
-                     for a, _ in kept[i] for b, _ in kept[j]]
-            if len(pairs) == 1:
-                click.echo(f"  {i + 1} -> {j + 1}: {as_flags(pairs[0][2].line())}")
-                continue
-            _pairs_report(i + 1, j + 1, pairs, model, depth)
-
-
-def _pairs_report(i: int, j: int, pairs, model, depth: int) -> None:
-    """Two locations with several configurations: the answer over every pair of them, then the
-    verdict of each pair that the modes alone do not settle."""
-    answer = overall([v for _, _, v in pairs])
-    said = answer if answer != UNDECIDED else f"{answer} at depth {depth}"
-    head = f"  {i} -> {j}: {said}, over the {len(pairs)} pairs"
-    apart = [v.answer == NO and mode_verdict(model, a, b, depth) is not None for a, b, v in pairs]
-    if all(apart):
-        click.echo(f"{head}: every pair has different modes, so every motion between them crosses a singularity")
-        return
-    click.echo(f"{head} of their configurations:")
-    for (a, b, v), settled in zip(pairs, apart):
-        if not settled:
-            modes = f"working mode {a.working}, det A {a.assembly}"
-            if (a.working, a.assembly) != (b.working, b.assembly):
-                modes += f" -> working mode {b.working}, det A {b.assembly}"
-            click.echo(f"    {modes}: {as_flags(v.line())}")
-    if any(apart):
-        click.echo(f"    the other {plural(sum(apart), 'pair')}: no: different modes")
-
-
-def _aspect_count(aspects, robust: bool) -> str:
-    word = "robust aspect" if robust else "aspect"
-    return plural(len(aspects), word)
-
-
-def _certified_count(aspects) -> str:
-    """How many of the aspects are certified, in words."""
-    good = sum(a.certified for a in aspects)
-    if not aspects:
-        return "none has certified cells at this depth"
-    if good == len(aspects):
-        return "certified" if good == 1 else "all certified"
-    return "not certified" if len(aspects) == 1 else ("none certified" if good == 0 else f"{good} certified, "
-                                                      f"{len(aspects) - good} not certified")
-
-
-def _where(row: dict, depth: int) -> str:
-    """Where a configuration lies: its aspect, the constraint it violates, the singularity it is on or
-    near, or no cell."""
-    if row.get("violates"):
-        return f"violates the {row['violates']} (in no aspect)"
-    if row["aspect"] is not None:
-        return f"aspect {row['aspect']} ({'certified' if row['aspect_certified'] else 'not certified at this depth'})"
-    if row["singular"]:
-        return f"on or near a singularity: {row['singular']}"
-    return (f"in no certified cell at depth {depth} (too close to a singularity for cells this size: "
-            f"{as_flags(deeper(depth, MAX_ASPECT_DEPTH))})")
+    for line in found.lines():
+        click.echo(as_flags(line))

@@ -13,14 +13,13 @@ from typing import Iterator
 
 import click
 
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH  # noqa: F401 - the commands' depth ranges
 from fivebar_cli.cli.numbers import Number
 from fivebar_cli.errors import FivebarError, InputError, Param, Text
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
 
-MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need several GiB
-MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
 
 CONFIG = click.Path(path_type=Path, dir_okay=False)
 STDOUT = "-"  # `-o -`: a single-file output written to standard output

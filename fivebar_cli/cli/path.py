@@ -4,16 +4,13 @@ from __future__ import annotations
 
 import click
 
-from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_csv, path_points, resolve
+from fivebar_cli.api.calls import check_serial
+from fivebar_cli.api.calls import path as fb_path
 from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, figure, load_with_aspects, option_errors, prepare_out,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, load_with_aspects, offscreen, option_errors, prepare_out,
     report, wrote,
 )
-from fivebar_cli.errors import InputError
-from fivebar_cli.io.files import write_text
-from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG
-from fivebar_cli.io.outputs import output_set
 
 WORKING_MODES = ["++", "+-", "-+", "--"]
 
@@ -73,36 +70,17 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     if working_modes and len(working_modes) not in (1, len(poses)):
         raise click.UsageError(f"give --working-mode once, or once per --pose ({len(poses)})")
     pose_modes = list(working_modes) * len(poses) if len(working_modes) == 1 else list(working_modes) or [None] * len(poses)
-    endpoints = []
-    for name in order:
-        for k, value in enumerate(values[name]):
-            endpoints.append(Endpoint("pose", value, pose_modes[k]) if name == "poses" else Endpoint("joints", value))
+    ends = [{"pose": value, "working_mode": pose_modes[k]} if name == "poses" else {"joints": value}
+            for name in order for k, value in enumerate(values[name])]
     m = load_with_aspects(config_path)
     check_joints(m, joints, config_path)
-    if allow_serial and not hasattr(m.aspect_model(), "parallel_free_test"):
-        raise InputError(str(config_path), "--allow-serial", f"a {m.kind} has no test for parallel singularities")
+    check_serial(m, allow_serial, config_path)
     folder = prepare_out(out, m.name)
-    start, end = resolve(m, endpoints, assembly_mode, str(config_path))
-    result = find_path(m, depth, start, end, allow_serial, folder, max_depth=MAX_ASPECT_DEPTH)
-    with output_set(folder, "path", PATH_FILES, "fivebar path"):  # one run's path.csv and path.png
-        paths = [write_text(folder / PATH_CSV, path_csv(path_columns(m), path_points(result)))]
-        if not no_plot:
-            from fivebar_cli.analyses.paths import component_of, workspace_backdrop
-            from fivebar_cli.plotting.paths import figure_path
-
-            backdrop = workspace_backdrop(result, folder)
-            paths.append(figure(lambda: figure_path(result, component_of(result), backdrop), folder / PATH_PNG))
-    if allow_serial:
-        what = (f"motion free of parallel singularities, det A {start.assembly}, working mode {start.working} to "
-                f"{end.working} (serial singularities may be crossed)")
-    else:
-        where = (f"aspect {result.aspect.number}, {'certified' if result.aspect.certified else 'not certified'}"
-                 if result.aspect is not None else "one generalized aspect")
-        what = f"singularity-free motion in {where}: working mode {start.working}, det A {start.assembly}"
-    report(quiet, f"{m.name}: {what}, depth {depth}")
-    report(quiet, f"  from {start.label} to {end.label}: {len(result.joints)} waypoints, joint-space length "
-           f"{result.length:.6g}; every segment lies in the certified cells ({result.checked_cells} cells, "
-           "checked in exact arithmetic)")
-    if result.source == "saved":
-        report(quiet, f"  aspect trees read from {folder}")
+    motion = fb_path(m, *ends, depth=depth, allow_serial=allow_serial, assembly_mode=assembly_mode, folder=folder,
+                     source=str(config_path))
+    if not no_plot:
+        offscreen()
+    paths = motion.save(folder, figures=not no_plot)
+    for line in motion.notes:
+        report(quiet, line)
     wrote(quiet, paths)

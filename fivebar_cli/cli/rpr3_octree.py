@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from fivebar_cli.api import rpr3 as api
+from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH
 from fivebar_cli.cli.options import (
     common_options, figure, jobs_option, offscreen, option_errors, prepare_out, progress, report, wrote,
 )
@@ -17,7 +18,6 @@ from fivebar_cli.io.outputs import output_set
 
 CONFIG = click.Path(path_type=Path)
 MAX_OCTREE_DEPTH = 12  # an octree's boundary surface has ~4^d cells: about 0.1 GiB per million
-MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
 
 
 @click.command("pave", short_help="Certified octree of the workspace and its singularity-free parts.")

@@ -5,15 +5,10 @@ from __future__ import annotations
 
 import click
 
-from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
-from fivebar_cli.analyses.pose_verify import EXIT, SINGULAR, UNDECIDED, verify
-from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
+from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH
+from fivebar_cli.api.poses import verify as fb_verify
+from fivebar_cli.cli.options import common_options, offscreen, option_errors, prepare_out, report, wrote
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, sheets_chosen
-from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, VERIFY_CSV, VERIFY_FILES
-from fivebar_cli.io.outputs import output_set
-
-MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
 
 
 @click.command("verify", short_help="Prove a design singularity-free, or find a valid singular pose.")
@@ -45,50 +40,14 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
       fivebar verify configs/rpr3-verify/table1-legs-1-1.5.yaml -o out/rpr3-verify
     """
     m = load_pose_kind(config_path)
-    model = m.pose_aspect_model()
-    sheets = sheets_chosen(m, working_mode)
+    sheets_chosen(m, working_mode)
     folder = prepare_out(out, m.name)
-    fields = [k for k, _ in model.sheets[0].fields]
-    rows, singular, statuses = [], [], []
-    for sheet in sheets:
-        result = verify(m, depth, sheet)
-        values = [v for _, v in model.sheets[sheet].fields]
-        label = model.sheets[sheet].label
-        statuses.append(result.status)
-        rows.append((m.name, *values, result.status, result.exit_code, result.depth, result.max_depth,
-                     result.evaluations, result.undecided_volume, result.root_volume))
-        report(quiet, f"{m.name}: {label + ': ' if label else ''}" + result.headline())
-        if result.status == SINGULAR:
-            pose = result.pose
-            singular.append((sheet, pose))
-            report(quiet, "  singular pose: " + ", ".join(f"{a} = {v:.12g}" for a, v in zip(pose_columns(m), pose.pose))
-                   + ", " + ", ".join(f"{a} = {v:.12g}" for a, v in zip(joint_columns(m), pose.joints))
-                   + f", {model.singularity_name} = {pose.value:.3g}")
-        if result.status == UNDECIDED:
-            report(quiet, "  " + result.undecided_line())
-    header = ["name", *fields, "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume"]
-    # a counterexample of an earlier run is removed when none is found (the set owns it)
-    with output_set(folder, f"{m.kind}-verify", VERIFY_FILES, "fivebar verify"):
-        paths = [write_csv(folder / VERIFY_CSV, header, rows)]
-        if singular:
-            paths.append(write_csv(folder / COUNTEREXAMPLE_CSV,
-                                   [*fields, *pose_columns(m), *joint_columns(m), model.singularity_name],
-                                   [(*(v for _, v in model.sheets[s].fields), *p.pose, *p.joints, p.value)
-                                    for s, p in singular]))
-            if not no_plot:
-                import numpy as np
-
-                from fivebar_cli.analyses.pose_aspects import sheet_classes
-                from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
-
-                poses = np.array([p.pose for _, p in singular])
-                classes = np.array([sheet_classes(model, s)[0] for s, _ in singular])
-                labels = [f"{model.sheets[s].label or m.name}: {model.singularity_name} = {p.value:.2g}"
-                          for s, p in singular]
-                title = f"{m.name}: valid singular poses"
-                paths.append(figure(lambda: figure_assembly_modes(model, poses, labels, title, classes),
-                                    folder / COUNTEREXAMPLE_PNG))
+    checked = fb_verify(m, depth, working_mode=working_mode)
+    if not no_plot:
+        offscreen()
+    paths = checked.save(folder, figures=not no_plot)
+    for line in checked.notes:
+        report(quiet, line)
     wrote(quiet, paths)
-    status = 1 if SINGULAR in statuses else 3 if UNDECIDED in statuses else 0
-    if status:
-        raise click.exceptions.Exit(EXIT[SINGULAR] if status == 1 else EXIT[UNDECIDED])
+    if checked.exit_code:
+        raise click.exceptions.Exit(checked.exit_code)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from math import prod
 from pathlib import Path
 
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
 from fivebar_cli.io import schema
 from fivebar_cli.io.files import FLOAT_FORMAT
 from fivebar_cli.io.schema import ConfigError
@@ -23,7 +24,7 @@ from fivebar_cli.mechanisms.fivebar.model import LENGTHS
 
 KIND = "fivebar-atlas"
 DEFAULT_DEPTH = 10  # as `fivebar aspects`
-MAX_DEPTH = 16  # as `fivebar aspects` (cli.options.MAX_ASPECT_DEPTH)
+MAX_DEPTH = MAX_ASPECT_DEPTH  # as `fivebar aspects`
 MAX_STEPS = 100_000
 MAX_DESIGNS = 10_000_000
 MAX_BATCH = 10_000

@@ -1,0 +1,6 @@
+"""The library's depth limits (the API checks them, the command line's options take them as their
+ranges): beyond them a run would need more memory than a workstation has."""
+
+MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need several GiB
+MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
+MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell

@@ -1,0 +1,239 @@
+"""`locate` of the public API (`fivebar locate`): every configuration at poses or joint values, its
+modes and the aspect holding it; for a five-bar or 2-RPR with several locations, whether a
+singularity-free motion joins each pair (`analyses.locate.decide`, the answer `path` shares)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
+from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_depth, source_name, with_aspects
+from fivebar_cli.api.values import Aspects
+from fivebar_cli.errors import InputError
+from fivebar_cli.mechanisms.base import Mechanism, plural
+
+
+@dataclass(frozen=True, repr=False)
+class Location:
+    """Every configuration at one or more poses or joint values, with its modes and its aspect (the
+    rows of `fivebar locate --csv`: `csv()`); `lines()`, what `fivebar locate` prints (five-bar,
+    2-RPR: with two or more locations, whether a singularity-free motion joins each pair)."""
+
+    mechanism: Mechanism
+    depth: int
+    configurations: tuple[dict, ...]
+    columns: tuple[str, ...] = ()
+    located: tuple = field(default=(), compare=False)  # per location: (kind, value, ((configuration, row), ...))
+    aspects: tuple = field(default=(), compare=False)  # the library's aspects the rows name
+    where: str = ""  # where the aspects come from: 'computed' or 'read from FOLDER'
+    wanted: tuple = (None, None)  # the working and assembly modes kept (None: any)
+
+    def rows(self) -> list[dict]:
+        return [dict(c) for c in self.configurations]
+
+    def __repr__(self) -> str:
+        aspects = ", ".join(str(c["aspect"]) for c in self.configurations if c.get("aspect") is not None)
+        return (f"<Location {self.mechanism.name}, depth {self.depth}: "
+                f"{plural(len(self.configurations), 'configuration')}" + (f" in aspects {aspects}" if aspects else "")
+                + ">")
+
+    def csv(self) -> str:
+        """The rows as `fivebar locate --csv` prints them (booleans true/false, None empty)."""
+        from fivebar_cli.io.files import csv_text
+
+        cell = {None: "", True: "true", False: "false"}
+        return csv_text(self.columns, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
+                                        for k in self.columns] for r in self.configurations])
+
+    def lines(self) -> list[str]:
+        """What `fivebar locate` prints: the aspects, each location's configurations and where each
+        lies, then (two or more locations) the answer for each pair, as `analyses.locate.decide`
+        gives it (computed here: it may pave more finely). Parameters named as data (`errors.Text`)."""
+        from fivebar_cli.analyses.locate import Pieces, decide
+
+        m, depth, (working_mode, assembly_mode) = self.mechanism, self.depth, self.wanted
+        names = [a.name for a in m.spaces()["jointspace"].axes]
+        out = [f"{m.name}: {_aspect_count(self.aspects, m.is_interval)} at depth {depth} {self.where} "
+               f"({_certified_count(self.aspects)})"]
+        wanted = "".join(f" in {what} {mode}" for what, mode in (("working mode", working_mode),
+                                                                 ("assembly mode", assembly_mode)) if mode)
+        for k, (kind, value, rows) in enumerate(self.located, start=1):
+            count = plural(len(rows), 'configuration') if rows else "no configuration"
+            reason = "" if rows or wanted else ": unreachable or cannot assemble"
+            out.append(f"location {k}: {kind} ({value[0]:g}, {value[1]:g}): {count}{wanted} "
+                       f"(floating-point kinematics, not certified{reason})")
+            for c, r in rows:
+                out.append(f"  working mode {r['working_mode']}, assembly mode {r['assembly_mode']}: "
+                           f"x = {r['x']:.6g}, y = {r['y']:.6g}, {names[0]} = {r[names[0]]:.6g}, "
+                           f"{names[1]} = {r[names[1]]:.6g} -> " + _where(r, depth))
+        if len(self.located) < 2:
+            return out
+        out.append("singularity-free motions between locations:")
+        pieces, model = Pieces(), m.aspect_model()
+        for i in range(len(self.located)):
+            for j in range(i + 1, len(self.located)):
+                empty = next((k for k in (i, j) if not self.located[k][2]), None)
+                if empty is not None:
+                    out.append(f"  {i + 1} -> {j + 1}: not decided: location {empty + 1} has no configuration"
+                               f"{wanted} (floating-point kinematics): there is nothing to join")
+                    continue
+                pairs = [(a, b, decide(model, list(self.aspects), a, b, depth, m.is_interval, MAX_ASPECT_DEPTH,
+                                       pieces, constrained=bool(m.constraints)))
+                         for a, _ in self.located[i][2] for b, _ in self.located[j][2]]
+                if len(pairs) == 1:
+                    out.append(f"  {i + 1} -> {j + 1}: " + pairs[0][2].line())
+                    continue
+                out += _pairs_lines(i + 1, j + 1, pairs, model, depth)
+        return out
+
+
+def _pairs_lines(i: int, j: int, pairs, model, depth: int) -> list[str]:
+    """Two locations with several configurations: the answer over every pair of them, then the
+    verdict of each pair that the modes alone do not settle."""
+    from fivebar_cli.analyses.locate import NO, UNDECIDED, mode_verdict, overall
+
+    answer = overall([v for _, _, v in pairs])
+    said = answer if answer != UNDECIDED else f"{answer} at depth {depth}"
+    head = f"  {i} -> {j}: {said}, over the {len(pairs)} pairs"
+    apart = [v.answer == NO and mode_verdict(model, a, b, depth) is not None for a, b, v in pairs]
+    if all(apart):
+        return [f"{head}: every pair has different modes, so every motion between them crosses a singularity"]
+    out = [f"{head} of their configurations:"]
+    for (a, b, v), settled in zip(pairs, apart):
+        if not settled:
+            modes = f"working mode {a.working}, det A {a.assembly}"
+            if (a.working, a.assembly) != (b.working, b.assembly):
+                modes += f" -> working mode {b.working}, det A {b.assembly}"
+            out.append(f"    {modes}: " + v.line())
+    if any(apart):
+        out.append(f"    the other {plural(sum(apart), 'pair')}: no: different modes")
+    return out
+
+
+def _aspect_count(aspects, robust: bool) -> str:
+    return plural(len(aspects), "robust aspect" if robust else "aspect")
+
+
+def _certified_count(aspects) -> str:
+    """How many of the aspects are certified, in words."""
+    good = sum(a.certified for a in aspects)
+    if not aspects:
+        return "none has certified cells at this depth"
+    if good == len(aspects):
+        return "certified" if good == 1 else "all certified"
+    return "not certified" if len(aspects) == 1 else ("none certified" if good == 0 else f"{good} certified, "
+                                                      f"{len(aspects) - good} not certified")
+
+
+def _where(row: dict, depth: int) -> str:
+    """Where a configuration lies: its aspect, the constraint it violates, the singularity it is on or
+    near, or no cell."""
+    from fivebar_cli.analyses.locate import deeper
+
+    if row.get("violates"):
+        return f"violates the {row['violates']} (in no aspect)"
+    if row["aspect"] is not None:
+        return f"aspect {row['aspect']} ({'certified' if row['aspect_certified'] else 'not certified at this depth'})"
+    if row["singular"]:
+        return f"on or near a singularity: {row['singular']}"
+    return (f"in no certified cell at depth {depth} (too close to a singularity for cells this size: "
+            + deeper(depth, MAX_ASPECT_DEPTH) + ")")
+
+
+def _points(value) -> list[tuple[float, ...]]:
+    """One point (x, y) or several [(x, y), ...] as a list of tuples (None: none)."""
+    import numpy as np
+
+    if value is None:
+        return []
+    a = np.asarray(value, dtype=float)
+    return [tuple(map(float, p)) for p in (a[None, :] if a.ndim == 1 else a)]
+
+
+def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
+           working_mode: str | None = None, assembly_mode: str | None = None, budget: int | None = None,
+           folder=None, source: str | None = None, advance=None) -> Location:
+    """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
+    it at `depth`.
+
+    Five-bar and 2-RPR: `pose` and `joints` may each be one point or a list of them (the locations,
+    poses first, as `fivebar locate --pose ... --joints ...`); only the configurations of
+    `working_mode` and `assembly_mode` are kept when given. The aspects are `aspects` when given,
+    else those an `aspects` run wrote into `folder` for this mechanism at this depth, else computed
+    (with `budget`; `advance` as for `aspects`). `lines()` gives the command's report, with the
+    answer for each pair of locations; `csv()` its `--csv` output. `source`: how messages name the
+    mechanism (default: its file, or its name).
+
+    Over a space of poses (3-RPR, 3-RRR), `pose` is (x, y, phi_deg), located in every working mode
+    (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
+    --working-mode`): one row per working mode, with `sheet` (its fields: {} for a 3-RPR), `class`
+    (None on or near a singularity) and `aspect`.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> [(r["working_mode"], r["aspect"]) for r in fb.locate(fb.load("rpr2"), pose=(0, 8), depth=6).rows()]
+    [('++', 1)]
+    """
+    source = source or source_name(mech)
+    m = with_aspects(_mechanism(mech), source)
+    check_depth(depth, MAX_ASPECT_DEPTH)
+    if (pose is None) == (joints is None) and m.pose_aspect_model() is not None:
+        raise InputError(m.name, "pose", "give either pose or joints")
+    if m.pose_aspect_model() is not None:
+        return _locate_pose(m, pose, joints, depth, aspects, working_mode, advance)
+    places = [("pose", p) for p in _points(pose)] + [("joints", j) for j in _points(joints)]
+    if not places:
+        raise InputError(m.name, "pose", "give pose or joints (or both)")
+    from fivebar_cli.analyses.aspect_files import load_aspects
+    from fivebar_cli.analyses.locate import aspect_of, configurations, row
+
+    saved = load_aspects(Path(folder), m, depth) if folder is not None and aspects is None else None
+    if aspects is not None:
+        found, depth, where = aspects.analysis.aspects, aspects.depth, "given"
+    elif saved is not None:
+        found, where = saved, f"read from {folder}"
+    else:
+        from fivebar_cli.api.calls import aspects as compute
+
+        found, where = compute(m, depth, budget=budget, shapes=False, advance=advance).analysis.aspects, "computed"
+    located = []
+    for k, (kind, value) in enumerate(places, start=1):
+        here = [c for c in configurations(m, value, "workspace" if kind == "pose" else "jointspace")
+                if (not working_mode or c.working == working_mode) and (not assembly_mode or c.assembly == assembly_mode)]
+        located.append((kind, value, tuple((replace(c, label=f"location {k}"),
+                                            {**row(m, c, aspect_of(found, c), k),
+                                             "location": f"{kind} {value[0]:g} {value[1]:g}"}) for c in here)))
+    names = [a.name for a in m.spaces()["jointspace"].axes]
+    columns = ("input", "location", "x", "y", *names, "working_mode", "assembly_mode", "aspect", "singular",
+               "aspect_certified", *(("violates",) if m.constraints else ()))
+    rows = tuple(r for _, _, here in located for _, r in here)
+    return Location(m, depth, rows, columns, tuple(located), tuple(found), where, (working_mode, assembly_mode))
+
+
+def _locate_pose(m, pose, joints, depth, aspects, working_mode, advance) -> Location:
+    """A pose (x, y, phi_deg) of a 3-RPR or 3-RRR, in every working mode or in `working_mode`."""
+    import numpy as np
+
+    from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, working_sheets
+    from fivebar_cli.analyses.pose_paths import wrap_pose
+
+    if pose is None:
+        raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
+    sheets = working_sheets(m, working_mode)  # the input checked before the aspects are computed
+    if aspects is None:
+        from fivebar_cli.api.calls import aspects as compute
+
+        aspects = compute(m, depth, shapes=False, advance=advance)
+    model = m.pose_aspect_model()
+    point = wrap_pose(m.spaces()[model.space], np.asarray(pose, float))
+    rows = []
+    for sheet in sheets:
+        cls, aspect = aspect_at(aspects.analysis.aspects, model, point, sheet)
+        legs, _ = model.ikp(point[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
+        rows.append({"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
+                     "sheet": dict(model.sheets[sheet].fields),
+                     "class": dict(model.classes[cls].fields) if cls >= 0 else None,
+                     "aspect": aspect.number if aspect is not None else None})
+    return Location(m, aspects.depth, tuple(rows))
