@@ -41,7 +41,8 @@ from fivebar_cli.paving.engine import Paving, chunked, on_cells, pave_many
 from fivebar_cli.paving.arrays import unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.morton import finest_order
-from fivebar_cli.paving.tree import Tree, union_find
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree, finest_indices, union_find
 
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
 DENSE = 4  # samples per axis and leaf for small pieces
@@ -212,7 +213,8 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
     region_tasks = [[], []]
     for k in pool.completed(spaces):
         keys, pavings, seconds = spaces[k].get()
-        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, paving))) for key, paving in zip(keys, pavings)]
+        links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
+        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, paving, links))) for key, paving in zip(keys, pavings)]
         timings["paving"] += seconds
     regions, sets = [], []
     for paving, task in region_tasks[0] + region_tasks[1]:
@@ -256,13 +258,17 @@ def _space_task(task: tuple) -> tuple[list, list[Paving], float]:
 
 def _region_task(task: tuple) -> tuple[Region, list[ModeSet], float]:
     """One mode region's data and mode sets, in a worker: (the region without its model and test,
-    which do not travel between processes, nor its paving, which the caller has; its mode sets;
-    seconds)."""
-    m, space, working, assembly, paving = task
+    which do not travel between processes, nor its paving, which the caller has; its mode sets,
+    with `links`, the certificate's link samples (`link_points`); seconds)."""
+    m, space, working, assembly, paving, links = task
     model = m.aspect_model()
     t0 = time.perf_counter()
     region = _region(model, space, working, assembly, paving)
     region_sets = [ModeSet(region, free) for free in _free_modes(model, region)]
+    if links:
+        other = m.spaces()["jointspace" if space == "workspace" else "workspace"].grid(paving.grid.depth)
+        for s in region_sets:
+            s.links = link_points(model, s, other)
     # what only the mode sets need, dropped once they are built (most of a region's memory)
     region.und_pairs = region.black_labels = region.und_possible = region.und_signs = None
     region.model = region.test = region.paving = None
@@ -358,33 +364,15 @@ class _Count:
 
     @property
     def roots(self) -> np.ndarray:
-        """Union-find root of every anchor (recomputed only when edges were added)."""
-        if getattr(self, "_roots_for", -1) != len(self.edges_i):
-            i = np.array(self.edges_i, np.int64)
-            j = np.array(self.edges_j, np.int64)
-            self._roots, self._roots_for = union_find(int(self.offset[-1]), i, j), len(self.edges_i)
+        """Union-find root of every anchor: the edges added since the last call joined to the
+        roots found before (each edge is joined once)."""
+        done = getattr(self, "_roots_for", 0)
+        if done == 0 or done != len(self.edges_i):
+            i = np.array(self.edges_i[done:], np.int64)
+            j = np.array(self.edges_j[done:], np.int64)
+            self._roots = union_find(int(self.offset[-1]), i, j, getattr(self, "_roots", None))
+            self._roots_for = len(self.edges_i)
         return self._roots
-
-    def _samples(self, s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
-        """Sample points of every anchor's black cells (centres; a DENSE x DENSE grid in small
-        anchors) and the anchor each comes from."""
-        tree = s.region.tree
-        mine = np.flatnonzero(s.anchor_of_leaf >= 0)
-        owner = s.anchor_of_leaf[mine]
-        lo, hi = tree.bounds(mine)
-        small = s.anchor_size[owner] <= SMALL_PIECE
-        g = (np.arange(DENSE) + 0.5) / DENSE
-        grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
-        dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
-        points = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
-        owners = np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
-        return points, owners
-
-    def _images(self, s: ModeSet, points: np.ndarray):
-        *working, assembly = s.modes
-        if s.space == "workspace":
-            return self.model.ikp(points, tuple(working))
-        return self.model.dkp(points, assembly)
 
     def _others(self, s: ModeSet) -> list[int]:
         return [k for k, t in enumerate(self.sets) if t.space != s.space and t.modes == s.modes]
@@ -392,16 +380,16 @@ class _Count:
     def _link(self) -> None:
         for k, s in enumerate(self.sets):
             others = self._others(s)  # none when the aspects live in one space
-            points, owners = self._samples(s) if others else (np.zeros((0, 2)), None)
-            if not len(points):
+            if not others:
                 continue
-            images, ok = self._images(s, points)
+            # (computed in the region's task when it ran in a worker: `link_points`)
+            owners, index = s.links if s.links is not None else link_points(self.model, s, self.sets[others[0]].grid)
+            s.links = None
             for j in others:
                 t = self.sets[j]
-                leaf = np.full(len(points), -1, np.int64)
-                leaf[ok] = t.region.tree.locate(images[ok])
+                leaf = t.region.tree.locate_finest(index)
                 hit = leaf >= 0
-                target = np.full(len(points), -1, np.int64)
+                target = np.full(len(index), -1, np.int64)
                 target[hit] = t.anchor_of_leaf[leaf[hit]]
                 good = target >= 0
                 pairs = unique_pairs(owners[good], target[good])
@@ -436,10 +424,10 @@ class _Count:
                 missing = np.setdiff1d(groups_here, roots[self.offset[j]:self.offset[j + 1]])
                 if not len(missing):
                     continue
-                points, owners = self._samples(s)
+                points, owners = link_samples(s)
                 keep = np.isin(groups_here[owners], missing)
                 points, groups = points[keep], groups_here[owners[keep]]
-                images, ok = self._images(s, points)
+                images, ok = _images(self.model, s, points)
                 located = np.full(len(points), -1, np.int64)
                 if ok.any():
                     cells = t.cells
@@ -496,6 +484,42 @@ class _Count:
         clusters = len(np.unique(union_find(len(groups), np.array(ei, np.int64), np.array(ej, np.int64))))
         split_failed = sum(1 for v in self.split_ok.values() if not v)
         return clusters, len(groups) + (self.undecided - split_failed)
+
+
+def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
+    """Sample points of every anchor's black cells of a mode set (centres; a DENSE x DENSE grid in
+    the leaves of small anchors) and the anchor each comes from."""
+    tree = s.region.tree
+    mine, owner = s._mine, s._anchors
+    lo, hi = tree.bounds(mine)
+    small = s.anchor_size[owner] <= SMALL_PIECE
+    g = (np.arange(DENSE) + 0.5) / DENSE
+    grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
+    points = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
+    owners = np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
+    return points, owners
+
+
+def _images(model: AspectModel, s: ModeSet, points: np.ndarray):
+    """The points of a mode set's space mapped into the other space (IKP / DKP), and which exist."""
+    *working, assembly = s.modes
+    if s.space == "workspace":
+        return model.ikp(points, tuple(working))
+    return model.dkp(points, assembly)
+
+
+def link_points(model: AspectModel, s: ModeSet, other: Grid) -> tuple[np.ndarray, np.ndarray]:
+    """What the certificate's links need of a mode set: its anchors' samples (`link_samples`) by
+    anchor, and the depth-D Morton index of each sample's image in the other space's grid (-1
+    where there is none). Computed in the region's task when that runs in a worker (the main
+    process then only looks the indices up), else by the certificate."""
+    points, owners = link_samples(s)
+    index = np.full(len(points), -1, np.int64)
+    if len(points):
+        images, ok = _images(model, s, points)
+        index[ok] = finest_indices(other, images[ok])
+    return owners, index
 
 
 def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSet], count: _Count):

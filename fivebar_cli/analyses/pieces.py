@@ -126,6 +126,7 @@ class ModeSet:
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
         self.anchor_outer[anchors] = self.outer[:len(mine)]  # (the set's black cells come first)
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+        self.links = None  # the certificate's link samples, when a worker found them (`aspects.link_points`)
 
     @property
     def _mine(self) -> np.ndarray:

@@ -17,7 +17,7 @@ from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.morton import axis_mask, deinterleave, finest_key, finest_order, floor_log2, interleave, trailing_zeros
 
-__all__ = ["Tree", "BodyError", "union_find", "root_labels"]
+__all__ = ["Tree", "BodyError", "finest_indices", "union_find", "root_labels"]
 
 PAIR_CHUNK = 1 << 18  # leaves whose neighbours are looked up together
 
@@ -161,11 +161,13 @@ class Tree:
 
     def locate(self, points: np.ndarray) -> np.ndarray:
         """Index of the leaf containing each point, or -1 (points on a cell edge go to one side)."""
-        coords, inside = self.grid.cells_of_points(points)
-        index = interleave(coords, self.grid.depth)
+        return self.locate_finest(finest_indices(self.grid, points))
+
+    def locate_finest(self, index: np.ndarray) -> np.ndarray:
+        """Index of the leaf holding each depth-D Morton index (`finest_indices`), or -1 (and for -1)."""
         start = self.start
         leaf = np.searchsorted(start, index, side="right") - 1
-        ok = inside & (leaf >= 0)
+        ok = leaf >= 0
         ok[ok] &= start[leaf[ok]] + self._sizes(self.level[leaf[ok]]) > index[ok]
         return np.where(ok, leaf, -1)
 
@@ -319,6 +321,14 @@ class Tree:
         """Parse a preorder body; raises BodyError with the offending node position."""
         level, code, black = decode(grid, body)
         return cls(grid, level[black], code[black])
+
+
+def finest_indices(grid: Grid, points: np.ndarray) -> np.ndarray:
+    """The depth-D Morton index of the cell holding each point (periodic axes wrapped), -1 for the
+    points outside the root box: where a point lies in any tree of the grid (`Tree.locate_finest`),
+    found once for several trees, or where the trees are not at hand (another process)."""
+    coords, inside = grid.cells_of_points(points)
+    return np.where(inside, interleave(coords, grid.depth), -1)
 
 
 # ---------------------------------------------------------------- canonical form
