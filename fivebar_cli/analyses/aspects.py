@@ -73,7 +73,7 @@ class Region:
     black_labels: np.ndarray = None  # corner-connected components of the black leaves (one sign each)
     und_possible: np.ndarray = None  # per undetermined cell: may hold a valid point
     und_signs: np.ndarray = None  # per undetermined cell: the free signs, 0 where not constant
-    und_pairs: tuple = None  # (undetermined cell, neighbour) with neighbours numbered black leaves first
+    und_pairs: list = None  # per direction: (undetermined cells, neighbours), black leaves numbered first
     bands: list[Band] = field(default_factory=list)  # cells crossed by one serial singularity (`crossings.py`)
 
     @property

@@ -31,7 +31,7 @@ from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
 from fivebar_cli.paving.arrays import dense_rank, index_type, label_type, rows_equal
-from fivebar_cli.paving.tree import Tree, root_labels, union_find
+from fivebar_cli.paving.tree import Tree, root_labels, union_find_blocks
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
 JOIN_STEPS = ((2, 4), (2, 16), (4, 16), (2, 64), (4, 64), (6, 32), (2, 256), (2, None), (4, None))
@@ -164,11 +164,16 @@ class ModeSet:
         node = np.full(n_black + len(fits), -1, small)
         node[mine] = anchors
         node[n_black + und] = np.arange(self.n_anchors, self.n_anchors + len(und), dtype=small)
-        u, n = self.region.und_pairs
-        keep = fits[u]
-        keep &= node[n] >= 0
-        root = union_find(self.n_anchors + len(und), node[n_black + u[keep]], node[n[keep]])
-        labels, count = root_labels(root)
+        node_und = node[n_black:]
+
+        def edges():  # the region's pairs within the set, a direction at a time (`union_find_blocks`)
+            for u, n in self.region.und_pairs:
+                a, b = node_und[u], node[n]
+                keep = a >= 0
+                keep &= b >= 0
+                yield a[keep], b[keep]
+
+        labels, count = root_labels(union_find_blocks(self.n_anchors + len(und), edges()))
         return np.concatenate([labels[anchors], labels[self.n_anchors:]]), count
 
     def compatible(self, grid: Grid, coords: np.ndarray) -> np.ndarray:
@@ -391,10 +396,11 @@ class ModeSet:
         return False
 
 
-def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
+def undetermined_pairs(paving: Paving) -> list[tuple[np.ndarray, np.ndarray]]:
     """Every (undetermined cell u, neighbour n) touching at a point, a pair of undetermined cells
     once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
-    n - len(black leaves). Undetermined cells are the smallest cells, so looking up their
+    n - len(black leaves); as arrays (u, n), one block per direction (`union_find_blocks` joins
+    them faster a block at a time). Undetermined cells are the smallest cells, so looking up their
     neighbours (among themselves, then among the black leaves) finds every pair. int32 when the
     indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
@@ -407,7 +413,7 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
         code = code[order]
     cells = Tree(grid, np.full(len(code), grid.depth, np.int64), code, canonical=True)
     del code
-    us, ns = [], []
+    blocks = []
     for i, j in cells.neighbour_pairs(inside, corners=True, itself=True):
         u, n = i.astype(small), j.astype(small)
         if order is not None:
@@ -415,9 +421,8 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
             und_n = n >= n_black
             n[und_n] = n_black + order[n[und_n] - n_black]
         once = (n < n_black) | (n - n_black > u)
-        us.append(u[once])
-        ns.append(n[once])
-    return np.concatenate(us), np.concatenate(ns)
+        blocks.append((u[once], n[once]))
+    return blocks
 
 
 def _allow(signs: np.ndarray, values: np.ndarray) -> np.ndarray:

@@ -17,7 +17,7 @@ from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.morton import axis_mask, deinterleave, finest_key, finest_order, floor_log2, interleave, trailing_zeros
 
-__all__ = ["Tree", "BodyError", "finest_indices", "union_find", "root_labels"]
+__all__ = ["Tree", "BodyError", "finest_indices", "union_find", "union_find_blocks", "root_labels"]
 
 PAIR_CHUNK = 1 << 18  # leaves whose neighbours are looked up together
 
@@ -250,11 +250,8 @@ class Tree:
     def components(self, corners: bool = False) -> tuple[np.ndarray, int]:
         """Label leaves by connected component (face-connected; with `corners`, touching at any
         point); labels are numbered in Morton order of their first leaf."""
-        small = index_type(len(self))
-        root = np.arange(len(self), dtype=small)
-        for i, j in self._pairs(None, corners):  # one direction at a time: memory of one, not 26, sets of pairs
-            _join(root, i.astype(small), j.astype(small))
-        return root_labels(root)
+        # one direction at a time: memory of one, not 26, sets of pairs
+        return root_labels(union_find_blocks(len(self), self._pairs(None, corners)))
 
     def split_components(self) -> list["Tree"]:
         """The face-connected components as trees, in Morton order of their first leaf."""
@@ -509,6 +506,17 @@ def union_find(n: int, i: np.ndarray, j: np.ndarray, parent: np.ndarray | None =
     small = index_type(n)
     parent = np.arange(n, dtype=small) if parent is None else parent.astype(small)
     return _join(parent, i.astype(small, copy=False), j.astype(small, copy=False)).astype(np.int64)
+
+
+def union_find_blocks(n: int, blocks) -> np.ndarray:
+    """`union_find` of the edges given as blocks (i, j) (e.g. one neighbour direction each), joined
+    one block after the other: most edges of a later block then join nodes already joined and
+    leave in the first round (about 3x faster than all edges at once); roots in `index_type`."""
+    small = index_type(n)
+    parent = np.arange(n, dtype=small)
+    for i, j in blocks:
+        _join(parent, i.astype(small, copy=False), j.astype(small, copy=False))
+    return parent
 
 
 def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
