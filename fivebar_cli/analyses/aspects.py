@@ -37,7 +37,7 @@ from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
-from fivebar_cli.paving.engine import Paving, chunked, on_cells, pave_many
+from fivebar_cli.paving.engine import Paving, on_cells, pave_many
 from fivebar_cli.paving.arrays import unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.morton import finest_order
@@ -279,14 +279,16 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     """A mode paving with what the certificate needs of it: free signs, black components,
     undetermined cells' signs and neighbours."""
     region = Region(space, working, assembly, paving, None, model, np.zeros((0, 0), np.int8))
-    inside = paving.inside  # the free signs at the black leaves' centres, CHUNK leaves at a time
-    region.free = chunked(lambda level, code: region.free_signs(Tree(inside.grid, level, code, canonical=True).centres()),
-                          inside.level, inside.code)
-    if np.any(region.free == 0):
-        raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
     # two closed black cells of different signs cannot touch (a shared point would have both), so
-    # the components of all black leaves are the anchors of every mode set at once
-    region.black_labels, _ = paving.inside.components(corners=True)
+    # the components of all black leaves are the anchors of every mode set at once, and the free
+    # signs are constant on each: read at the centre of its largest leaf, not of every leaf
+    inside = paving.inside
+    region.black_labels, count = inside.components(corners=True)
+    first = _largest_leaf(inside.level, region.black_labels, count)
+    signs = region.free_signs(inside.subset(first).centres())
+    if np.any(signs == 0):
+        raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
+    region.free = signs[region.black_labels]
     band_signs = None
     if space == "jointspace":  # one classification for the free signs and the serial bands
         region.und_possible, region.und_signs, strict = on_cells(
@@ -297,6 +299,14 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     region.und_pairs = _undetermined_pairs(paving)
     region.bands = serial_bands(model, region, band_signs)
     return region
+
+
+def _largest_leaf(level: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray:
+    """Per label 0 .. count - 1: its first leaf (in Morton order) of the lowest level."""
+    n = len(level)
+    best = np.full(count, np.iinfo(np.int64).max, np.int64)
+    np.minimum.at(best, labels, level.astype(np.int64) * n + np.arange(n))
+    return best % n if n else best
 
 
 # ---------------------------------------------------------------- the certificate

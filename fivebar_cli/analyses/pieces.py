@@ -477,8 +477,18 @@ def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
     n = (1 << grid.depth) >> k if grid.depth >= k else 1
     n = max(n, 1)
     shape = (n,) * grid.dim
-    marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape)
-                                       for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic)]))
+    blocks = list(_enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic))
+    marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape) for idx in blocks]))
+    # only the boxes b that reach into the marked blocks' bounding range along every axis can
+    # overlap one of them (a window is small: most boxes b leave here, by a few comparisons)
+    candidate = np.ones(len(b_lo), bool)
+    for axis in range(grid.dim):
+        first = min(int(idx[axis].min()) for idx in blocks)
+        last = max(int(idx[axis].max()) for idx in blocks)
+        candidate &= b_lo[:, axis] < ((last + 1) << k)
+        candidate &= b_hi[:, axis] > (first << k)
+    candidate = np.flatnonzero(candidate)
+    b_lo, b_hi = b_lo[candidate], b_hi[candidate]
     lo_blk, hi_blk = _block_span(b_lo, b_hi, k, n)
     # every run of blocks along the last axis a box b overlaps (one per index of the other axes):
     # a marked flat index between the run's ends makes b near (flat indices are in C order)
@@ -493,7 +503,7 @@ def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
         offset = offset // width
     first = np.searchsorted(marked, base * n + lo_blk[owner, -1])
     last = np.searchsorted(marked, base * n + hi_blk[owner, -1], side="right")
-    keep[owner[first < last]] = True
+    keep[candidate[owner[first < last]]] = True
     return keep
 
 
