@@ -539,11 +539,13 @@ def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSe
     roots = count.roots
     leaves = {}  # group -> {space: (region, leaf indices)}
     for k, s in enumerate(sets):
-        local = roots[count.offset[k]:count.offset[k + 1]]
-        for g in np.unique(local):
-            mine = np.flatnonzero(np.isin(s.anchor_of_leaf, np.flatnonzero(local == g)))
-            region, idx = leaves.setdefault(int(g), {}).get(s.space, (s.region, np.zeros(0, np.int64)))
-            leaves[int(g)][s.space] = (region, np.concatenate([idx, mine]))
+        group = roots[count.offset[k]:count.offset[k + 1]][s._anchors]  # of each of the set's black leaves
+        order = np.argsort(group, kind="stable")
+        group, mine = group[order], s._mine[order]  # by group, each group's leaves in their order
+        cut = np.flatnonzero(group[1:] != group[:-1]) + 1
+        for g, part in zip(group[np.concatenate([[0], cut])].tolist() if len(group) else [], np.split(mine, cut)):
+            region, idx = leaves.setdefault(g, {}).get(s.space, (s.region, np.zeros(0, np.int64)))
+            leaves[g][s.space] = (region, np.concatenate([idx, part]))
     keys = []
     for g, per_space in leaves.items():
         trees = {}
