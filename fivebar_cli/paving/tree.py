@@ -208,21 +208,24 @@ class Tree:
         if other is not None:
             other_start = other.start
             others = other_start, _ends(other, other_start)
+        # leaves all of one level (undetermined cells): one size for all, not a size per leaf and direction
+        level = self.level[0] if len(self) and self.level.min() == self.level.max() else None
         for offset in _offsets(grid.dim, corners):
-            found = [self._pairs_of(s, offset, start, own, others) for s in range(0, len(self), PAIR_CHUNK)]
+            found = [self._pairs_of(s, offset, start, own, others, level) for s in range(0, len(self), PAIR_CHUNK)]
             if not found:
                 yield np.zeros(0, np.int64), np.zeros(0, np.int64)
                 continue
             yield np.concatenate([i for i, _ in found]), np.concatenate([j for _, j in found])
 
-    def _pairs_of(self, s: int, offset, start, own, others):
+    def _pairs_of(self, s: int, offset, start, own, others, uniform=None):
         """The pairs of leaves s .. s + PAIR_CHUNK in one direction `offset`: the same-size cell
         across each leaf (its first depth-D index, stepped from the leaf's own), then the leaf
         holding that index, which is a neighbour when it holds the whole cell: looked up among
         this tree's leaves (`own`: padded starts and ends), then, for the cells not found there,
-        among `others` (starts and ends) (either may be None)."""
+        among `others` (starts and ends) (either may be None). `uniform`: the level of every leaf,
+        when they share one."""
         grid, level = self.grid, self.level[s:s + PAIR_CHUNK]
-        size = self._sizes(level)
+        size = self._sizes(level if uniform is None else uniform)
         first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, grid, offset)
         last = first + size
         if own is not None:
