@@ -194,11 +194,12 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
         aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
         bounds = (count.lower, count.upper, count.undecided, count.empty_undecided, count.merged, count.budget.spent)
         del sets, count  # what the certificate alone needed: dropped before the shapes' tasks
+        # the shapes' tasks start now on workers (the trees alone travel), the crossings meanwhile
+        found = pool.map(largest_shapes, [a.workspace for a in aspects], cost=len) if shapes else None
         crossings = find_crossings(model, regions, aspects, leaf_aspect)
         timings["crossings"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         if shapes:
-            found = pool.map(largest_shapes, [a.workspace for a in aspects], cost=len)  # (the trees alone travel)
             aspects = [replace(a, circle=circle, square=square) for a, (circle, square) in zip(aspects, found)]
         timings["inscribed"] = time.perf_counter() - t0
     advance(1)
