@@ -303,11 +303,17 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
 
 
 def _largest_leaf(level: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray:
-    """Per label 0 .. count - 1: its first leaf (in Morton order) of the lowest level."""
+    """Per label 0 .. count - 1: its first leaf (in Morton order) of the lowest level, looked for
+    level by level from the coarsest (the few large leaves first; most labels have one)."""
     n = len(level)
-    best = np.full(count, np.iinfo(np.int64).max, np.int64)
-    np.minimum.at(best, labels, level.astype(np.int64) * n + np.arange(n))
-    return best % n if n else best
+    best = np.full(count, n, np.int64)
+    for at in np.flatnonzero(np.bincount(level)).tolist():
+        if not np.any(best == n):
+            break
+        leaves = np.flatnonzero(level == at)
+        leaves = leaves[best[labels[leaves]] == n]
+        np.minimum.at(best, labels[leaves], leaves)
+    return best
 
 
 # ---------------------------------------------------------------- the certificate
@@ -540,11 +546,10 @@ def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSe
     roots = count.roots
     leaves = {}  # group -> {space: (region, leaf indices)}
     for k, s in enumerate(sets):
-        group = roots[count.offset[k]:count.offset[k + 1]][s._anchors]  # of each of the set's black leaves
-        order = np.argsort(group, kind="stable")
-        group, mine = group[order], s._mine[order]  # by group, each group's leaves in their order
-        cut = np.flatnonzero(group[1:] != group[:-1]) + 1
-        for g, part in zip(group[np.concatenate([[0], cut])].tolist() if len(group) else [], np.split(mine, cut)):
+        local = roots[count.offset[k]:count.offset[k + 1]]
+        mine = s._mine  # the set's black leaves, with their anchors `s._anchors` (a byte or two each)
+        for g in np.unique(local).tolist():  # (a few groups)
+            part = mine[np.isin(s._anchors, np.flatnonzero(local == g))]
             region, idx = leaves.setdefault(g, {}).get(s.space, (s.region, np.zeros(0, np.int64)))
             leaves[g][s.space] = (region, np.concatenate([idx, part]))
     keys = []
