@@ -248,5 +248,5 @@ def test_undetermined_pairs_against_a_grid_of_cells(m1, space):
                 u = np.arange(len(x))
                 keep = (n >= 0) & ((n < n_black) | (n - n_black > u))
                 expected.update(zip(u[keep].tolist(), n[keep].tolist()))
-        u, n = undetermined_pairs(p)
+        u, n = (np.concatenate(arrays) for arrays in zip(*undetermined_pairs(p)))
         assert Counter(zip(u.tolist(), n.tolist())) == expected and len(expected) > 1000

@@ -90,6 +90,27 @@ def test_in_process_results_are_made_as_they_are_taken():
         assert list(results) == [2, 3] and CALLED == [1, 2, 3]
 
 
+def _touch(path: str) -> str:
+    open(path, "w").close()
+    return path
+
+
+@pytest.mark.parametrize("cost", [None, len])
+def test_on_workers_map_starts_the_tasks_before_their_results_are_taken(tmp_path, cost):
+    """With workers, `map` starts every task when called (the caller does other work meanwhile,
+    e.g. the crossings while the shapes are measured): their files appear before any result is taken."""
+    import time
+
+    paths = [str(tmp_path / name) for name in ("a", "bb", "ccc")]
+    with Workers(2, 3) as pool:
+        results = pool.map(_touch, paths, cost=cost)
+        deadline = time.monotonic() + 30
+        while not all(os.path.exists(p) for p in paths) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert all(os.path.exists(p) for p in paths)
+        assert list(results) == paths
+
+
 def test_worker_count():
     assert workers(1, 10) == 1 and workers(4, 2) == 2 and workers(3, 0) == 1
     assert workers(None, 1000) == default_jobs() >= 1

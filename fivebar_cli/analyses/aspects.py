@@ -37,11 +37,12 @@ from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
-from fivebar_cli.paving.engine import Paving, chunked, on_cells, pave_many
+from fivebar_cli.paving.engine import Paving, on_cells, pave_many
 from fivebar_cli.paving.arrays import unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.morton import finest_order
-from fivebar_cli.paving.tree import Tree, union_find
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree, finest_indices, union_find
 
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
 DENSE = 4  # samples per axis and leaf for small pieces
@@ -72,7 +73,7 @@ class Region:
     black_labels: np.ndarray = None  # corner-connected components of the black leaves (one sign each)
     und_possible: np.ndarray = None  # per undetermined cell: may hold a valid point
     und_signs: np.ndarray = None  # per undetermined cell: the free signs, 0 where not constant
-    und_pairs: tuple = None  # (undetermined cell, neighbour) with neighbours numbered black leaves first
+    und_pairs: list = None  # per direction: (undetermined cells, neighbours), black leaves numbered first
     bands: list[Band] = field(default_factory=list)  # cells crossed by one serial singularity (`crossings.py`)
 
     @property
@@ -193,11 +194,12 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
         aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
         bounds = (count.lower, count.upper, count.undecided, count.empty_undecided, count.merged, count.budget.spent)
         del sets, count  # what the certificate alone needed: dropped before the shapes' tasks
+        # the shapes' tasks start now on workers (the trees alone travel), the crossings meanwhile
+        found = pool.map(largest_shapes, [a.workspace for a in aspects], cost=len) if shapes else None
         crossings = find_crossings(model, regions, aspects, leaf_aspect)
         timings["crossings"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         if shapes:
-            found = pool.map(largest_shapes, [a.workspace for a in aspects], cost=len)  # (the trees alone travel)
             aspects = [replace(a, circle=circle, square=square) for a, (circle, square) in zip(aspects, found)]
         timings["inscribed"] = time.perf_counter() - t0
     advance(1)
@@ -212,7 +214,8 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
     region_tasks = [[], []]
     for k in pool.completed(spaces):
         keys, pavings, seconds = spaces[k].get()
-        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, paving))) for key, paving in zip(keys, pavings)]
+        links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
+        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, paving, links))) for key, paving in zip(keys, pavings)]
         timings["paving"] += seconds
     regions, sets = [], []
     for paving, task in region_tasks[0] + region_tasks[1]:
@@ -256,13 +259,17 @@ def _space_task(task: tuple) -> tuple[list, list[Paving], float]:
 
 def _region_task(task: tuple) -> tuple[Region, list[ModeSet], float]:
     """One mode region's data and mode sets, in a worker: (the region without its model and test,
-    which do not travel between processes, nor its paving, which the caller has; its mode sets;
-    seconds)."""
-    m, space, working, assembly, paving = task
+    which do not travel between processes, nor its paving, which the caller has; its mode sets,
+    with `links`, the certificate's link samples (`link_points`); seconds)."""
+    m, space, working, assembly, paving, links = task
     model = m.aspect_model()
     t0 = time.perf_counter()
     region = _region(model, space, working, assembly, paving)
     region_sets = [ModeSet(region, free) for free in _free_modes(model, region)]
+    if links:
+        other = m.spaces()["jointspace" if space == "workspace" else "workspace"].grid(paving.grid.depth)
+        for s in region_sets:
+            s.links = link_points(model, s, other)
     # what only the mode sets need, dropped once they are built (most of a region's memory)
     region.und_pairs = region.black_labels = region.und_possible = region.und_signs = None
     region.model = region.test = region.paving = None
@@ -273,14 +280,16 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     """A mode paving with what the certificate needs of it: free signs, black components,
     undetermined cells' signs and neighbours."""
     region = Region(space, working, assembly, paving, None, model, np.zeros((0, 0), np.int8))
-    inside = paving.inside  # the free signs at the black leaves' centres, CHUNK leaves at a time
-    region.free = chunked(lambda level, code: region.free_signs(Tree(inside.grid, level, code, canonical=True).centres()),
-                          inside.level, inside.code)
-    if np.any(region.free == 0):
-        raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
     # two closed black cells of different signs cannot touch (a shared point would have both), so
-    # the components of all black leaves are the anchors of every mode set at once
-    region.black_labels, _ = paving.inside.components(corners=True)
+    # the components of all black leaves are the anchors of every mode set at once, and the free
+    # signs are constant on each: read at the centre of its largest leaf, not of every leaf
+    inside = paving.inside
+    region.black_labels, count = inside.components(corners=True)
+    first = _largest_leaf(inside.level, region.black_labels, count)
+    signs = region.free_signs(inside.subset(first).centres())
+    if np.any(signs == 0):
+        raise FivebarError(f"internal error: a black cell of the {region.title()} has a vanishing mode sign")
+    region.free = signs[region.black_labels]
     band_signs = None
     if space == "jointspace":  # one classification for the free signs and the serial bands
         region.und_possible, region.und_signs, strict = on_cells(
@@ -291,6 +300,20 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     region.und_pairs = _undetermined_pairs(paving)
     region.bands = serial_bands(model, region, band_signs)
     return region
+
+
+def _largest_leaf(level: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray:
+    """Per label 0 .. count - 1: its first leaf (in Morton order) of the lowest level, looked for
+    level by level from the coarsest (the few large leaves first; most labels have one)."""
+    n = len(level)
+    best = np.full(count, n, np.int64)
+    for at in np.flatnonzero(np.bincount(level)).tolist():
+        if not np.any(best == n):
+            break
+        leaves = np.flatnonzero(level == at)
+        leaves = leaves[best[labels[leaves]] == n]
+        np.minimum.at(best, labels[leaves], leaves)
+    return best
 
 
 # ---------------------------------------------------------------- the certificate
@@ -358,33 +381,15 @@ class _Count:
 
     @property
     def roots(self) -> np.ndarray:
-        """Union-find root of every anchor (recomputed only when edges were added)."""
-        if getattr(self, "_roots_for", -1) != len(self.edges_i):
-            i = np.array(self.edges_i, np.int64)
-            j = np.array(self.edges_j, np.int64)
-            self._roots, self._roots_for = union_find(int(self.offset[-1]), i, j), len(self.edges_i)
+        """Union-find root of every anchor: the edges added since the last call joined to the
+        roots found before (each edge is joined once)."""
+        done = getattr(self, "_roots_for", 0)
+        if done == 0 or done != len(self.edges_i):
+            i = np.array(self.edges_i[done:], np.int64)
+            j = np.array(self.edges_j[done:], np.int64)
+            self._roots = union_find(int(self.offset[-1]), i, j, getattr(self, "_roots", None))
+            self._roots_for = len(self.edges_i)
         return self._roots
-
-    def _samples(self, s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
-        """Sample points of every anchor's black cells (centres; a DENSE x DENSE grid in small
-        anchors) and the anchor each comes from."""
-        tree = s.region.tree
-        mine = np.flatnonzero(s.anchor_of_leaf >= 0)
-        owner = s.anchor_of_leaf[mine]
-        lo, hi = tree.bounds(mine)
-        small = s.anchor_size[owner] <= SMALL_PIECE
-        g = (np.arange(DENSE) + 0.5) / DENSE
-        grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
-        dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
-        points = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
-        owners = np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
-        return points, owners
-
-    def _images(self, s: ModeSet, points: np.ndarray):
-        *working, assembly = s.modes
-        if s.space == "workspace":
-            return self.model.ikp(points, tuple(working))
-        return self.model.dkp(points, assembly)
 
     def _others(self, s: ModeSet) -> list[int]:
         return [k for k, t in enumerate(self.sets) if t.space != s.space and t.modes == s.modes]
@@ -392,16 +397,16 @@ class _Count:
     def _link(self) -> None:
         for k, s in enumerate(self.sets):
             others = self._others(s)  # none when the aspects live in one space
-            points, owners = self._samples(s) if others else (np.zeros((0, 2)), None)
-            if not len(points):
+            if not others:
                 continue
-            images, ok = self._images(s, points)
+            # (computed in the region's task when it ran in a worker: `link_points`)
+            owners, index = s.links if s.links is not None else link_points(self.model, s, self.sets[others[0]].grid)
+            s.links = None
             for j in others:
                 t = self.sets[j]
-                leaf = np.full(len(points), -1, np.int64)
-                leaf[ok] = t.region.tree.locate(images[ok])
+                leaf = t.region.tree.locate_finest(index)
                 hit = leaf >= 0
-                target = np.full(len(points), -1, np.int64)
+                target = np.full(len(index), -1, np.int64)
                 target[hit] = t.anchor_of_leaf[leaf[hit]]
                 good = target >= 0
                 pairs = unique_pairs(owners[good], target[good])
@@ -436,10 +441,10 @@ class _Count:
                 missing = np.setdiff1d(groups_here, roots[self.offset[j]:self.offset[j + 1]])
                 if not len(missing):
                     continue
-                points, owners = self._samples(s)
+                points, owners = link_samples(s)
                 keep = np.isin(groups_here[owners], missing)
                 points, groups = points[keep], groups_here[owners[keep]]
-                images, ok = self._images(s, points)
+                images, ok = _images(self.model, s, points)
                 located = np.full(len(points), -1, np.int64)
                 if ok.any():
                     cells = t.cells
@@ -498,6 +503,42 @@ class _Count:
         return clusters, len(groups) + (self.undecided - split_failed)
 
 
+def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
+    """Sample points of every anchor's black cells of a mode set (centres; a DENSE x DENSE grid in
+    the leaves of small anchors) and the anchor each comes from."""
+    tree = s.region.tree
+    mine, owner = s._mine, s._anchors
+    lo, hi = tree.bounds(mine)
+    small = s.anchor_size[owner] <= SMALL_PIECE
+    g = (np.arange(DENSE) + 0.5) / DENSE
+    grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+    dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
+    points = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
+    owners = np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
+    return points, owners
+
+
+def _images(model: AspectModel, s: ModeSet, points: np.ndarray):
+    """The points of a mode set's space mapped into the other space (IKP / DKP), and which exist."""
+    *working, assembly = s.modes
+    if s.space == "workspace":
+        return model.ikp(points, tuple(working))
+    return model.dkp(points, assembly)
+
+
+def link_points(model: AspectModel, s: ModeSet, other: Grid) -> tuple[np.ndarray, np.ndarray]:
+    """What the certificate's links need of a mode set: its anchors' samples (`link_samples`) by
+    anchor, and the depth-D Morton index of each sample's image in the other space's grid (-1
+    where there is none). Computed in the region's task when that runs in a worker (the main
+    process then only looks the indices up), else by the certificate."""
+    points, owners = link_samples(s)
+    index = np.full(len(points), -1, np.int64)
+    if len(points):
+        images, ok = _images(model, s, points)
+        index[ok] = finest_indices(other, images[ok])
+    return owners, index
+
+
 def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSet], count: _Count):
     """Aspects (groups of anchors) ordered by assembly mode (+ first), working mode (++, +-, -+,
     --), then the position of their first joint-space cell; and, per region, the aspect number of
@@ -506,10 +547,11 @@ def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSe
     leaves = {}  # group -> {space: (region, leaf indices)}
     for k, s in enumerate(sets):
         local = roots[count.offset[k]:count.offset[k + 1]]
-        for g in np.unique(local):
-            mine = np.flatnonzero(np.isin(s.anchor_of_leaf, np.flatnonzero(local == g)))
-            region, idx = leaves.setdefault(int(g), {}).get(s.space, (s.region, np.zeros(0, np.int64)))
-            leaves[int(g)][s.space] = (region, np.concatenate([idx, mine]))
+        mine = s._mine  # the set's black leaves, with their anchors `s._anchors` (a byte or two each)
+        for g in np.unique(local).tolist():  # (a few groups)
+            part = mine[np.isin(s._anchors, np.flatnonzero(local == g))]
+            region, idx = leaves.setdefault(g, {}).get(s.space, (s.region, np.zeros(0, np.int64)))
+            leaves[g][s.space] = (region, np.concatenate([idx, part]))
     keys = []
     for g, per_space in leaves.items():
         trees = {}

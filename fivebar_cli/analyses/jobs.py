@@ -74,15 +74,13 @@ class Workers:
 
     def map(self, fn: Callable[[T], R], items: Iterable[T], advance: Callable[[int], None] = lambda n=1: None,
             cost: Callable[[T], float] | None = None) -> Iterator[R]:
-        """fn(item) for each item, in order, as each is ready (in this process: computed when
-        asked, so that the caller may drop each result before the next is made). With `cost`, the
-        workers take the costliest tasks first (the last ones to finish are then small)."""
+        """fn(item) for each item, in order, as each is ready. On workers the tasks start at once
+        (the caller may do other work meanwhile); in this process each is computed when asked, so
+        that the caller may drop each result before the next is made. With `cost`, the workers
+        take the costliest tasks first (the last ones to finish are then small)."""
         if self._pool is None:
-            for item in items:
-                yield fn(item)
-                advance(1)
-            return
-        if cost is None:
+            results = (fn(item) for item in items)
+        elif cost is None:
             results = self._pool.imap(fn, items, chunksize=1)
         else:
             items = list(items)
@@ -90,9 +88,7 @@ class Workers:
             for k in sorted(range(len(items)), key=lambda k: -cost(items[k])):
                 tasks[k] = self.submit(fn, items[k])
             results = (task.get() for task in tasks)
-        for result in results:
-            yield result
-            advance(1)
+        return _advancing(results, advance)
 
     def submit(self, fn: Callable[[T], R], item: T) -> "Task":
         """Start fn(item) (in this process: run it now)."""
@@ -113,6 +109,12 @@ class Workers:
                 yield waiting.pop(done)
             if waiting:
                 self._seen.add(self._finished.get())
+
+
+def _advancing(results: Iterable[R], advance: Callable[[int], None]) -> Iterator[R]:
+    for result in results:
+        yield result
+        advance(1)
 
 
 class Task:

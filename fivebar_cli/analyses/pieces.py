@@ -31,7 +31,7 @@ from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
 from fivebar_cli.paving.arrays import dense_rank, index_type, label_type, rows_equal
-from fivebar_cli.paving.tree import Tree, root_labels, union_find
+from fivebar_cli.paving.tree import Tree, root_labels, union_find_blocks
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
 JOIN_STEPS = ((2, 4), (2, 16), (4, 16), (2, 64), (4, 64), (6, 32), (2, 256), (2, None), (4, None))
@@ -126,6 +126,7 @@ class ModeSet:
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
         self.anchor_outer[anchors] = self.outer[:len(mine)]  # (the set's black cells come first)
         self.anchor_size = np.bincount(anchors, minlength=self.n_anchors)
+        self.links = None  # the certificate's link samples, when a worker found them (`aspects.link_points`)
 
     @property
     def _mine(self) -> np.ndarray:
@@ -163,11 +164,16 @@ class ModeSet:
         node = np.full(n_black + len(fits), -1, small)
         node[mine] = anchors
         node[n_black + und] = np.arange(self.n_anchors, self.n_anchors + len(und), dtype=small)
-        u, n = self.region.und_pairs
-        keep = fits[u]
-        keep &= node[n] >= 0
-        root = union_find(self.n_anchors + len(und), node[n_black + u[keep]], node[n[keep]])
-        labels, count = root_labels(root)
+        node_und = node[n_black:]
+
+        def edges():  # the region's pairs within the set, a direction at a time (`union_find_blocks`)
+            for u, n in self.region.und_pairs:
+                a, b = node_und[u], node[n]
+                keep = a >= 0
+                keep &= b >= 0
+                yield a[keep], b[keep]
+
+        labels, count = root_labels(union_find_blocks(self.n_anchors + len(und), edges()))
         return np.concatenate([labels[anchors], labels[self.n_anchors:]]), count
 
     def compatible(self, grid: Grid, coords: np.ndarray) -> np.ndarray:
@@ -390,10 +396,11 @@ class ModeSet:
         return False
 
 
-def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
+def undetermined_pairs(paving: Paving) -> list[tuple[np.ndarray, np.ndarray]]:
     """Every (undetermined cell u, neighbour n) touching at a point, a pair of undetermined cells
     once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
-    n - len(black leaves). Undetermined cells are the smallest cells, so looking up their
+    n - len(black leaves); as arrays (u, n), one block per direction (`union_find_blocks` joins
+    them faster a block at a time). Undetermined cells are the smallest cells, so looking up their
     neighbours (among themselves, then among the black leaves) finds every pair. int32 when the
     indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
@@ -406,7 +413,7 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
         code = code[order]
     cells = Tree(grid, np.full(len(code), grid.depth, np.int64), code, canonical=True)
     del code
-    us, ns = [], []
+    blocks = []
     for i, j in cells.neighbour_pairs(inside, corners=True, itself=True):
         u, n = i.astype(small), j.astype(small)
         if order is not None:
@@ -414,9 +421,8 @@ def undetermined_pairs(paving: Paving) -> tuple[np.ndarray, np.ndarray]:
             und_n = n >= n_black
             n[und_n] = n_black + order[n[und_n] - n_black]
         once = (n < n_black) | (n - n_black > u)
-        us.append(u[once])
-        ns.append(n[once])
-    return np.concatenate(us), np.concatenate(ns)
+        blocks.append((u[once], n[once]))
+    return blocks
 
 
 def _allow(signs: np.ndarray, values: np.ndarray) -> np.ndarray:
@@ -471,8 +477,18 @@ def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
     n = (1 << grid.depth) >> k if grid.depth >= k else 1
     n = max(n, 1)
     shape = (n,) * grid.dim
-    marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape)
-                                       for idx in _enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic)]))
+    blocks = list(_enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic))
+    marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape) for idx in blocks]))
+    # only the boxes b that reach into the marked blocks' bounding range along every axis can
+    # overlap one of them (a window is small: most boxes b leave here, by a few comparisons)
+    candidate = np.ones(len(b_lo), bool)
+    for axis in range(grid.dim):
+        first = min(int(idx[axis].min()) for idx in blocks)
+        last = max(int(idx[axis].max()) for idx in blocks)
+        candidate &= b_lo[:, axis] < ((last + 1) << k)
+        candidate &= b_hi[:, axis] > (first << k)
+    candidate = np.flatnonzero(candidate)
+    b_lo, b_hi = b_lo[candidate], b_hi[candidate]
     lo_blk, hi_blk = _block_span(b_lo, b_hi, k, n)
     # every run of blocks along the last axis a box b overlaps (one per index of the other axes):
     # a marked flat index between the run's ends makes b near (flat indices are in C order)
@@ -487,7 +503,7 @@ def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
         offset = offset // width
     first = np.searchsorted(marked, base * n + lo_blk[owner, -1])
     last = np.searchsorted(marked, base * n + hi_blk[owner, -1], side="right")
-    keep[owner[first < last]] = True
+    keep[candidate[owner[first < last]]] = True
     return keep
 
 

@@ -70,7 +70,7 @@ class ClassRegion:
     test: object
     model: PoseAspectModel
     black_labels: np.ndarray = None
-    und_pairs: tuple = None
+    und_pairs: list = None
 
     @property
     def tree(self) -> Tree:

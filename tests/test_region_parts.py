@@ -1,0 +1,144 @@
+"""The parts of the aspects' region work that take shortcuts (issue 22), against what they replace:
+free signs read once per black component against every leaf's own, union-find a block of edges
+at a time against scipy's components, refinement windows against a brute force over blocks, the
+certificate's link samples against a point-by-point location."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from fivebar_cli.analyses.aspects import _free_modes, _largest_leaf, _region, _space_task, link_points, link_samples
+from fivebar_cli.analyses.pieces import ModeSet, _near
+from fivebar_cli.mechanisms.fivebar.model import FiveBar
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree, union_find, union_find_blocks
+
+
+def random_design(seed: int) -> FiveBar:
+    rng = np.random.default_rng(2200 + seed)
+    return FiveBar(f"random-{seed}", float(rng.uniform(0.2, 2)), *(float(v) for v in rng.uniform(0.5, 2, 4)))
+
+
+@pytest.fixture(scope="module")
+def regions(m1):
+    """The mode regions of M1 and of three random five-bars at depth 7, with their mode sets."""
+    out = []
+    for m in (m1, *(random_design(seed) for seed in range(3))):
+        model = m.aspect_model()
+        for space in ("workspace", "jointspace"):
+            keys, pavings, _ = _space_task((m, space, 7))
+            for key, paving in zip(keys, pavings):
+                region = _region(model, *key, paving)
+                out.append((m, region, [ModeSet(region, free) for free in _free_modes(model, region)]))
+    return out
+
+
+def test_free_signs_per_component_are_every_leafs_own(regions):
+    """region.free (read at one leaf of each black component) equals the signs at every black
+    leaf's centre, and a component never holds two sign vectors."""
+    leaves = 0
+    for _, region, _ in regions:
+        tree = region.tree
+        if not len(tree):
+            continue
+        own = region.free_signs(tree.centres())
+        assert np.array_equal(region.free, own), region.title()
+        leaves += len(tree)
+    assert leaves > 10000
+
+
+def test_largest_leaf_of_each_label():
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        n = int(rng.integers(1, 300))
+        count = int(rng.integers(1, 12))
+        labels = np.sort(rng.integers(0, count, n))
+        labels = np.unique(labels, return_inverse=True)[1]  # every label present
+        count = int(labels.max()) + 1
+        level = rng.integers(0, 9, n)
+        got = _largest_leaf(level, labels, count)
+        for c in range(count):
+            mine = np.flatnonzero(labels == c)
+            assert got[c] == mine[np.argmin(level[mine])]  # (argmin: the first of the lowest level)
+
+
+def test_union_find_blocks_against_scipy():
+    rng = np.random.default_rng(7)
+    for _ in range(30):
+        n = int(rng.integers(1, 400))
+        m = int(rng.integers(0, 2 * n))
+        i, j = rng.integers(0, n, m), rng.integers(0, n, m)
+        count, labels = connected_components(coo_matrix((np.ones(m), (i, j)), shape=(n, n)), directed=False)
+        smallest = np.full(count, n)
+        np.minimum.at(smallest, labels, np.arange(n))
+        cuts = np.sort(rng.integers(0, m + 1, int(rng.integers(0, 6))))
+        blocks = [(i[a:b], j[a:b]) for a, b in zip([0, *cuts], [*cuts, m])]
+        got = union_find_blocks(n, blocks)
+        assert np.array_equal(got, smallest[labels])
+        assert np.array_equal(union_find(n, i, j), smallest[labels])
+
+
+def _near_reference(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
+    """_near's definition, box by box: the blocks (side 2^k >= radius) b overlaps against those
+    within one block of a block some a overlaps (wrapping on periodic axes, clipped elsewhere)."""
+    k = max(int(radius - 1).bit_length(), 0)
+    n = max((1 << grid.depth) >> k, 1)
+
+    def span(lo, hi):
+        return [range(min(lo[d] >> k, n - 1), min((hi[d] - 1) >> k, n - 1) + 1) for d in range(grid.dim)]
+
+    marked = set()
+    for lo, hi in zip(a_lo, a_hi):
+        ranges = [range(r.start - 1, r.stop + 1) for r in span(lo, hi)]
+        for x in ranges[0]:
+            for y in ranges[1]:
+                marked.add(tuple(v % n if grid.periodic[d] else min(max(v, 0), n - 1) for d, v in enumerate((x, y))))
+    return np.array([any((x, y) in marked for x in sx for y in sy) for sx, sy in (span(lo, hi) for lo, hi in zip(b_lo, b_hi))], bool)
+
+
+@pytest.mark.parametrize("periodic", [(False, False), (True, False), (True, True)])
+def test_near_against_blocks_one_by_one(periodic):
+    rng = np.random.default_rng(11)
+    grid = Grid(((0.0, 1.0), (0.0, 1.0)), 6, periodic)
+
+    def boxes(count):
+        level = rng.integers(2, 7, count)
+        coords = (rng.random((count, 2)) * (1 << level)[:, None]).astype(np.int64)
+        shift = (6 - level)[:, None]
+        return coords << shift, (coords + 1) << shift
+
+    for radius in (1, 3, 4, 16):
+        for _ in range(6):
+            a_lo, a_hi = boxes(int(rng.integers(1, 4)))
+            b_lo, b_hi = boxes(200)
+            got = _near(grid, a_lo, a_hi, b_lo, b_hi, radius)
+            assert np.array_equal(got, _near_reference(grid, a_lo, a_hi, b_lo, b_hi, radius))
+
+
+def test_link_points_are_the_images_located_one_by_one(regions):
+    """link_points: per sample of a mode set's anchors, its anchor and the depth-D index of its
+    image in the other space's grid, which locates the same leaf as the image itself."""
+    checked = 0
+    for m, region, sets in regions[:6]:  # M1's regions
+        model = m.aspect_model()
+        other_space = "jointspace" if region.space == "workspace" else "workspace"
+        other_keys, other_pavings, _ = _space_task((m, other_space, 7))
+        for s in sets:
+            points, owners = link_samples(s)
+            got_owners, index = link_points(model, s, other_pavings[0].grid)
+            assert np.array_equal(got_owners, owners)
+            *working, assembly = s.modes
+            images, ok = model.ikp(points, tuple(working)) if s.space == "workspace" else model.dkp(points, assembly)
+            for paving in other_pavings:
+                tree = paving.inside
+                expected = np.full(len(points), -1)
+                expected[ok] = tree.locate(images[ok])
+                assert np.array_equal(tree.locate_finest(index), expected)
+                checked += int(np.count_nonzero(expected >= 0))
+            # every sample lies in its anchor's leaves
+            leaf = region.tree.locate(points)
+            assert np.array_equal(s.anchor_of_leaf[leaf], owners)
+    assert checked > 1000
