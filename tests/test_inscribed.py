@@ -252,4 +252,4 @@ def test_bucketed_distance_is_the_one_pass_distance(seed):
         assert np.array_equal(d, truth[of_cell])
         c, radius = centres[0], float(truth[0]) * 1.5
         everyone = _cell_distance(metric, c[0], c[1], obstacles.x0, obstacles.x1, obstacles.y0, obstacles.y1)
-        assert np.array_equal(obstacles.near(metric, tuple(c), radius), np.sort(obstacles.order[everyone <= radius]))
+        assert np.array_equal(obstacles.near(metric, tuple(c), radius), np.flatnonzero(everyone <= radius))

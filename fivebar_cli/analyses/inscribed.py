@@ -34,7 +34,7 @@ from fivebar_cli.paving.tree import Tree
 TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
 MAX_ROUNDS = 60
 BIG_LEVEL = 6  # complement cells above this level are few: looked at for every centre
-BUCKET_LEVEL = 8  # the others are filed by the cells of this level they meet
+BUCKET_LEVEL = 8  # the others are filed by the cells of this level they meet (at most 8: 16-bit keys)
 NEAR = 1e-6  # complement cells within this relative margin of the radius are checked exactly
 
 
@@ -88,31 +88,31 @@ class _Obstacles:
     def __init__(self, tree: Tree):
         self.tree = tree
         self.cells = tree.complement()
-        lo, hi = self.cells.bounds()
-        level = self.cells.level.astype(np.int64)
-        big = level < BIG_LEVEL
-        small = np.flatnonzero(~big)
-        order = np.concatenate([small, np.flatnonzero(big)])
-        self.order = order
-        self.x0, self.y0 = lo[order, 0], lo[order, 1]
-        self.x1, self.y1 = hi[order, 0], hi[order, 1]
-        self.n_small = len(small)
-        self.root_lo, self.root_hi = tree.grid.lo, tree.grid.lo + tree.grid.size
-        # each small cell filed in every bucket (cell of level BUCKET_LEVEL) it meets, column by column
+        grid, level = tree.grid, self.cells.level.astype(np.int64)
+        coords = deinterleave(self.cells.code, level, 2)
+        # the bounds of `Tree.bounds` (the same floats), from the one deinterleave
+        (self.x0, self.x1), (self.y0, self.y1) = (_axis_bounds(grid, axis, coords[:, axis], level) for axis in (0, 1))
+        self.big = np.flatnonzero(level < BIG_LEVEL)
+        self.root_lo, self.root_hi = grid.lo, grid.lo + grid.size
+        # each small cell filed in every bucket (cell of level BUCKET_LEVEL) it meets, column by column:
+        # a fine cell (level >= BUCKET_LEVEL) in one, a coarse one in 4^(BUCKET_LEVEL - level)
         n = 1 << BUCKET_LEVEL
-        self.bucket_width = tree.grid.size / n
-        coarse = np.maximum(BUCKET_LEVEL - level[small], 0)  # a cell spans 2^coarse buckets a side
-        code = self.cells.code[small] >> (2 * np.maximum(level[small] - BUCKET_LEVEL, 0))
-        ij = deinterleave(code, np.minimum(level[small], BUCKET_LEVEL), 2) << coarse[:, None]
-        span = 1 << coarse
+        self.bucket_width = grid.size / n
+        fine = np.flatnonzero(level >= BUCKET_LEVEL)
+        ij = coords[fine] >> (level[fine] - BUCKET_LEVEL)[:, None]
+        coarse = np.flatnonzero((level >= BIG_LEVEL) & (level < BUCKET_LEVEL))
+        span = 1 << (BUCKET_LEVEL - level[coarse])  # buckets a side
         count = span * span
-        entry = np.repeat(np.arange(self.n_small), count)
-        k = np.arange(len(entry)) - np.repeat(np.cumsum(count) - count, count)  # 0..count-1 in each cell
-        s_ = span[entry]
-        bucket = (ij[entry, 0] + k // s_) * n + ij[entry, 1] + k % s_
-        by_bucket = np.argsort(bucket, kind="stable")
+        within = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+        side = np.repeat(span, count)
+        coarse_ij = (np.repeat(coords[coarse] * span[:, None], count, axis=0)
+                     + np.stack([within // side, within % side], axis=1))
+        entry = np.concatenate([fine, np.repeat(coarse, count)])
+        ij = np.concatenate([ij, coarse_ij])
+        bucket = (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
+        by_bucket = np.argsort(bucket, kind="stable")  # (a radix sort: 16-bit keys)
         self.entries = entry[by_bucket]
-        self.runs = np.searchsorted(bucket[by_bucket], np.arange(n * n + 1))  # bucket b: entries runs[b]:runs[b + 1]
+        self.runs = np.concatenate([[0], np.cumsum(np.bincount(bucket, minlength=n * n))])  # bucket b: runs[b]:runs[b + 1]
 
     def distance(self, metric: str, centres: np.ndarray, bounds: np.ndarray | None = None) -> np.ndarray:
         """f at each centre: the distance to the nearest complement cell or to the outside of the
@@ -122,11 +122,11 @@ class _Obstacles:
     def nearest(self, metric: str, centres: np.ndarray, bounds: np.ndarray | None = None,
                 hint: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(f, a nearest cell's index here, -1 where the root's outside is nearer) at each centre.
-        Only the small cells in the box of the centre +- f' are looked at, f' the least of the
-        bound, the distance to the root's outside, to the nearest big cell and to the `hint` cell
-        (-1: none), each at least f: a cell nearer than f' meets that box. Each cell's distance is
-        the same float whatever the cells looked at, so f is (a bound that is truly above f
-        leaves it alone)."""
+        Only the small cells in the buckets that meet the ball of the centre and radius f' are
+        looked at, f' the least of the bound, the distance to the root's outside, to the nearest
+        big cell and to the `hint` cell (-1: none), each at least f: a cell nearer than f' meets
+        it. Each cell's distance is the same float whatever the cells looked at, so f is too (a
+        bound that is truly above f leaves it alone)."""
         m = len(centres)
         out = np.min(np.concatenate([centres - self.root_lo, self.root_hi - centres], axis=1), axis=1)
         cell = np.full(m, -1, dtype=np.int64)
@@ -139,29 +139,35 @@ class _Obstacles:
             has = np.flatnonzero(hint >= 0)
             h = hint[has]
             d = _cell_distance(metric, cx[has], cy[has], self.x0[h], self.x1[h], self.y0[h], self.y1[h])
-            np.minimum.at(reach, has, d)
-        for which, near in self._pairs(centres, reach):
+            reach[has] = np.minimum(reach[has], d)
+        for which, near in self._pairs(centres, reach, metric):
             d = _cell_distance(metric, cx[which], cy[which], self.x0[near], self.x1[near], self.y0[near], self.y1[near])
             np.minimum.at(out, which, d)
             at = np.flatnonzero(d == out[which])
             cell[which[at]] = near[at]
         return out, cell
 
-    def _pairs(self, centres: np.ndarray, reach: np.ndarray, most: int = 1 << 21):
+    def _pairs(self, centres: np.ndarray, reach: np.ndarray, metric: str = "linf", most: int = 1 << 21):
         """(centre index, small cell index) pairs, a chunk of at most about `most` at a time: the
-        small cells of the buckets that the box of each centre +- its reach overlaps (a margin of
-        1e-6 bucket keeps every cell that touches the box, float rounding or not)."""
+        small cells of the buckets that meet the ball ("l2": disc, "linf": square) of each centre
+        and radius its reach, a run of buckets per bucket column (a margin of 1e-6 bucket, and of
+        1e-9 relative on the radius, keeps every cell nearer than the reach, float rounding or not)."""
         n = 1 << BUCKET_LEVEL
         reach = np.maximum(reach, 0.0)  # (negative outside the root: no cell is nearer)
-        a = np.floor((centres - reach[:, None] - self.root_lo) / self.bucket_width - 1e-6)
-        z = np.floor((centres + reach[:, None] - self.root_lo) / self.bucket_width + 1e-6)
-        a = np.clip(a, 0, n - 1).astype(np.int64)
-        z = np.clip(z, 0, n - 1).astype(np.int64)
-        columns = z[:, 0] - a[:, 0] + 1  # one run of cells per bucket column: buckets (i, a_y..z_y)
+        (wx, wy), (x, y) = self.bucket_width, (centres - self.root_lo).T  # from the root's corner
+        a = np.clip(np.floor((x - reach) / wx - 1e-6), 0, n - 1).astype(np.int64)
+        z = np.clip(np.floor((x + reach) / wx + 1e-6), 0, n - 1).astype(np.int64)
+        columns = z - a + 1
         owner = np.repeat(np.arange(len(centres)), columns)
-        i = np.arange(len(owner)) - np.repeat(np.cumsum(columns) - columns, columns) + a[owner, 0]
-        run_start = self.runs[i * n + a[owner, 1]]
-        length = self.runs[i * n + z[owner, 1] + 1] - run_start
+        i = np.arange(len(owner)) - np.repeat(np.cumsum(columns) - columns, columns) + a[owner]
+        y, h = y[owner], reach[owner]
+        if metric == "l2":  # the disc's chord over the column: half height sqrt(r^2 - gap^2)
+            gap = np.maximum(np.maximum(i * wx - x[owner], x[owner] - (i + 1) * wx), 0.0)
+            h = np.sqrt(np.maximum((h * (1 + 1e-9)) ** 2 - gap * gap, 0.0))
+        lo_y = np.clip(np.floor((y - h) / wy - 1e-6), 0, n - 1).astype(np.int64)
+        hi_y = np.clip(np.floor((y + h) / wy + 1e-6), 0, n - 1).astype(np.int64)
+        run_start = self.runs[i * n + lo_y]
+        length = self.runs[i * n + hi_y + 1] - run_start
         per_centre = np.bincount(owner, length, minlength=len(centres)).astype(np.int64)
         chunk = np.cumsum(per_centre) // most
         run_chunk = chunk[owner]
@@ -175,24 +181,31 @@ class _Obstacles:
     def _nearest_big(self, metric, centres, out, cell) -> None:
         """Lower `out` to the distance of the nearest big cell (a few, looked at for every centre,
         all at once), and set `cell` where one is nearer."""
-        big = slice(self.n_small, len(self.x0))
-        if big.start == big.stop:
+        big = self.big
+        if not len(big):
             return
         d = _cell_distance(metric, centres[:, :1], centres[:, 1:], self.x0[big], self.x1[big], self.y0[big], self.y1[big])
         k = d.argmin(axis=1)
         d = d[np.arange(len(d)), k]
         nearer = d < out
         out[nearer] = d[nearer]
-        cell[nearer] = big.start + k[nearer]
+        cell[nearer] = big[k[nearer]]
 
     def near(self, metric: str, centre, radius: float) -> np.ndarray:
         """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
         centres = np.array([centre], dtype=float)
-        cell = np.concatenate([c for _, c in self._pairs(centres, np.array([radius], dtype=float))]
-                              + [np.arange(self.n_small, len(self.x0))])
+        cell = np.concatenate([c for _, c in self._pairs(centres, np.array([radius], dtype=float), metric)]
+                              + [self.big])
         cx, cy = centre
         d = _cell_distance(metric, cx, cy, self.x0[cell], self.x1[cell], self.y0[cell], self.y1[cell])
-        return np.unique(self.order[cell[d <= radius]])  # (a cell may sit in several buckets)
+        return np.unique(cell[d <= radius])  # (a cell may sit in several buckets)
+
+
+def _axis_bounds(grid, axis: int, coords: np.ndarray, level: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Cells' (low, high) bounds along one axis: `Tree.bounds`'s floats, one axis at a time."""
+    width = np.ldexp(grid.size[axis], -level)
+    low = grid.lo[axis] + coords * width
+    return low, low + width
 
 
 def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:
