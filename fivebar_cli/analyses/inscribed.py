@@ -11,6 +11,13 @@ levels below the largest can hold the optimum. Boxes whose bound is not above th
 more than the tolerance are dropped, the others split in four, until none is left: the result is
 within TOLERANCE of the best that the cells allow.
 
+Distances. The complement's small cells are filed by the level-8 cells (buckets) they meet; f at
+all the centres of a round is one vectorised pass over (centre, cell) pairs: the cells of the
+buckets that meet the ball of radius f' around the centre, f' an upper bound on f (the box's bound,
+the distance to the root's outside, to the big cells, and to the cell nearest its parent's
+centre). Any cell nearer than f' is among them, so f is the minimum over every cell, whichever
+were looked at: the same float.
+
 Certificate. The reported numbers are those written to CSV (`%.10g`): the centre is rounded to 10
 significant digits, the radius (side) rounded *down* to 10 digits, then checked exactly (Python
 fractions on the exact dyadic cells of the grid): the closed disc (square) stays in the root box
