@@ -154,7 +154,7 @@ class _Obstacles:
             cell[which[at]] = near[at]
         return out, cell
 
-    def _pairs(self, centres: np.ndarray, reach: np.ndarray, metric: str = "linf", most: int = 1 << 21):
+    def _pairs(self, centres: np.ndarray, reach: np.ndarray, metric: str = "linf", most: int = 1 << 17):
         """(centre index, small cell index) pairs, a chunk of at most about `most` at a time: the
         small cells of the buckets that meet the ball ("l2": disc, "linf": square) of each centre
         and radius its reach, a run of buckets per bucket column (a margin of 1e-6 bucket, and of
