@@ -12,6 +12,7 @@ point is reachable in the aspect's working mode with det A of the aspect's sign.
 
 from __future__ import annotations
 
+import bisect
 import math
 
 import numpy as np
@@ -250,6 +251,16 @@ def test_bucketed_distance_is_the_one_pass_distance(seed):
         d = _cell_distance(metric, centres[of_cell, 0], centres[of_cell, 1],
                            obstacles.x0[k], obstacles.x1[k], obstacles.y0[k], obstacles.y1[k])
         assert np.array_equal(d, truth[of_cell])
+        leaf_centres = tree.centres()
+        beside = obstacles.beside(tree.start, leaf_centres, metric)
+        if cells:  # the nearer of the complement cells just before and just after each leaf in Morton order
+            starts, leaf_starts = obstacles.cells.start.tolist(), tree.start.tolist()
+            for k in rng.integers(0, len(tree), 20).tolist():
+                after = bisect.bisect_left(starts, leaf_starts[k])
+                pair = [j for j in (after - 1, after) if 0 <= j < cells]
+                d = _cell_distance(metric, leaf_centres[k, 0], leaf_centres[k, 1], obstacles.x0[pair],
+                                   obstacles.x1[pair], obstacles.y0[pair], obstacles.y1[pair])
+                assert beside[k] in pair and d[pair.index(beside[k])] == d.min()
         c, radius = centres[0], float(truth[0]) * 1.5
         everyone = _cell_distance(metric, c[0], c[1], obstacles.x0, obstacles.x1, obstacles.y0, obstacles.y1)
         assert np.array_equal(obstacles.near(metric, tuple(c), radius), np.flatnonzero(everyone <= radius))

@@ -154,6 +154,18 @@ class _Obstacles:
             cell[which[at]] = near[at]
         return out, cell
 
+    def beside(self, start: np.ndarray, centres: np.ndarray, metric: str) -> np.ndarray:
+        """Per leaf of the set (its first depth-D Morton index, its centre): the nearer of the two
+        complement cells next to it in Morton order (-1: none), a first hint for `nearest`."""
+        if not len(self.x0):
+            return np.full(len(start), -1, np.int64)
+        after = np.searchsorted(self.cells.start, start)
+        before = np.maximum(after - 1, 0)
+        after = np.minimum(after, len(self.x0) - 1)
+        d = [_cell_distance(metric, centres[:, 0], centres[:, 1], self.x0[k], self.x1[k], self.y0[k], self.y1[k])
+             for k in (before, after)]
+        return np.where(d[0] <= d[1], before, after)
+
     def _pairs(self, centres: np.ndarray, reach: np.ndarray, metric: str = "linf", most: int = 1 << 17):
         """(centre index, small cell index) pairs, a chunk of at most about `most` at a time: the
         small cells of the buckets that meet the ball ("l2": disc, "linf": square) of each centre
@@ -248,7 +260,8 @@ def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     lo, hi = tree.bounds(keep)
     width = hi - lo
     bound = 4.0 * _reach(width, metric)
-    best_centre, hint = None, None
+    hint = obstacles.beside(tree.start[keep], lo + 0.5 * width, metric)
+    best_centre = None
     for _ in range(MAX_ROUNDS):
         if not len(lo):
             break
