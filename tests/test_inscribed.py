@@ -12,6 +12,7 @@ point is reachable in the aspect's working mode with det A of the aspect's sign.
 
 from __future__ import annotations
 
+import bisect
 import math
 
 import numpy as np
@@ -219,14 +220,15 @@ def _one_pass_distance(obstacles, metric: str, centres: np.ndarray, bounds: np.n
 
 @settings(max_examples=30, deadline=None)
 @given(seed=st.integers(0, 10 ** 6))
-def test_grouped_distance_is_the_one_pass_distance(seed):
-    """Centres close to one another (found in one pass over their common cells) and far apart,
-    with bounds above the true distance: the very floats of a pass over every cell."""
-    from fivebar_cli.analyses.inscribed import _Obstacles
+def test_bucketed_distance_is_the_one_pass_distance(seed):
+    """Centres close to one another and far apart, with bounds above the true distance, with and
+    without hints (any cell, or none): the very floats of a pass over every cell; the nearest cell
+    given is at that distance; `near` finds the cells a pass over every cell finds."""
+    from fivebar_cli.analyses.inscribed import _cell_distance, _Obstacles
 
     rng = np.random.default_rng(seed)
-    grid = Grid(((-1.5, 2.25), (-3.0, 0.5)), 8, (False, False))
-    level = int(rng.integers(3, 9))
+    grid = Grid(((-1.5, 2.25), (-3.0, 0.5)), 9, (False, False))
+    level = int(rng.integers(3, 10))
     n = 1 << level
     tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < rng.uniform(0.5, 0.98)))
     if not len(tree):
@@ -235,7 +237,30 @@ def test_grouped_distance_is_the_one_pass_distance(seed):
     inside = tree.centres()
     base = inside[rng.integers(0, len(inside), 3)]
     centres = np.concatenate([base, base[:1] + rng.normal(0, 0.02, (12, 2)), inside[rng.integers(0, len(inside), 5)]])
+    cells = len(obstacles.x0)
     for metric in ("l2", "linf"):
         truth = _one_pass_distance(obstacles, metric, centres, np.full(len(centres), np.inf))
         bounds = truth * rng.uniform(1.01, 3.0, len(centres))
         assert np.array_equal(obstacles.distance(metric, centres, bounds), truth)
+        assert np.array_equal(obstacles.distance(metric, centres), truth)
+        hint = rng.integers(-1, cells, len(centres)) if cells else None
+        f, near = obstacles.nearest(metric, centres, bounds, hint)
+        assert np.array_equal(f, truth)
+        of_cell = near >= 0
+        k = near[of_cell]
+        d = _cell_distance(metric, centres[of_cell, 0], centres[of_cell, 1],
+                           obstacles.x0[k], obstacles.x1[k], obstacles.y0[k], obstacles.y1[k])
+        assert np.array_equal(d, truth[of_cell])
+        leaf_centres = tree.centres()
+        beside = obstacles.beside(tree.start, leaf_centres, metric)
+        if cells:  # the nearer of the complement cells just before and just after each leaf in Morton order
+            starts, leaf_starts = obstacles.cells.start.tolist(), tree.start.tolist()
+            for k in rng.integers(0, len(tree), 20).tolist():
+                after = bisect.bisect_left(starts, leaf_starts[k])
+                pair = [j for j in (after - 1, after) if 0 <= j < cells]
+                d = _cell_distance(metric, leaf_centres[k, 0], leaf_centres[k, 1], obstacles.x0[pair],
+                                   obstacles.x1[pair], obstacles.y0[pair], obstacles.y1[pair])
+                assert beside[k] in pair and d[pair.index(beside[k])] == d.min()
+        c, radius = centres[0], float(truth[0]) * 1.5
+        everyone = _cell_distance(metric, c[0], c[1], obstacles.x0, obstacles.x1, obstacles.y0, obstacles.y1)
+        assert np.array_equal(obstacles.near(metric, tuple(c), radius), np.flatnonzero(everyone <= radius))

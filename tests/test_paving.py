@@ -436,3 +436,17 @@ def test_array_helpers_types_and_rows():
     for row in ([1, -1, 1], [0, 0, 0], [-1, 1, 0]):
         assert np.array_equal(rows_equal(signs, np.array(row, np.int8)), np.all(signs == row, axis=1))
     assert rows_equal(np.zeros((0, 2), np.int8), np.zeros(2, np.int8)).shape == (0,)
+
+
+def test_any_per_row_is_numpys_any():
+    """Rows read as one unsigned integer (k = 1, 2, 4, 8) or reduced (other k, strided views):
+    numpy's any(axis=1) on random masks, sparse and dense."""
+    from fivebar_cli.paving.engine import _any_per_row
+
+    rng = np.random.default_rng(7)
+    for k in range(1, 10):
+        for p in (0.0, 0.05, 0.5):
+            mask = rng.random((257, k)) < p
+            assert np.array_equal(_any_per_row(mask), mask.any(axis=1))
+            view = (rng.random((257, 2 * k)) < p)[:, ::2]  # not contiguous
+            assert np.array_equal(_any_per_row(view), view.any(axis=1))

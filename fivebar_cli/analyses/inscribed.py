@@ -11,6 +11,13 @@ levels below the largest can hold the optimum. Boxes whose bound is not above th
 more than the tolerance are dropped, the others split in four, until none is left: the result is
 within TOLERANCE of the best that the cells allow.
 
+Distances. The complement's small cells are filed by the level-8 cells (buckets) they meet; f at
+all the centres of a round is one vectorised pass over (centre, cell) pairs: the cells of the
+buckets that meet the ball of radius f' around the centre, f' an upper bound on f (the box's bound,
+the distance to the root's outside, to the big cells, and to the cell nearest its parent's
+centre). Any cell nearer than f' is among them, so f is the minimum over every cell, whichever
+were looked at: the same float.
+
 Certificate. The reported numbers are those written to CSV (`%.10g`): the centre is rounded to 10
 significant digits, the radius (side) rounded *down* to 10 digits, then checked exactly (Python
 fractions on the exact dyadic cells of the grid): the closed disc (square) stays in the root box
@@ -34,6 +41,7 @@ from fivebar_cli.paving.tree import Tree
 TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
 MAX_ROUNDS = 60
 BIG_LEVEL = 6  # complement cells above this level are few: looked at for every centre
+BUCKET_LEVEL = 8  # the others are filed by the cells of this level they meet (at most 8: 16-bit keys)
 NEAR = 1e-6  # complement cells within this relative margin of the radius are checked exactly
 
 
@@ -79,82 +87,144 @@ def largest_shapes(tree: Tree) -> tuple[Disc | None, Square | None]:
 
 
 class _Obstacles:
-    """The complement cells (sorted by their low x) and the root box, with distances from centres."""
+    """The complement cells and the root box, with distances from centres. The small cells (level
+    >= BIG_LEVEL) are filed by the cells of level BUCKET_LEVEL (buckets) they meet, bucket column
+    by bucket column, so the cells of the buckets a box overlaps are a few runs of entries; the
+    few big ones are looked at for every centre."""
 
     def __init__(self, tree: Tree):
         self.tree = tree
         self.cells = tree.complement()
-        lo, hi = self.cells.bounds()
-        # small cells sorted by their low x (found by bisection); the few big ones always looked at
-        big = self.cells.level < BIG_LEVEL
-        order = np.concatenate([np.flatnonzero(~big)[np.argsort(lo[~big, 0], kind="stable")], np.flatnonzero(big)])
-        self.order = order
-        self.x0, self.y0 = lo[order, 0], lo[order, 1]  # contiguous: sliced per centre
-        self.x1, self.y1 = hi[order, 0], hi[order, 1]
-        self.n_small = int(np.count_nonzero(~big))
-        self.widest = float((hi[~big, 0] - lo[~big, 0]).max()) if self.n_small else 0.0
-        self.root_lo, self.root_hi = tree.grid.lo, tree.grid.lo + tree.grid.size
+        grid, level = tree.grid, self.cells.level.astype(np.int64)
+        coords = deinterleave(self.cells.code, level, 2)
+        # the bounds of `Tree.bounds` (the same floats), from the one deinterleave
+        (self.x0, self.x1), (self.y0, self.y1) = (_axis_bounds(grid, axis, coords[:, axis], level) for axis in (0, 1))
+        self.big = np.flatnonzero(level < BIG_LEVEL)
+        self.root_lo, self.root_hi = grid.lo, grid.lo + grid.size
+        # each small cell filed in every bucket (cell of level BUCKET_LEVEL) it meets, column by column:
+        # a fine cell (level >= BUCKET_LEVEL) in one, a coarse one in 4^(BUCKET_LEVEL - level)
+        n = 1 << BUCKET_LEVEL
+        self.bucket_width = grid.size / n
+        fine = np.flatnonzero(level >= BUCKET_LEVEL)
+        ij = coords[fine] >> (level[fine] - BUCKET_LEVEL)[:, None]
+        coarse = np.flatnonzero((level >= BIG_LEVEL) & (level < BUCKET_LEVEL))
+        span = 1 << (BUCKET_LEVEL - level[coarse])  # buckets a side
+        count = span * span
+        within = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
+        side = np.repeat(span, count)
+        coarse_ij = (np.repeat(coords[coarse] * span[:, None], count, axis=0)
+                     + np.stack([within // side, within % side], axis=1))
+        entry = np.concatenate([fine, np.repeat(coarse, count)])
+        ij = np.concatenate([ij, coarse_ij])
+        bucket = (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
+        by_bucket = np.argsort(bucket, kind="stable")  # (a radix sort: 16-bit keys)
+        self.entries = entry[by_bucket]
+        self.runs = np.concatenate([[0], np.cumsum(np.bincount(bucket, minlength=n * n))])  # bucket b: runs[b]:runs[b + 1]
 
     def distance(self, metric: str, centres: np.ndarray, bounds: np.ndarray | None = None) -> np.ndarray:
         """f at each centre: the distance to the nearest complement cell or to the outside of the
-        root. `bounds` (upper bounds on f, one per centre) limit the cells looked at."""
-        out = np.min(np.concatenate([centres - self.root_lo, self.root_hi - centres], axis=1), axis=1)
-        if not len(self.x0):
-            return out
-        bounds = out if bounds is None else np.minimum(bounds, out)
-        xs = self.x0[:self.n_small]
-        from_x, to_x = centres[:, 0] - bounds - self.widest, centres[:, 0] + bounds
-        first = np.searchsorted(xs, from_x, side="left")
-        last = np.searchsorted(xs, to_x, side="right")
-        self._nearest_big(metric, centres, bounds, out)
-        cx_lo, cy_lo, cy_hi = centres[:, 0] - bounds, centres[:, 1] - bounds, centres[:, 1] + bounds
-        cells = self.x0, self.x1, self.y0, self.y1
-        for group in _near_one_another(centres, bounds):
-            if len(group) == 1:
-                k = int(group[0])
-                out[k] = _nearest(metric, centres[k], bounds[k], [v[first[k]:last[k]] for v in cells], out[k])
-                continue
-            # the small cells any centre of the group may look at, found in one pass over their
-            # common span; each centre then looks at those of its own span (the same cells as in
-            # a pass of its own: its span's cells that pass its test all pass the group's)
-            a, z = first[group].min(), last[group].max()
-            keep = a + np.flatnonzero((self.y0[a:z] <= cy_hi[group].max()) & (self.y1[a:z] >= cy_lo[group].min())
-                                      & (self.x1[a:z] >= cx_lo[group].min()))
-            kept = [v[keep] for v in cells]
-            starts = np.searchsorted(kept[0], from_x[group], side="left")
-            stops = np.searchsorted(kept[0], to_x[group], side="right")
-            for k, i, j in zip(group.tolist(), starts.tolist(), stops.tolist()):
-                out[k] = _nearest(metric, centres[k], bounds[k], [v[i:j] for v in kept], out[k])
-        return out
+        root; `bounds` (upper bounds on f, one per centre) limit the cells looked at."""
+        return self.nearest(metric, centres, bounds)[0]
 
-    def _nearest_big(self, metric, centres, bounds, out) -> None:
+    def nearest(self, metric: str, centres: np.ndarray, bounds: np.ndarray | None = None,
+                hint: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(f, a nearest cell's index here, -1 where the root's outside is nearer) at each centre.
+        Only the small cells in the buckets that meet the ball of the centre and radius f' are
+        looked at, f' the least of the bound, the distance to the root's outside, to the nearest
+        big cell and to the `hint` cell (-1: none), each at least f: a cell nearer than f' meets
+        it. Each cell's distance is the same float whatever the cells looked at, so f is too (a
+        bound that is truly above f leaves it alone)."""
+        m = len(centres)
+        out = np.min(np.concatenate([centres - self.root_lo, self.root_hi - centres], axis=1), axis=1)
+        cell = np.full(m, -1, dtype=np.int64)
+        if not len(self.x0):
+            return out, cell
+        cx, cy = centres[:, 0], centres[:, 1]
+        self._nearest_big(metric, centres, out, cell)
+        reach = out.copy() if bounds is None else np.minimum(bounds, out)
+        if hint is not None:
+            has = np.flatnonzero(hint >= 0)
+            h = hint[has]
+            d = _cell_distance(metric, cx[has], cy[has], self.x0[h], self.x1[h], self.y0[h], self.y1[h])
+            reach[has] = np.minimum(reach[has], d)
+        for which, near in self._pairs(centres, reach, metric):
+            d = _cell_distance(metric, cx[which], cy[which], self.x0[near], self.x1[near], self.y0[near], self.y1[near])
+            np.minimum.at(out, which, d)
+            at = np.flatnonzero(d == out[which])
+            cell[which[at]] = near[at]
+        return out, cell
+
+    def beside(self, start: np.ndarray, centres: np.ndarray, metric: str) -> np.ndarray:
+        """Per leaf of the set (its first depth-D Morton index, its centre): the nearer of the two
+        complement cells next to it in Morton order (-1: none), a first hint for `nearest`."""
+        if not len(self.x0):
+            return np.full(len(start), -1, np.int64)
+        after = np.searchsorted(self.cells.start, start)
+        before = np.maximum(after - 1, 0)
+        after = np.minimum(after, len(self.x0) - 1)
+        d = [_cell_distance(metric, centres[:, 0], centres[:, 1], self.x0[k], self.x1[k], self.y0[k], self.y1[k])
+             for k in (before, after)]
+        return np.where(d[0] <= d[1], before, after)
+
+    def _pairs(self, centres: np.ndarray, reach: np.ndarray, metric: str = "linf", most: int = 1 << 17):
+        """(centre index, small cell index) pairs, a chunk of at most about `most` at a time: the
+        small cells of the buckets that meet the ball ("l2": disc, "linf": square) of each centre
+        and radius its reach, a run of buckets per bucket column (a margin of 1e-6 bucket, and of
+        1e-9 relative on the radius, keeps every cell nearer than the reach, float rounding or not)."""
+        n = 1 << BUCKET_LEVEL
+        reach = np.maximum(reach, 0.0)  # (negative outside the root: no cell is nearer)
+        (wx, wy), (x, y) = self.bucket_width, (centres - self.root_lo).T  # from the root's corner
+        a = np.clip(np.floor((x - reach) / wx - 1e-6), 0, n - 1).astype(np.int64)
+        z = np.clip(np.floor((x + reach) / wx + 1e-6), 0, n - 1).astype(np.int64)
+        columns = z - a + 1
+        owner = np.repeat(np.arange(len(centres)), columns)
+        i = np.arange(len(owner)) - np.repeat(np.cumsum(columns) - columns, columns) + a[owner]
+        y, h = y[owner], reach[owner]
+        if metric == "l2":  # the disc's chord over the column: half height sqrt(r^2 - gap^2)
+            gap = np.maximum(np.maximum(i * wx - x[owner], x[owner] - (i + 1) * wx), 0.0)
+            h = np.sqrt(np.maximum((h * (1 + 1e-9)) ** 2 - gap * gap, 0.0))
+        lo_y = np.clip(np.floor((y - h) / wy - 1e-6), 0, n - 1).astype(np.int64)
+        hi_y = np.clip(np.floor((y + h) / wy + 1e-6), 0, n - 1).astype(np.int64)
+        run_start = self.runs[i * n + lo_y]
+        length = self.runs[i * n + hi_y + 1] - run_start
+        per_centre = np.bincount(owner, length, minlength=len(centres)).astype(np.int64)
+        chunk = np.cumsum(per_centre) // most
+        run_chunk = chunk[owner]
+        for c in np.unique(chunk).tolist():
+            runs = run_chunk == c
+            lengths = length[runs]
+            total = int(lengths.sum())
+            skip = np.repeat(np.cumsum(lengths) - lengths - run_start[runs], lengths)
+            yield np.repeat(owner[runs], lengths), self.entries[np.arange(total) - skip]
+
+    def _nearest_big(self, metric, centres, out, cell) -> None:
         """Lower `out` to the distance of the nearest big cell (a few, looked at for every centre,
-        all at once) that the centre's bound does not rule out by its extent alone."""
-        big = slice(self.n_small, len(self.x0))
-        if big.start == big.stop:
+        all at once), and set `cell` where one is nearer."""
+        big = self.big
+        if not len(big):
             return
-        cx, cy, b = centres[:, :1], centres[:, 1:], bounds[:, None]
-        x0, x1, y0, y1 = self.x0[big], self.x1[big], self.y0[big], self.y1[big]
-        d = _cell_distance(metric, cx, cy, x0, x1, y0, y1)
-        d[~((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))] = np.inf
-        np.minimum(out, d.min(axis=1), out=out)
+        d = _cell_distance(metric, centres[:, :1], centres[:, 1:], self.x0[big], self.x1[big], self.y0[big], self.y1[big])
+        k = d.argmin(axis=1)
+        d = d[np.arange(len(d)), k]
+        nearer = d < out
+        out[nearer] = d[nearer]
+        cell[nearer] = big[k[nearer]]
 
     def near(self, metric: str, centre, radius: float) -> np.ndarray:
         """Indices (in the complement tree) of the cells within `radius` of `centre`, in floats."""
+        centres = np.array([centre], dtype=float)
+        cell = np.concatenate([c for _, c in self._pairs(centres, np.array([radius], dtype=float), metric)]
+                              + [self.big])
         cx, cy = centre
-        d = _cell_distance(metric, cx, cy, self.x0, self.x1, self.y0, self.y1)
-        return np.sort(self.order[d <= radius], kind="stable")
+        d = _cell_distance(metric, cx, cy, self.x0[cell], self.x1[cell], self.y0[cell], self.y1[cell])
+        return np.unique(cell[d <= radius])  # (a cell may sit in several buckets)
 
 
-def _nearest(metric: str, centre: np.ndarray, b: float, cells: list[np.ndarray], best: float) -> float:
-    """min(best, the distance from the centre to the nearest of these cells (x0, x1, y0, y1) whose
-    extent reaches within b of it)."""
-    (cx, cy), (x0, x1, y0, y1) = centre, cells
-    near = np.flatnonzero((y0 <= cy + b) & (y1 >= cy - b) & (x1 >= cx - b))
-    if not len(near):
-        return best
-    d = _cell_distance(metric, cx, cy, x0[near], x1[near], y0[near], y1[near])
-    return min(best, float(d.min()))
+def _axis_bounds(grid, axis: int, coords: np.ndarray, level: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Cells' (low, high) bounds along one axis: `Tree.bounds`'s floats, one axis at a time."""
+    width = np.ldexp(grid.size[axis], -level)
+    low = grid.lo[axis] + coords * width
+    return low, low + width
 
 
 def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:
@@ -163,25 +233,6 @@ def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:
     gx = np.maximum(np.maximum(x0 - cx, cx - x1), 0.0)
     gy = np.maximum(np.maximum(y0 - cy, cy - y1), 0.0)
     return np.hypot(gx, gy) if metric == "l2" else np.maximum(gx, gy)
-
-
-def _near_one_another(centres: np.ndarray, bounds: np.ndarray) -> list[np.ndarray]:
-    """The centres in groups (index arrays) whose centres lie within half the group's smallest
-    bound of one another along each axis: their cells to look at mostly coincide. Late
-    rounds of the search, around the optimum, make one group; early ones mostly groups of one."""
-    order = np.lexsort((centres[:, 1], centres[:, 0]))
-    groups, current = [], []
-    for k in order.tolist():
-        if current:
-            x, y = centres[current + [k], 0], centres[current + [k], 1]
-            reach = 0.5 * min(bounds[current].min(), bounds[k])
-            if x.max() - x.min() > reach or y.max() - y.min() > reach:
-                groups.append(np.array(current))
-                current = []
-        current.append(k)
-    if current:
-        groups.append(np.array(current))
-    return groups
 
 
 def _reach(width: np.ndarray, metric: str) -> np.ndarray:
@@ -209,18 +260,20 @@ def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     lo, hi = tree.bounds(keep)
     width = hi - lo
     bound = 4.0 * _reach(width, metric)
+    hint = obstacles.beside(tree.start[keep], lo + 0.5 * width, metric)
     best_centre = None
     for _ in range(MAX_ROUNDS):
         if not len(lo):
             break
         centres = lo + 0.5 * width
-        f = obstacles.distance(metric, centres, bound)
+        f, near = obstacles.nearest(metric, centres, bound, hint)
         k = int(np.argmax(f))
         if best_centre is None or f[k] > best:
             best, best_centre = float(f[k]), centres[k]
         upper = f + _reach(width, metric)
         alive = upper > best * (1.0 + TOLERANCE)
-        lo, width, upper = lo[alive], width[alive], upper[alive]
+        lo, width, upper, near = lo[alive], width[alive], upper[alive], near[alive]
+        hint = np.concatenate([near] * 4)  # a child's distance to its parent's nearest cell: a bound
         half = 0.5 * width
         lo = np.concatenate([lo, lo + half * [1, 0], lo + half * [0, 1], lo + half])
         width = np.concatenate([half] * 4)

@@ -107,14 +107,11 @@ def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
     if not len(polygon_offsets) > 1:
         return "MultiPolygon", "[]"
     lattice = coords.astype(np.int64)
-    values = [unique(lattice[:, axis]) for axis in (0, 1)]
-    x_text, y_text = (np.array([before + t + after for t in _value_texts(tree, v, axis)], dtype=object)
-                      for v, axis, before, after in ((values[0], 0, "[", ","), (values[1], 1, "", "],")))
     # the points' texts, "[x," then "y],", joined as they are, but for the brackets opening each
     # ring (and polygon) before its first point and closing it after its last
     pieces = np.empty(2 * len(lattice), dtype=object)
-    pieces[0::2] = x_text[np.searchsorted(values[0], lattice[:, 0])]
-    pieces[1::2] = y_text[np.searchsorted(values[1], lattice[:, 1])]
+    pieces[0::2] = _value_texts(tree, lattice[:, 0], 0)
+    pieces[1::2] = _value_texts(tree, lattice[:, 1], 1)
     rings = len(ring_offsets) - 1
     first_of_polygon = np.zeros(rings, bool)
     first_of_polygon[polygon_offsets[:-1]] = True
@@ -130,26 +127,34 @@ def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
     return "MultiPolygon", "[" + body + "]"
 
 
-_TEXTS: dict = {}  # per axis of the last grid written: {lattice value: its coordinate's text}
+_TEXTS: dict = {}  # per axis of the last grid written: (lattice values made, sorted; their point texts)
 
 
-def _value_texts(tree: Tree, values: np.ndarray, axis: int) -> list[str]:
-    """The text json writes for the space coordinate of each lattice value along `axis`
-    (`lattice_to_space`, `+ 0.0`: no -0.0), each made once for the trees of one grid (the aspects
-    of an analysis share most of their lattice lines)."""
+def _value_texts(tree: Tree, values: np.ndarray, axis: int) -> np.ndarray:
+    """The text of each lattice value along `axis` as a point writes it, "[x," or "y],": the space
+    coordinate (`lattice_to_space`, `+ 0.0`: no -0.0) as json writes it (repr), each made once for
+    the trees of one grid (the aspects of an analysis share most of their lattice lines); an
+    object array."""
     key = (tree.grid, axis)
     if key not in _TEXTS:
         if len(_TEXTS) >= 2:  # another grid's
             _TEXTS.clear()
-        _TEXTS[key] = {}
-    known = _TEXTS[key]
-    values = values.tolist()
-    new = [v for v in values if v not in known]
-    if new:
+        _TEXTS[key] = (np.zeros(0, np.int64), np.zeros(0, dtype=object))
+    known, texts = _TEXTS[key]
+    wanted = unique(values)
+    at = np.minimum(np.searchsorted(known, wanted), max(len(known) - 1, 0))
+    new = wanted[known[at] != wanted] if len(known) else wanted
+    if len(new):
         points = np.zeros((len(new), 2), np.int64)
         points[:, axis] = new
-        known.update(zip(new, map(repr, (lattice_to_space(tree, points)[:, axis] + 0.0).tolist())))
-    return [known[v] for v in values]
+        before, after = ("[", ",") if axis == 0 else ("", "],")
+        made = np.array([before + repr(v) + after for v in (lattice_to_space(tree, points)[:, axis] + 0.0).tolist()],
+                        dtype=object)
+        known, texts = np.concatenate([known, new]), np.concatenate([texts, made])
+        order = np.argsort(known, kind="stable")
+        known, texts = known[order], texts[order]
+        _TEXTS[key] = known, texts
+    return texts[np.searchsorted(known, values)]
 
 
 def _json(value) -> str:

@@ -164,10 +164,11 @@ def boundary_rings(tree: Tree):
     order = np.argsort(start_key, kind="stable")
     sorted_keys = start_key[order]
     lo = np.searchsorted(sorted_keys, end_key, side="left")
-    hi = np.searchsorted(sorted_keys, end_key, side="right")
     succ = order[lo]
-    pinch_next = hi - lo == 2  # four boundary edges at the end point: take the left turn
-    second = order[np.minimum(lo + 1, n_edges - 1)]
+    after = np.minimum(lo + 1, n_edges - 1)
+    # two edges leave the end point (four boundary edges meet there, never more): take the left turn
+    pinch_next = (lo + 1 < n_edges) & (sorted_keys[after] == end_key)
+    second = order[after]
     left = (d + 1) % 4
     succ = np.where(pinch_next & (d[second] == left), second, succ)
     pinch = np.zeros(n_edges, bool)  # the edge starts at a pinch point
