@@ -10,8 +10,8 @@ from pathlib import Path
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
 from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_depth, source_name, with_aspects
 from fivebar_cli.api.values import Aspects
-from fivebar_cli.errors import InputError
-from fivebar_cli.mechanisms.base import Mechanism, plural
+from fivebar_cli.errors import InputError, param
+from fivebar_cli.mechanisms.base import Mechanism, article, plural
 
 
 @dataclass(frozen=True, repr=False)
@@ -28,6 +28,8 @@ class Location:
     aspects: tuple = field(default=(), compare=False)  # the library's aspects the rows name
     where: str = ""  # where the aspects come from: 'computed' or 'read from FOLDER'
     wanted: tuple = (None, None)  # the working and assembly modes kept (None: any)
+    cells: tuple = field(default=(), compare=False)  # over poses: the CSV's cells, one tuple per row
+    notes: tuple = field(default=(), compare=False)  # over poses: the report's lines
 
     def rows(self) -> list[dict]:
         return [dict(c) for c in self.configurations]
@@ -42,6 +44,8 @@ class Location:
         """The rows as `fivebar locate --csv` prints them (booleans true/false, None empty)."""
         from fivebar_cli.io.files import csv_text
 
+        if self.mechanism.pose_aspect_model() is not None:
+            return csv_text(self.columns, self.cells)
         cell = {None: "", True: "true", False: "false"}
         return csv_text(self.columns, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
                                         for k in self.columns] for r in self.configurations])
@@ -52,6 +56,8 @@ class Location:
         gives it (computed here: it may pave more finely). Parameters named as data (`errors.Text`)."""
         from fivebar_cli.analyses.locate import Pieces, decide
 
+        if self.mechanism.pose_aspect_model() is not None:
+            return list(self.notes)
         m, depth, (working_mode, assembly_mode) = self.mechanism, self.depth, self.wanted
         names = [a.name for a in m.spaces()["jointspace"].axes]
         out = [f"{m.name}: {_aspect_count(self.aspects, m.is_interval)} at depth {depth} {self.where} "
@@ -153,7 +159,7 @@ def _points(value) -> list[tuple[float, ...]]:
 
 def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
            working_mode: str | None = None, assembly_mode: str | None = None, budget: int | None = None,
-           folder=None, source: str | None = None, advance=None) -> Location:
+           folder=None, source: str | None = None, advance=None, legs=None) -> Location:
     """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
     it at `depth`.
 
@@ -165,10 +171,14 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     answer for each pair of locations; `csv()` its `--csv` output. `source`: how messages name the
     mechanism (default: its file, or its name).
 
-    Over a space of poses (3-RPR, 3-RRR), `pose` is (x, y, phi_deg), located in every working mode
-    (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
-    --working-mode`): one row per working mode, with `sheet` (its fields: {} for a 3-RPR), `class`
-    (None on or near a singularity) and `aspect`.
+    Over a space of poses (3-RPR, 3-RRR), each `pose` (x, y, phi_deg) is located in every working
+    mode (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
+    --working-mode`), each `joints` (`legs`: a 3-RPR's leg lengths, so named in the rows) at every
+    pose they give (`dkp`): one row per pose and working mode, with `input` (the location's
+    number), `location`, `pose`, `joints`, `sheet` (its fields: {} for a 3-RPR), `class` (None on
+    or near a singularity), `aspect`, `aspect_certified` and `violates` (a constraint, or '').
+    `lines()` is `fivebar locate`'s report (with two or more locations, which share an aspect);
+    `depth` at most 9 for an octree.
 
     Examples
     --------
@@ -178,11 +188,13 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     """
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
-    check_depth(depth, MAX_ASPECT_DEPTH)
-    if (pose is None) == (joints is None) and m.pose_aspect_model() is not None:
-        raise InputError(m.name, "pose", "give either pose or joints")
     if m.pose_aspect_model() is not None:
-        return _locate_pose(m, pose, joints, depth, aspects, working_mode, advance)
+        from fivebar_cli.api.poses import locate_poses
+
+        return locate_poses(m, pose, legs, joints, depth, aspects, working_mode, budget, folder, source, advance)
+    check_depth(depth, MAX_ASPECT_DEPTH)
+    if legs is not None:
+        raise InputError(source, param("legs"), f"{article(m.kind)} has no legs to give: give joints")
     places = [("pose", p) for p in _points(pose)] + [("joints", j) for j in _points(joints)]
     if not places:
         raise InputError(m.name, "pose", "give pose or joints (or both)")
@@ -210,30 +222,3 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
                "aspect_certified", *(("violates",) if m.constraints else ()))
     rows = tuple(r for _, _, here in located for _, r in here)
     return Location(m, depth, rows, columns, tuple(located), tuple(found), where, (working_mode, assembly_mode))
-
-
-def _locate_pose(m, pose, joints, depth, aspects, working_mode, advance) -> Location:
-    """A pose (x, y, phi_deg) of a 3-RPR or 3-RRR, in every working mode or in `working_mode`."""
-    import numpy as np
-
-    from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, working_sheets
-    from fivebar_cli.analyses.pose_paths import wrap_pose
-
-    if pose is None:
-        raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
-    sheets = working_sheets(m, working_mode)  # the input checked before the aspects are computed
-    if aspects is None:
-        from fivebar_cli.api.calls import aspects as compute
-
-        aspects = compute(m, depth, shapes=False, advance=advance)
-    model = m.pose_aspect_model()
-    point = wrap_pose(m.spaces()[model.space], np.asarray(pose, float))
-    rows = []
-    for sheet in sheets:
-        cls, aspect = aspect_at(aspects.analysis.aspects, model, point, sheet)
-        legs, _ = model.ikp(point[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
-        rows.append({"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
-                     "sheet": dict(model.sheets[sheet].fields),
-                     "class": dict(model.classes[cls].fields) if cls >= 0 else None,
-                     "aspect": aspect.number if aspect is not None else None})
-    return Location(m, aspects.depth, tuple(rows))
