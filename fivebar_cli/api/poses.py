@@ -101,15 +101,16 @@ def class_values(model, cls: int, sheet: int) -> list[str]:
 
 
 def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = None, folder=None,
-        source: str | None = None, what: str = "joints") -> Report:
+        aspects=None, source: str | None = None, what: str = "joints", solved=None) -> Report:
     """Every pose (assembly mode) with the given joint values, certified: a 3-RPR's leg lengths, a
     3-RRR's actuated angles in degrees.
 
     Branch and prune over the space of poses with the Krawczyk test: each pose is in a small box
     proven to hold exactly one solution, every other box is proven to hold none, so the number of
     assembly modes is certified (boxes left undecided, near a singular pose, are reported as such,
-    with `certified` false). Each pose comes with its class and its aspect at `depth` (read from
-    `folder` when an `aspects` run saved them there, else computed with `budget`).
+    with `certified` false). Each pose comes with its class and its aspect at `depth`: those of
+    `aspects` (an `Aspects` of this mechanism; its depth) when given, else read from `folder` when
+    an `aspects` run saved them there, else computed with `budget`.
 
     Parameters
     ----------
@@ -122,6 +123,9 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     what : str
         How the notes name the joint values: 'joints', or 'legs' (a 3-RPR's, as `fivebar rpr3 dkp`,
         whose command `save` then records).
+    solved : optional
+        `joint_poses(mech, joints)` when the caller has already checked and solved them (the
+        command line does, to name bad joints before it checks its output folder): not solved again.
 
     Returns
     -------
@@ -133,7 +137,7 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     Examples
     --------
     >>> import fivebar_cli as fb
-    >>> d = fb.dkp("rpr3-caro", (14.98, 15.38, 12), 4)
+    >>> d = fb.dkp("rpr3-caro", (14.98, 15.38, 12), 2, budget=0)
     >>> len(d), [r["det_sign"] for r in d.rows()]
     (6, ['+', '+', '+', '-', '-', '-'])
     """
@@ -141,10 +145,12 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG
 
     source = source or source_name(mech)
+    depth = aspects.depth if aspects is not None else depth
     m = pose_mechanism(mech, poses=True, depth=depth, source=source)
     model = m.pose_aspect_model()
-    result = joint_poses(m, joints, "legs" if what == "legs" else "joints")
-    aspects, where = pose_aspects_for(m, folder, depth, budget)
+    result = solved if solved is not None else joint_poses(m, joints, "legs" if what == "legs" else "joints")
+    aspects, where = ((aspects.analysis.aspects, "given") if aspects is not None else
+                      pose_aspects_for(m, folder, depth, budget))
     fields = [k for k, _ in model.classes[0].fields]
     rows = []
     for s in result.solutions:

@@ -16,9 +16,10 @@ def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_p
 
     m = load_pose_kind(config_path, poses=True, depth=depth)
     with option_errors(joints=option, legs=option):
-        joint_poses(m, joints, option[2:])  # bad joints named before the output folder, as before any work
+        solved = joint_poses(m, joints, option[2:])  # bad joints are named before the output folder
         folder = prepare_out(out, m.name)
-        found = fb_dkp(m, joints, depth, budget=budget, folder=folder, source=str(config_path), what=option[2:])
+        found = fb_dkp(m, joints, depth, budget=budget, folder=folder, source=str(config_path), what=option[2:],
+                       solved=solved)
     for line in found.notes:
         report(quiet, line)
     if not no_plot:
