@@ -6,7 +6,6 @@ field."""
 
 from __future__ import annotations
 
-import csv
 import math
 
 import numpy as np

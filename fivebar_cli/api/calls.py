@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
@@ -184,7 +184,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     step = advance or (lambda n=1: None)
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
-        from fivebar_cli.api.poses import pose_mechanism
+        from fivebar_cli.api.pose_space import pose_mechanism
 
         pose_mechanism(m, depth=depth, source=m_name(mech))
         analysis = analyse_pose_aspects(m, depth, step, budget, jobs)
@@ -252,12 +252,10 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     >>> p.points.shape[1]
     4
     """
-    import numpy as np
-
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
     if m.pose_aspect_model() is not None:
-        from fivebar_cli.api.poses import pose_path
+        from fivebar_cli.api.pose_space import pose_path
 
         return pose_path(m, start, goal, depth, working_mode, joints, legs, folder, source)
     from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_points, resolve
@@ -299,12 +297,6 @@ def _path_notes(result, trees) -> tuple[str, ...]:
     if result.source == "saved":
         notes.append(f"  aspect trees read from {trees}")
     return tuple(notes)
-
-
-def check_depth(depth, limit: int, field: str = "depth") -> None:
-    """A depth is an integer in 0..limit (InputError naming `field` otherwise)."""
-    if isinstance(depth, bool) or not isinstance(depth, int) or not 0 <= depth <= limit:
-        raise InputError("", param(field), f"must be an integer in 0..{limit}, got {depth!r}")
 
 
 # ---------------------------------------------------------------- atlas and view

@@ -7,8 +7,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
-from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_depth, source_name, with_aspects
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
+from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, source_name, with_aspects
+from fivebar_cli.api.pose_space import check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism
 from fivebar_cli.api.values import Aspects
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
@@ -189,8 +190,6 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
     if m.pose_aspect_model() is not None:
-        from fivebar_cli.api.poses import locate_poses
-
         return locate_poses(m, pose, legs, joints, depth, aspects, working_mode, budget, folder, source, advance)
     check_depth(depth, MAX_ASPECT_DEPTH)
     if legs is not None:
@@ -222,3 +221,101 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
                "aspect_certified", *(("violates",) if m.constraints else ()))
     rows = tuple(r for _, _, here in located for _, r in here)
     return Location(m, depth, rows, columns, tuple(located), tuple(found), where, (working_mode, assembly_mode))
+
+
+# ---------------------------------------------------------------- over a space of poses
+
+
+def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_mode: str | None, budget,
+                 folder, source: str, advance):
+    """`fb.locate` of a 3-RPR or 3-RRR: every pose (in every working mode or in `working_mode`)
+    and every pose of each joint values (`legs`, `joints`), with its class and aspect; the rows,
+    the CSV and the lines of `fivebar locate`. Bad input is named before any aspect is computed."""
+    from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
+    from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, sheet_of, working_sheets
+    from fivebar_cli.analyses.pose_paths import check_pose, wrap_pose
+
+    depth = aspects.depth if aspects is not None else depth
+    m = pose_mechanism(m, poses=True, depth=depth, source=source)
+    model = m.pose_aspect_model()
+    space = m.spaces()[model.space]
+    sheets = working_sheets(m, working_mode)
+    locations = [(kind, p) for kind, value in (("pose", pose), ("legs", legs), ("joints", joints))
+                 for p in _points(value)]
+    if not locations:
+        raise InputError(source, param("pose"), "give pose, joints or legs (or several)")
+    for kind, value in locations:  # bad input named before anything is computed
+        if kind == "pose":
+            check_pose(m, wrap_pose(space, value), f"pose ({numbers(value)})", source)
+        else:
+            check_joints(m, value, kind)
+    if aspects is not None:
+        found, where = aspects.analysis.aspects, "given"
+    else:
+        found, where = pose_aspects_for(m, folder, depth, budget, advance)
+    rows, undecided = [], {}
+    for k, (kind, value) in enumerate(locations, start=1):
+        if kind == "pose":
+            here = [(wrap_pose(space, value), sheet, None) for sheet in sheets]
+        else:
+            result = joint_poses(m, value, kind)
+            here = [(s.pose, sheet_of(model, s.cls) if s.cls >= 0 else 0, s.cls) for s in result.solutions]
+            undecided[k] = "" if result.certified else f", {len(result.undecided_lo)} boxes of poses not decided"
+        for at, sheet, known in here:
+            cls, aspect = aspect_at(found, model, at, sheet)
+            if known is not None and cls != known:  # the joints decided: a certified class elsewhere, or none
+                cls, aspect = known, None if known < 0 else aspect
+            legs_at, _ = model.ikp(at[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
+            violates = "; ".join(model.violated_constraints(at[None, :], sheet)[0]) if m.constraints else ""
+            rows.append({"input": k, "location": f"{kind} {' '.join(f'{v:g}' for v in value)}", "pose": at,
+                         "joints": legs_at[0], "cls": cls, "sheet": sheet, "aspect": aspect, "violates": violates})
+    fields = [k for k, _ in model.classes[0].fields]
+    extra = ("violates",) if m.constraints else ()
+    columns = ("input", "location", *pose_columns(m), *joint_columns(m), *fields, "aspect", "aspect_certified", *extra)
+    cells = tuple((r["input"], r["location"], *r["pose"], *r["joints"], *class_values(model, r["cls"], r["sheet"]),
+                   r["aspect"].number if r["aspect"] else "",
+                   ("true" if r["aspect"].certified else "false") if r["aspect"] else "",
+                   *((r["violates"],) if extra else ())) for r in rows)
+    notes = _locate_lines(m, depth, where, locations, rows, undecided)
+    values = tuple({"input": r["input"], "location": r["location"], "pose": tuple(map(float, r["pose"])),
+                    "joints": tuple(map(float, r["joints"])), "sheet": dict(model.sheets[r["sheet"]].fields),
+                    "class": dict(model.classes[r["cls"]].fields) if r["cls"] >= 0 else None,
+                    "aspect": r["aspect"].number if r["aspect"] else None,
+                    "aspect_certified": bool(r["aspect"].certified) if r["aspect"] else None,
+                    "violates": r["violates"]} for r in rows)
+    return Location(m, depth, values, columns, tuple(locations), tuple(found), where, (working_mode, None), cells,
+                    tuple(notes))
+
+
+def _locate_lines(m: Mechanism, depth: int, where: str, locations, rows, undecided) -> list[str]:
+    """What `fivebar locate` prints over poses: each location's poses, their class and aspect; with
+    two or more locations, which pairs share an aspect."""
+    model = m.pose_aspect_model()
+    names = [a.name for a in m.spaces()[model.space].axes]
+    out = [f"{m.name}: aspects at depth {depth} {where}"]
+    for k, (kind, value) in enumerate(locations, start=1):
+        mine = [r for r in rows if r["input"] == k]
+        what = f"{kind} ({numbers(value)})"
+        if kind != "pose":
+            what += f": {len(mine)} poses" + (" (certified)" if not undecided[k] else undecided[k])
+        out.append(f"location {k}: {what}")
+        for r in mine:
+            sheet = model.sheets[r["sheet"]].label
+            why = f"violates the {r['violates']}" if r["violates"] else "on or near a singularity (no certified sign)"
+            label = model.classes[r["cls"]].label if r["cls"] >= 0 else (f"{sheet}: " if sheet else "") + why
+            a = r["aspect"]
+            place = (f"aspect {a.number}" + ("" if a.certified else " (not certified at this depth)") if a else
+                     "in no certified cell at this depth" if r["cls"] >= 0 else "in no aspect")
+            out.append("  " + ", ".join(f"{n} = {v:.6g}" for n, v in zip(names, r["pose"])) + ", "
+                       + ", ".join(f"{ax.name} = {v:.6g}" for ax, v in zip(model.joint_axes, r["joints"]))
+                       + f": {label} -> {place}")
+    if len(locations) >= 2:
+        out.append("singularity-free motions between locations:")
+        held = {k: {r["aspect"].number for r in rows if r["input"] == k and r["aspect"]}
+                for k in range(1, len(locations) + 1)}
+        for i in range(1, len(locations) + 1):
+            for j in range(i + 1, len(locations) + 1):
+                shared = sorted(held[i] & held[j])
+                out.append(f"  {i} -> {j}: " + (f"yes, within aspect(s) {', '.join(map(str, shared))}" if shared else
+                                               "no aspect holds a pose of both at this depth"))
+    return out

@@ -12,7 +12,7 @@ from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_budget_option, po
 
 def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_plot: bool, quiet: bool) -> None:
     """What `fivebar dkp` and `fivebar rpr3 dkp` do (`option`: how the joints were given)."""
-    from fivebar_cli.api.poses import joint_poses
+    from fivebar_cli.api.pose_space import joint_poses
 
     m = load_pose_kind(config_path, poses=True, depth=depth)
     with option_errors(joints=option, legs=option):

@@ -16,7 +16,7 @@ import click
 
 from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH
 from fivebar_cli.analyses.pose_aspects import working_sheets
-from fivebar_cli.api.poses import DEFAULT_POSE_DEPTH, pose_mechanism
+from fivebar_cli.api.pose_space import DEFAULT_POSE_DEPTH, pose_mechanism
 from fivebar_cli.cli.numbers import NUMBER
 from fivebar_cli.cli.options import budget_option, option_errors
 from fivebar_cli.mechanisms.base import Mechanism
