@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
 from fivebar_cli.api.calls import _mechanism, source_name
 from fivebar_cli.api.pose_space import (
-    DEFAULT_POSE_DEPTH, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism,
+    DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_mechanism,
 )
 from fivebar_cli.api.studies import Report
 from fivebar_cli.errors import InputError
@@ -74,8 +74,8 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     rows = []
     for s in result.solutions:
         aspect = _solution_aspect(model, aspects, s)
-        rows.append((*s.pose, *(class_values(model, s.cls, 0) if s.cls >= 0 else ("0",) * len(fields)),
-                     aspect.number if aspect is not None else "", "true"))
+        cls = (v for _, v in model.classes[s.cls].fields) if s.cls >= 0 else ("0",) * len(fields)
+        rows.append((*s.pose, *cls, aspect.number if aspect is not None else "", "true"))
     for lo, hi in zip(result.undecided_lo, result.undecided_hi):
         rows.append((*(0.5 * (lo + hi)), *("",) * len(fields), "", "false"))
     n = len(result.solutions)

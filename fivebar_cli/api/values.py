@@ -350,8 +350,9 @@ class Aspects:
 @dataclass(frozen=True, repr=False)
 class Path_:
     """A certified motion: `points` (joints then pose per waypoint, the columns of path.csv),
-    `length` in the joint space (five-bar, 2-RPR) or in the scaled space of poses (3-RPR); `notes`,
-    the lines `fivebar path` prints about it (five-bar, 2-RPR)."""
+    `length` in the joint space (five-bar, 2-RPR) or in the space of poses (3-RPR, 3-RRR: x, y and
+    phi in degrees alike); `notes`, the lines `fivebar path` prints about it; `labels`, how they
+    and the figure name the endpoints."""
 
     mechanism: Mechanism
     depth: int
