@@ -14,8 +14,8 @@ from fivebar_cli.version import __version__  # noqa: F401 - the package version
 
 __all__ = [
     "load", "pave", "refine", "read_qt", "aspects", "locate", "path", "atlas", "view", "examples", "rpr3",
-    "tolerance", "kratio", "verify", "Report",
-    "Mechanism", "Paving", "Aspects", "Aspect", "Location", "Path", "Table", "FivebarError", "InputError",
+    "tolerance", "kratio", "verify", "dkp", "compare", "Report",
+    "Mechanism", "Paving", "Aspects", "Aspect", "Location", "Path", "Table", "Comparison", "FivebarError", "InputError",
 ]
 
 

@@ -1,6 +1,16 @@
 """The library's depth limits (the API checks them, the command line's options take them as their
-ranges): beyond them a run would need more memory than a workstation has."""
+ranges): beyond them a run would need more memory than a workstation has; `check_depth` is the check."""
+
+from fivebar_cli.errors import InputError, param
 
 MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need several GiB
 MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
 MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
+MAX_POSE_DEPTH = 9  # octree aspects: about 4x the time and memory per level (depth 8: 40 s, 0.7 GiB; 9: ~3 GiB)
+MAX_PLANE_DEPTH = MAX_ASPECT_DEPTH  # quadtree aspects over poses (a single orientation): as the five-bar's
+
+
+def check_depth(depth, limit: int, field: str = "depth") -> None:
+    """A depth is an integer in 0..limit (InputError naming `field` otherwise)."""
+    if isinstance(depth, bool) or not isinstance(depth, int) or not 0 <= depth <= limit:
+        raise InputError("", param(field), f"must be an integer in 0..{limit}, got {depth!r}")

@@ -5,8 +5,9 @@ this API's first client."""
 from fivebar_cli.api import rpr3
 from fivebar_cli.api.calls import aspects, atlas, examples, load, path, pave, read_qt, refine, view
 from fivebar_cli.api.locations import Location, locate
-from fivebar_cli.api.poses import verify
+from fivebar_cli.api.poses import dkp, verify
 from fivebar_cli.api.studies import Report, kratio, tolerance
+from fivebar_cli.api.trees import Comparison, compare
 from fivebar_cli.api.values import Aspect, Aspects, Paving, Table
 from fivebar_cli.api.values import Path_ as Path
 from fivebar_cli.errors import FivebarError, InputError
@@ -14,6 +15,6 @@ from fivebar_cli.mechanisms.base import Mechanism
 
 __all__ = [
     "load", "pave", "refine", "read_qt", "aspects", "locate", "path", "atlas", "view", "examples", "rpr3",
-    "tolerance", "kratio", "verify", "Report",
-    "Mechanism", "Paving", "Aspects", "Aspect", "Location", "Path", "Table", "FivebarError", "InputError",
+    "tolerance", "kratio", "verify", "dkp", "compare", "Report",
+    "Mechanism", "Paving", "Aspects", "Aspect", "Location", "Path", "Table", "Comparison", "FivebarError", "InputError",
 ]

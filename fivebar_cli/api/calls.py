@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
@@ -184,7 +184,9 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     step = advance or (lambda n=1: None)
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
+        from fivebar_cli.api.pose_space import pose_mechanism
 
+        pose_mechanism(m, depth=depth, source=m_name(mech))
         analysis = analyse_pose_aspects(m, depth, step, budget, jobs)
         found = tuple(Aspect(a.number, dict(a.signs.fields), a.tree, None, tuple(a.pose), tuple(a.joints),
                              bool(a.certified)) for a in analysis.aspects)
@@ -225,8 +227,8 @@ def m_name(mech) -> str:
 
 
 def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = False,
-         assembly_mode: str | None = None, working_mode: str | None = None, folder=None,
-         source: str | None = None) -> Path_:
+         assembly_mode: str | None = None, working_mode: str | None = None, joints=None, legs=None,
+         folder=None, source: str | None = None) -> Path_:
     """A certified singularity-free motion from `start` to `goal` (NoPath, a FivebarError, when none
     is found at this depth, with the reason).
 
@@ -234,11 +236,13 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     `assembly_mode`) or `{"pose": (x, y), "working_mode": "++"}`; with `allow_serial` the motion
     may cross serial singularities, never parallel ones; `working_mode` is that of every pose
     endpoint that names none. 3-RPR, 3-RRR: each endpoint is a pose (x, y, phi_deg), for a 3-RRR
-    in `working_mode` ('+-+': needed, as `fivebar path --working-mode`). `folder`: an `aspects`
+    in `working_mode` ('+-+': needed, as `fivebar path --working-mode`); or, with `joints` (`legs`,
+    a 3-RPR's leg lengths), `start` and `goal` are two of their assembly modes, numbered from 1 as
+    in `dkp`'s rows (a non-singular change of assembly mode). `folder`: an `aspects`
     output folder whose trees are reused (and whose workspace tree of the motion's aspect is the
     figure's backdrop). `source`: how messages name the mechanism (default: its file, or its
-    name). `depth` is at most `MAX_ASPECT_DEPTH` (16); the result's `notes` are the lines
-    `fivebar path` prints, `save(folder, figures=True)` writes its path.csv and path.png.
+    name). `depth` is at most `MAX_ASPECT_DEPTH` (16; an octree of poses: 9); the result's `notes`
+    are the lines `fivebar path` prints, `save(folder, figures=True)` writes its path.csv and path.png.
 
     Examples
     --------
@@ -248,33 +252,18 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     >>> p.points.shape[1]
     4
     """
-    import numpy as np
-
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
-    check_depth(depth, MAX_ASPECT_DEPTH)
     if m.pose_aspect_model() is not None:
-        from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
-        from fivebar_cli.analyses.pose_aspects import motion_sheet
-        from fivebar_cli.analyses.pose_paths import check_pose, find_motion, wrap_pose
+        from fivebar_cli.api.pose_space import pose_path
 
-        sheet = motion_sheet(m, working_mode)
-        space = m.spaces()[m.pose_aspect_model().space]
-        ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
-        for p, label in zip(ends, ("start", "goal")):
-            check_pose(m, p, label, source)
-        saved = None
-        if folder is not None:
-            from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
-
-            saved = load_pose_aspects(Path(folder), m, depth)
-        motion = find_motion(m, depth, ends[0], ends[1], ("start", "goal"), source, saved, (sheet, sheet))
-        walk = motion.motion.unwrapped()
-        length = float(np.sum(np.linalg.norm(np.diff(walk, axis=0), axis=1)))
-        return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
-                     length, motion)
+        return pose_path(m, start, goal, depth, working_mode, joints, legs, folder, source)
     from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_points, resolve
 
+    check_depth(depth, MAX_ASPECT_DEPTH)
+    if joints is not None or legs is not None:
+        raise InputError(source, param("joints" if joints is not None else "legs"), f"{article(m.kind)}'s endpoints "
+                         "give their own joints: {'joints': (th1, th2)}")
     check_serial(m, allow_serial, source)
     endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode", working_mode)) if "pose" in e
                  else Endpoint("joints", tuple(e["joints"])) for e in (start, goal)]
@@ -308,12 +297,6 @@ def _path_notes(result, trees) -> tuple[str, ...]:
     if result.source == "saved":
         notes.append(f"  aspect trees read from {trees}")
     return tuple(notes)
-
-
-def check_depth(depth, limit: int, field: str = "depth") -> None:
-    """A depth is an integer in 0..limit (InputError naming `field` otherwise)."""
-    if isinstance(depth, bool) or not isinstance(depth, int) or not 0 <= depth <= limit:
-        raise InputError("", param(field), f"must be an integer in 0..{limit}, got {depth!r}")
 
 
 # ---------------------------------------------------------------- atlas and view

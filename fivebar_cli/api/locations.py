@@ -7,11 +7,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH
-from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_depth, source_name, with_aspects
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
+from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, source_name, with_aspects
+from fivebar_cli.api.pose_space import check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism
 from fivebar_cli.api.values import Aspects
-from fivebar_cli.errors import InputError
-from fivebar_cli.mechanisms.base import Mechanism, plural
+from fivebar_cli.errors import InputError, param
+from fivebar_cli.mechanisms.base import Mechanism, article, plural
 
 
 @dataclass(frozen=True, repr=False)
@@ -28,6 +29,8 @@ class Location:
     aspects: tuple = field(default=(), compare=False)  # the library's aspects the rows name
     where: str = ""  # where the aspects come from: 'computed' or 'read from FOLDER'
     wanted: tuple = (None, None)  # the working and assembly modes kept (None: any)
+    cells: tuple = field(default=(), compare=False)  # over poses: the CSV's cells, one tuple per row
+    notes: tuple = field(default=(), compare=False)  # over poses: the report's lines
 
     def rows(self) -> list[dict]:
         return [dict(c) for c in self.configurations]
@@ -42,6 +45,8 @@ class Location:
         """The rows as `fivebar locate --csv` prints them (booleans true/false, None empty)."""
         from fivebar_cli.io.files import csv_text
 
+        if self.mechanism.pose_aspect_model() is not None:
+            return csv_text(self.columns, self.cells)
         cell = {None: "", True: "true", False: "false"}
         return csv_text(self.columns, [[cell.get(r[k], r[k]) if r[k] is None or isinstance(r[k], bool) else r[k]
                                         for k in self.columns] for r in self.configurations])
@@ -52,6 +57,8 @@ class Location:
         gives it (computed here: it may pave more finely). Parameters named as data (`errors.Text`)."""
         from fivebar_cli.analyses.locate import Pieces, decide
 
+        if self.mechanism.pose_aspect_model() is not None:
+            return list(self.notes)
         m, depth, (working_mode, assembly_mode) = self.mechanism, self.depth, self.wanted
         names = [a.name for a in m.spaces()["jointspace"].axes]
         out = [f"{m.name}: {_aspect_count(self.aspects, m.is_interval)} at depth {depth} {self.where} "
@@ -153,7 +160,7 @@ def _points(value) -> list[tuple[float, ...]]:
 
 def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
            working_mode: str | None = None, assembly_mode: str | None = None, budget: int | None = None,
-           folder=None, source: str | None = None, advance=None) -> Location:
+           folder=None, source: str | None = None, advance=None, legs=None) -> Location:
     """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
     it at `depth`.
 
@@ -165,10 +172,14 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     answer for each pair of locations; `csv()` its `--csv` output. `source`: how messages name the
     mechanism (default: its file, or its name).
 
-    Over a space of poses (3-RPR, 3-RRR), `pose` is (x, y, phi_deg), located in every working mode
-    (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
-    --working-mode`): one row per working mode, with `sheet` (its fields: {} for a 3-RPR), `class`
-    (None on or near a singularity) and `aspect`.
+    Over a space of poses (3-RPR, 3-RRR), each `pose` (x, y, phi_deg) is located in every working
+    mode (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
+    --working-mode`), each `joints` (`legs`: a 3-RPR's leg lengths, so named in the rows) at every
+    pose they give (`dkp`): one row per pose and working mode, with `input` (the location's
+    number), `location`, `pose`, `joints`, `sheet` (its fields: {} for a 3-RPR), `class` (None on
+    or near a singularity), `aspect`, `aspect_certified` and `violates` (a constraint, or '').
+    `lines()` is `fivebar locate`'s report (with two or more locations, which share an aspect);
+    `depth` at most 9 for an octree.
 
     Examples
     --------
@@ -178,11 +189,11 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     """
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
-    check_depth(depth, MAX_ASPECT_DEPTH)
-    if (pose is None) == (joints is None) and m.pose_aspect_model() is not None:
-        raise InputError(m.name, "pose", "give either pose or joints")
     if m.pose_aspect_model() is not None:
-        return _locate_pose(m, pose, joints, depth, aspects, working_mode, advance)
+        return locate_poses(m, pose, legs, joints, depth, aspects, working_mode, budget, folder, source, advance)
+    check_depth(depth, MAX_ASPECT_DEPTH)
+    if legs is not None:
+        raise InputError(source, param("legs"), f"{article(m.kind)} has no legs to give: give joints")
     places = [("pose", p) for p in _points(pose)] + [("joints", j) for j in _points(joints)]
     if not places:
         raise InputError(m.name, "pose", "give pose or joints (or both)")
@@ -212,28 +223,99 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     return Location(m, depth, rows, columns, tuple(located), tuple(found), where, (working_mode, assembly_mode))
 
 
-def _locate_pose(m, pose, joints, depth, aspects, working_mode, advance) -> Location:
-    """A pose (x, y, phi_deg) of a 3-RPR or 3-RRR, in every working mode or in `working_mode`."""
-    import numpy as np
+# ---------------------------------------------------------------- over a space of poses
 
-    from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, working_sheets
-    from fivebar_cli.analyses.pose_paths import wrap_pose
 
-    if pose is None:
-        raise InputError(m.name, "joints", "locate a 3-RPR by its pose (x, y, phi_deg)")
-    sheets = working_sheets(m, working_mode)  # the input checked before the aspects are computed
-    if aspects is None:
-        from fivebar_cli.api.calls import aspects as compute
+def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_mode: str | None, budget,
+                 folder, source: str, advance):
+    """`fb.locate` of a 3-RPR or 3-RRR: every pose (in every working mode or in `working_mode`)
+    and every pose of each joint values (`legs`, `joints`), with its class and aspect; the rows,
+    the CSV and the lines of `fivebar locate`. Bad input is named before any aspect is computed."""
+    from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
+    from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, sheet_of, working_sheets
+    from fivebar_cli.analyses.pose_paths import check_pose, wrap_pose
 
-        aspects = compute(m, depth, shapes=False, advance=advance)
+    depth = aspects.depth if aspects is not None else depth
+    m = pose_mechanism(m, poses=True, depth=depth, source=source)
     model = m.pose_aspect_model()
-    point = wrap_pose(m.spaces()[model.space], np.asarray(pose, float))
-    rows = []
-    for sheet in sheets:
-        cls, aspect = aspect_at(aspects.analysis.aspects, model, point, sheet)
-        legs, _ = model.ikp(point[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
-        rows.append({"pose": tuple(map(float, point)), "joints": tuple(map(float, legs[0])),
-                     "sheet": dict(model.sheets[sheet].fields),
-                     "class": dict(model.classes[cls].fields) if cls >= 0 else None,
-                     "aspect": aspect.number if aspect is not None else None})
-    return Location(m, aspects.depth, tuple(rows))
+    space = m.spaces()[model.space]
+    sheets = working_sheets(m, working_mode)
+    locations = [(kind, p) for kind, value in (("pose", pose), ("legs", legs), ("joints", joints))
+                 for p in _points(value)]
+    if not locations:
+        raise InputError(source, param("pose"), "give pose, joints or legs (or several)")
+    for kind, value in locations:  # bad input named before anything is computed
+        if kind == "pose":
+            check_pose(m, wrap_pose(space, value), f"pose ({numbers(value)})", source)
+        else:
+            check_joints(m, value, kind)
+    if aspects is not None:
+        found, where = aspects.analysis.aspects, "given"
+    else:
+        found, where = pose_aspects_for(m, folder, depth, budget, advance)
+    rows, undecided = [], {}
+    for k, (kind, value) in enumerate(locations, start=1):
+        if kind == "pose":
+            here = [(wrap_pose(space, value), sheet, None) for sheet in sheets]
+        else:
+            result = joint_poses(m, value, kind)
+            here = [(s.pose, sheet_of(model, s.cls) if s.cls >= 0 else 0, s.cls) for s in result.solutions]
+            undecided[k] = "" if result.certified else f", {len(result.undecided_lo)} boxes of poses not decided"
+        for at, sheet, known in here:
+            cls, aspect = aspect_at(found, model, at, sheet)
+            if known is not None and cls != known:  # the joints decided: a certified class elsewhere, or none
+                cls, aspect = known, None if known < 0 else aspect
+            legs_at, _ = model.ikp(at[None, :], cls if cls >= 0 else sheet_classes(model, sheet)[0])
+            violates = "; ".join(model.violated_constraints(at[None, :], sheet)[0]) if m.constraints else ""
+            rows.append({"input": k, "location": f"{kind} {' '.join(f'{v:g}' for v in value)}", "pose": at,
+                         "joints": legs_at[0], "cls": cls, "sheet": sheet, "aspect": aspect, "violates": violates})
+    fields = [k for k, _ in model.classes[0].fields]
+    extra = ("violates",) if m.constraints else ()
+    columns = ("input", "location", *pose_columns(m), *joint_columns(m), *fields, "aspect", "aspect_certified", *extra)
+    cells = tuple((r["input"], r["location"], *r["pose"], *r["joints"], *class_values(model, r["cls"], r["sheet"]),
+                   r["aspect"].number if r["aspect"] else "",
+                   ("true" if r["aspect"].certified else "false") if r["aspect"] else "",
+                   *((r["violates"],) if extra else ())) for r in rows)
+    notes = _locate_lines(m, depth, where, locations, rows, undecided)
+    values = tuple({"input": r["input"], "location": r["location"], "pose": tuple(map(float, r["pose"])),
+                    "joints": tuple(map(float, r["joints"])), "sheet": dict(model.sheets[r["sheet"]].fields),
+                    "class": dict(model.classes[r["cls"]].fields) if r["cls"] >= 0 else None,
+                    "aspect": r["aspect"].number if r["aspect"] else None,
+                    "aspect_certified": bool(r["aspect"].certified) if r["aspect"] else None,
+                    "violates": r["violates"]} for r in rows)
+    return Location(m, depth, values, columns, tuple(locations), tuple(found), where, (working_mode, None), cells,
+                    tuple(notes))
+
+
+def _locate_lines(m: Mechanism, depth: int, where: str, locations, rows, undecided) -> list[str]:
+    """What `fivebar locate` prints over poses: each location's poses, their class and aspect; with
+    two or more locations, which pairs share an aspect."""
+    model = m.pose_aspect_model()
+    names = [a.name for a in m.spaces()[model.space].axes]
+    out = [f"{m.name}: aspects at depth {depth} {where}"]
+    for k, (kind, value) in enumerate(locations, start=1):
+        mine = [r for r in rows if r["input"] == k]
+        what = f"{kind} ({numbers(value)})"
+        if kind != "pose":
+            what += f": {len(mine)} poses" + (" (certified)" if not undecided[k] else undecided[k])
+        out.append(f"location {k}: {what}")
+        for r in mine:
+            sheet = model.sheets[r["sheet"]].label
+            why = f"violates the {r['violates']}" if r["violates"] else "on or near a singularity (no certified sign)"
+            label = model.classes[r["cls"]].label if r["cls"] >= 0 else (f"{sheet}: " if sheet else "") + why
+            a = r["aspect"]
+            place = (f"aspect {a.number}" + ("" if a.certified else " (not certified at this depth)") if a else
+                     "in no certified cell at this depth" if r["cls"] >= 0 else "in no aspect")
+            out.append("  " + ", ".join(f"{n} = {v:.6g}" for n, v in zip(names, r["pose"])) + ", "
+                       + ", ".join(f"{ax.name} = {v:.6g}" for ax, v in zip(model.joint_axes, r["joints"]))
+                       + f": {label} -> {place}")
+    if len(locations) >= 2:
+        out.append("singularity-free motions between locations:")
+        held = {k: {r["aspect"].number for r in rows if r["input"] == k and r["aspect"]}
+                for k in range(1, len(locations) + 1)}
+        for i in range(1, len(locations) + 1):
+            for j in range(i + 1, len(locations) + 1):
+                shared = sorted(held[i] & held[j])
+                out.append(f"  {i} -> {j}: " + (f"yes, within aspect(s) {', '.join(map(str, shared))}" if shared else
+                                               "no aspect holds a pose of both at this depth"))
+    return out

@@ -1,15 +1,129 @@
-"""The API calls of the kinds whose aspects live in a space of poses (3-RPR, 3-RRR): `verify`
-(`fivebar verify`), a certificate that no valid pose is singular, or a singular pose."""
+"""The API calls of the kinds whose aspects live in a space of poses (3-RPR, 3-RRR): `dkp`
+(`fivebar dkp`), every pose with given joint values, certified; `verify` (`fivebar verify`), a
+certificate that no valid pose is singular, or a singular pose (what they share with `locate` and
+`path` over poses: api/pose_space.py)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH
-from fivebar_cli.api.calls import _mechanism, check_depth, source_name
+from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
+from fivebar_cli.api.calls import _mechanism, source_name
+from fivebar_cli.api.pose_space import (
+    DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_mechanism,
+)
 from fivebar_cli.api.studies import Report
 from fivebar_cli.errors import InputError
 from fivebar_cli.mechanisms.base import article
+
+# ---------------------------------------------------------------- dkp
+
+
+def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = None, folder=None,
+        aspects=None, source: str | None = None, what: str = "joints", solved=None) -> Report:
+    """Every pose (assembly mode) with the given joint values, certified: a 3-RPR's leg lengths, a
+    3-RRR's actuated angles in degrees.
+
+    Branch and prune over the space of poses with the Krawczyk test: each pose is in a small box
+    proven to hold exactly one solution, every other box is proven to hold none, so the number of
+    assembly modes is certified (boxes left undecided, near a singular pose, are reported as such,
+    with `certified` false). Each pose comes with its class and its aspect at `depth`: those of
+    `aspects` (an `Aspects` of this mechanism; its depth) when given, else read from `folder` when
+    an `aspects` run saved them there, else computed with `budget`.
+
+    Parameters
+    ----------
+    mech : Mechanism, str, Path or Mapping
+        A 3-RPR or 3-RRR with an orientation range (what `load` takes).
+    joints : sequence of 3 float
+        The joint values, in their ranges.
+    depth : int
+        Depth of the aspects' trees (at most 9 for an octree).
+    what : str
+        How the notes name the joint values: 'joints', or 'legs' (a 3-RPR's, as `fivebar rpr3 dkp`,
+        whose command `save` then records).
+    solved : optional
+        `joint_poses(mech, joints)` when the caller has already checked and solved them (the
+        command line does, to name bad joints before it checks its output folder): not solved again.
+
+    Returns
+    -------
+    Report
+        The rows of dkp.csv (the pose, the class's fields, `aspect`, `certified`), in the order the
+        modes are numbered; `notes`, the lines `fivebar dkp` prints; `save(folder, figures=True)`
+        writes dkp.csv and dkp.png.
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> d = fb.dkp("rpr3-caro", (14.98, 15.38, 12), 2, budget=0)
+    >>> len(d), [r["det_sign"] for r in d.rows()]
+    (6, ['+', '+', '+', '-', '-', '-'])
+    """
+    from fivebar_cli.analyses.pose_aspect_files import pose_columns
+    from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG
+
+    source = source or source_name(mech)
+    depth = aspects.depth if aspects is not None else depth
+    m = pose_mechanism(_mechanism(mech), poses=True, depth=depth, source=source)
+    model = m.pose_aspect_model()
+    result = solved if solved is not None else joint_poses(m, joints, "legs" if what == "legs" else "joints")
+    aspects, where = ((aspects.analysis.aspects, "given") if aspects is not None else
+                      pose_aspects_for(m, folder, depth, budget))
+    fields = [k for k, _ in model.classes[0].fields]
+    rows = []
+    for s in result.solutions:
+        aspect = _solution_aspect(model, aspects, s)
+        cls = (v for _, v in model.classes[s.cls].fields) if s.cls >= 0 else ("0",) * len(fields)
+        rows.append((*s.pose, *cls, aspect.number if aspect is not None else "", "true"))
+    for lo, hi in zip(result.undecided_lo, result.undecided_hi):
+        rows.append((*(0.5 * (lo + hi)), *("",) * len(fields), "", "false"))
+    n = len(result.solutions)
+    if result.certified:
+        notes = [f"{m.name}: {n} assembly modes for {what} ({numbers(joints)}) (certified: every other box of poses "
+                 f"holds none; {result.evaluations} boxes tested)"]
+    else:
+        notes = [f"{m.name}: {n} certified assembly modes for {what} ({numbers(joints)}), not decided: "
+                 f"{len(result.undecided_lo)} boxes of poses left near singular poses (written with certified false)"]
+    names = [a.name for a in m.spaces()[model.space].axes]
+    for k, s in enumerate(result.solutions, start=1):
+        place = f"aspect {rows[k - 1][-2]}" if rows[k - 1][-2] != "" else f"in no certified cell at depth {depth}"
+        label = model.classes[s.cls].label if s.cls >= 0 else "sign not certified"
+        notes.append(f"  mode {k}: " + ", ".join(f"{a} = {v:.10g}" for a, v in zip(names, s.pose)) + f", {label}, {place}")
+    notes.append(f"  aspects at depth {depth} {where}")
+    drawings = ()
+    if n:
+        def figure():
+            import numpy as np
+
+            from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
+
+            labels = [f"mode {k}: {model.classes[s.cls].label if s.cls >= 0 else '?'}"
+                      for k, s in enumerate(result.solutions, start=1)]
+            title = f"{m.name}: the {n} assembly modes of {what} ({numbers(joints)})"
+            poses = np.array([s.pose for s in result.solutions])
+            classes = np.array([max(s.cls, 0) for s in result.solutions])
+            return figure_assembly_modes(model, poses, labels, title, classes)
+
+        drawings = ((DKP_PNG, figure),)
+    command = "fivebar rpr3 dkp" if what == "legs" else "fivebar dkp"
+    header = (*pose_columns(m), *fields, "aspect", "certified")
+    return Report(f"DKP {m.name}, {what} ({numbers(joints)})", header, tuple(rows), tuple(notes),
+                  ("dkp", DKP_FILES, command, DKP_CSV), drawings)
+
+
+def _solution_aspect(model, aspects, solution):
+    """The aspect holding a DKP solution in its certified class (None: no certified class, or in no
+    certified cell at that depth)."""
+    from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_of
+
+    if aspects is None or solution.cls < 0:
+        return None
+    cls, aspect = aspect_at(aspects, model, solution.pose, sheet_of(model, solution.cls))
+    return aspect if cls == solution.cls else None
+
+
+# ---------------------------------------------------------------- verify
 
 
 @dataclass(frozen=True, repr=False)
@@ -94,4 +208,3 @@ def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:
     # a counterexample of an earlier run is removed when none is found (the set owns it)
     return Verified(f"Verify {m.name}, depth {depth}", header, tuple(rows), tuple(notes),
                     (f"{m.kind}-verify", VERIFY_FILES, "fivebar verify", VERIFY_CSV), drawings, tables, exit_code)
-

@@ -12,8 +12,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_DEPTH
-from fivebar_cli.api.calls import check_depth, load, source_name
+from fivebar_cli.analyses.limits import MAX_DEPTH, check_depth
+from fivebar_cli.api.calls import load, source_name
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
 

@@ -244,7 +244,7 @@ class Aspects:
         from fivebar_cli.analyses.aspects import signs_text
 
         if self._pose_kind():
-            return []
+            return self._pose_lines()
         out = []
         for a in self.analysis.aspects:
             shapes = (f", largest circle r {a.circle.r:.6g}, square side {a.square.side:.6g}"
@@ -255,6 +255,17 @@ class Aspects:
         for c in self.analysis.crossings:
             out.append(f"  aspects {c.a} and {c.b} (det A {signs_text(c.assembly)}) touch across {c.singularity} = 0")
         return out
+
+    def _pose_lines(self) -> list[str]:
+        """Over a space of poses: each aspect's class, size, cells and a pose inside with its joints."""
+        model = self.analysis.model
+        space = self.mechanism.spaces()[model.space]
+        unit = ("area" if space.dim == 2 else "volume") + " (" + " x ".join(a.unit or "length" for a in space.axes) + ")"
+        values = lambda v: ", ".join(f"{x:g}" for x in v)  # noqa: E731
+        return [f"  aspect {a.number:2d}: {a.signs.label}, {unit} {a.volume:.6g}, {len(a.tree)} cells, "
+                f"({', '.join(ax.name for ax in space.axes)}) = ({values(a.pose)}), "
+                f"({', '.join(ax.name for ax in model.joint_axes)}) = ({values(a.joints)})"
+                + ("" if a.certified else " (not certified)") for a in self.analysis.aspects]
 
     def comparisons(self) -> list[str]:
         """What `fivebar aspects` prints last: the nominal aspects' fates (interval lengths), what the
@@ -339,8 +350,9 @@ class Aspects:
 @dataclass(frozen=True, repr=False)
 class Path_:
     """A certified motion: `points` (joints then pose per waypoint, the columns of path.csv),
-    `length` in the joint space (five-bar, 2-RPR) or in the scaled space of poses (3-RPR); `notes`,
-    the lines `fivebar path` prints about it (five-bar, 2-RPR)."""
+    `length` in the joint space (five-bar, 2-RPR) or in the space of poses (3-RPR, 3-RRR: x, y and
+    phi in degrees alike); `notes`, the lines `fivebar path` prints about it; `labels`, how they
+    and the figure name the endpoints."""
 
     mechanism: Mechanism
     depth: int
@@ -350,6 +362,7 @@ class Path_:
     result: object = field(compare=False)  # the library's PathResult (or pose motion)
     notes: tuple[str, ...] = ()
     trees: Path | None = field(default=None, compare=False)  # the `aspects` folder whose trees were reused
+    labels: tuple[str, str] = ("start", "goal")  # how the notes and the figure name the endpoints
 
     def __post_init__(self):
         object.__setattr__(self, "points", _frozen(self.points))
@@ -361,8 +374,9 @@ class Path_:
         return [dict(zip(self.columns, map(float, p))) for p in self.points]
 
     def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
-        """path.csv, as `fivebar path` writes it (shortest exact floats), and with `figures` (five-bar,
-        2-RPR) path.png: the motion over the workspace cells of its aspect (on the backend in use)."""
+        """path.csv, as `fivebar path` writes it (shortest exact floats), and with `figures` path.png
+        (on the backend in use): a five-bar's or 2-RPR's motion over the workspace cells of its
+        aspect; over a space of poses, the robot along the motion and its joints."""
         from fivebar_cli.analyses.paths import path_csv
         from fivebar_cli.io.files import write_text
         from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG
@@ -377,14 +391,23 @@ class Path_:
 
     def _figure(self, path: Path) -> Path:
         from fivebar_cli.analyses.paths import PathResult, component_of, workspace_backdrop
-        from fivebar_cli.errors import FivebarError
         from fivebar_cli.plotting.paths import figure_path
         from fivebar_cli.plotting.saving import draw_and_save
 
         if not isinstance(self.result, PathResult):
-            raise FivebarError("the figure of a motion over a space of poses is drawn by `fivebar path` only")
+            return draw_and_save(self._pose_figure, path)
         backdrop = workspace_backdrop(self.result, self.trees)
         return draw_and_save(lambda: figure_path(self.result, component_of(self.result), backdrop), path)
+
+    def _pose_figure(self):
+        """A motion over a space of poses: the robot along it, its joints against the path parameter."""
+        from fivebar_cli.plotting.pose_aspects import figure_motion
+
+        m, motion = self.mechanism, self.result
+        model = m.pose_aspect_model()
+        title = (f"{m.name}: a certified singularity-free motion, {model.classes[motion.cls].label}, "
+                 f"{self.labels[0]} to {self.labels[1]}, depth {self.depth}")
+        return figure_motion(model, m.spaces()[model.space], motion.motion.unwrapped(), motion.cls, title, *self.labels)
 
     def plot(self, ax=None):
         """The motion as a polyline in its first two joint coordinates; returns the axes."""

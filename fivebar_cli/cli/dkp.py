@@ -3,54 +3,28 @@
 from __future__ import annotations
 
 import click
-import numpy as np
 
+from fivebar_cli.api.poses import dkp as fb_dkp
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
-from fivebar_cli.cli.poses import (
-    CONFIG, aspects_for, dkp_header, dkp_rows, load_pose_kind, numbers, pose_budget_option, pose_depth_option,
-    solve_joints,
-)
-from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG
-from fivebar_cli.io.outputs import output_set
+from fivebar_cli.cli.options import common_options, offscreen, option_errors, prepare_out, report, wrote
+from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_budget_option, pose_depth_option
+
 
 def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_plot: bool, quiet: bool) -> None:
     """What `fivebar dkp` and `fivebar rpr3 dkp` do (`option`: how the joints were given)."""
-    m = load_pose_kind(config_path, poses=True, depth=depth)
-    model = m.pose_aspect_model()
-    result = solve_joints(m, joints, str(config_path), option)
-    folder = prepare_out(out, m.name)
-    aspects, source = aspects_for(m, folder, depth, budget)
-    rows = dkp_rows(m, result, aspects)
-    n = len(result.solutions)
-    what = "legs" if option == "--legs" else "joints"
-    if result.certified:
-        report(quiet, f"{m.name}: {n} assembly modes for {what} ({numbers(joints)}) (certified: every other box of "
-                      f"poses holds none; {result.evaluations} boxes tested)")
-    else:
-        report(quiet, f"{m.name}: {n} certified assembly modes for {what} ({numbers(joints)}), not decided: "
-                      f"{len(result.undecided_lo)} boxes of poses left near singular poses (written with certified "
-                      "false)")
-    names = [a.name for a in m.spaces()[model.space].axes]
-    for k, s in enumerate(result.solutions, start=1):
-        where = f"aspect {rows[k - 1][-2]}" if rows[k - 1][-2] != "" else f"in no certified cell at depth {depth}"
-        label = model.classes[s.cls].label if s.cls >= 0 else "sign not certified"
-        report(quiet, f"  mode {k}: " + ", ".join(f"{a} = {v:.10g}" for a, v in zip(names, s.pose))
-               + f", {label}, {where}")
-    report(quiet, f"  aspects at depth {depth} {source}")
-    with output_set(folder, "dkp", DKP_FILES, "fivebar rpr3 dkp" if option == "--legs" else "fivebar dkp"):
-        paths = [write_csv(folder / DKP_CSV, dkp_header(m), rows)]
-        if not no_plot and n:
-            from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
+    from fivebar_cli.api.pose_space import joint_poses
 
-            labels = [f"mode {k}: {model.classes[s.cls].label if s.cls >= 0 else '?'}" for k, s in
-                      enumerate(result.solutions, start=1)]
-            title = f"{m.name}: the {n} assembly modes of {what} ({numbers(joints)})"
-            poses = np.array([s.pose for s in result.solutions])
-            classes = np.array([max(s.cls, 0) for s in result.solutions])
-            paths.append(figure(lambda: figure_assembly_modes(model, poses, labels, title, classes), folder / DKP_PNG))
-    wrote(quiet, paths)
+    m = load_pose_kind(config_path, poses=True, depth=depth)
+    with option_errors(joints=option, legs=option):
+        solved = joint_poses(m, joints, option[2:])  # bad joints are named before the output folder
+        folder = prepare_out(out, m.name)
+        found = fb_dkp(m, joints, depth, budget=budget, folder=folder, source=str(config_path), what=option[2:],
+                       solved=solved)
+    for line in found.notes:
+        report(quiet, line)
+    if not no_plot:
+        offscreen()
+    wrote(quiet, found.save(folder, figures=not no_plot))
 
 
 @click.command("dkp", short_help="Every pose with given leg lengths (assembly modes), certified.")

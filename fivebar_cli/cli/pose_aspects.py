@@ -6,12 +6,11 @@ from __future__ import annotations
 import click
 
 from fivebar_cli.analyses.aspect_files import aspect_set
-from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
-from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
+from fivebar_cli.api.calls import aspects as fb_aspects
 from fivebar_cli.cli.options import (
     as_flags, common_options, figure, jobs_option, option_errors, prepare_out, progress, report, wrote,
 )
-from fivebar_cli.cli.poses import CONFIG, load_pose_kind, numbers, pose_budget_option, pose_depth_option
+from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_budget_option, pose_depth_option
 from fivebar_cli.io.layout import ASPECTS_MAP_PNG, ASPECTS_SLICES_PNG
 
 
@@ -48,27 +47,22 @@ def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
       fivebar aspects configs/rpr3-caro.yaml --depth 5 --jobs 2 -o out/caro-jobs --no-plot
     """
     m = load_pose_kind(config_path, depth=depth)
-    model = m.pose_aspect_model()
     folder = prepare_out(out, m.name)
-    with progress(quiet, len(model.classes) + 1, f"aspects depth {depth}") as advance:
-        analysis = analyse_pose_aspects(m, depth, advance, budget, jobs)
+    with progress(quiet, len(m.pose_aspect_model().classes) + 1, f"aspects depth {depth}") as advance:
+        result = fb_aspects(m, depth, budget=budget, advance=advance, jobs=jobs)
+    analysis = result.analysis
     with aspect_set(folder):
-        paths = write_pose_aspects(folder, analysis)
+        paths = result.write(folder)
         if not no_plot:
             from fivebar_cli.plotting.pose_aspects import figure_aspect_map, figure_aspect_slices
 
-            headline = as_flags(analysis.headline())
+            headline = as_flags(result.headline)
             paths.append(figure(lambda: figure_aspect_slices(analysis, headline), folder / ASPECTS_SLICES_PNG))
             paths.append(figure(lambda: figure_aspect_map(analysis, headline), folder / ASPECTS_MAP_PNG))
-    space = m.spaces()[model.space]
-    unit = ("area" if space.dim == 2 else "volume") + " (" + " x ".join(a.unit or "length" for a in space.axes) + ")"
-    report(quiet, analysis.headline())
-    for a in analysis.aspects:
-        report(quiet, f"  aspect {a.number:2d}: {a.signs.label}, {unit} {a.volume:.6g}, {len(a.tree)} cells, "
-               f"({', '.join(ax.name for ax in space.axes)}) = ({numbers(a.pose)}), "
-               f"({', '.join(ax.name for ax in model.joint_axes)}) = ({numbers(a.joints)})"
-               + ("" if a.certified else " (not certified)"))
-    if not analysis.aspects:
+    report(quiet, result.headline)
+    for line in result.lines():
+        report(quiet, line)
+    if not result.aspects:
         report(quiet, f"  no aspect has certified cells at depth {depth}: a deeper paving finds thin ones "
                       f"(try --depth {depth + 1})")
     wrote(quiet, paths)

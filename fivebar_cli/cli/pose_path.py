@@ -5,25 +5,11 @@ from __future__ import annotations
 
 import click
 
-from fivebar_cli.analyses.pose_aspect_files import joint_columns, load_pose_aspects, pose_columns
-from fivebar_cli.analyses.pose_aspects import motion_sheet, sheet_of
-from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
+from fivebar_cli.api.calls import path as fb_path
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import common_options, figure, option_errors, prepare_out, report, wrote
-from fivebar_cli.cli.poses import (
-    CONFIG, load_pose_kind, numbers, pose_depth_option, solve_joints, working_mode_option,
-)
-from fivebar_cli.io.files import csv_text, write_text
-from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG, output_dir
-from fivebar_cli.io.outputs import output_set
-
-def path_rows(result) -> list[tuple]:
-    return [(*p, *j) for p, j in zip(result.poses, result.joints)]
-
-
-def _exact(value: float) -> str:
-    v = float(value)
-    return "0" if v == 0 else repr(v)
+from fivebar_cli.cli.options import common_options, offscreen, option_errors, prepare_out, report, wrote
+from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_depth_option, working_mode_option
+from fivebar_cli.io.layout import output_dir
 
 
 @click.command("path", short_help="A certified singularity-free motion between two poses (3-RPR, 3-RRR).")
@@ -71,47 +57,14 @@ def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out,
     if legs is None and len(poses) != 2:
         raise click.UsageError("give exactly two endpoints: --pose X Y PHI twice (or --joints with --modes)")
     m = load_pose_kind(config_path, poses=True, depth=depth)
-    model = m.pose_aspect_model()
-    space = m.spaces()[model.space]
-    if legs is not None:
-        result = solve_joints(m, legs, str(config_path), option)
-        count = len(result.solutions)
-        for mode in modes:
-            if not 1 <= mode <= count:
-                raise click.BadParameter(f"mode {mode} is out of range: {option[2:]} ({numbers(legs)}) have {count} "
-                                         "assembly modes" + ("" if result.certified else " certified"),
-                                         param_hint="--modes")
-        ends = [result.solutions[k - 1].pose for k in modes]
-        sheets = tuple(sheet_of(model, result.solutions[k - 1].cls) if result.solutions[k - 1].cls >= 0 else 0
-                       for k in modes)
-        labels = tuple(f"assembly mode {k}" for k in modes)
-    else:
-        with option_errors(working_mode="--working-mode"):
-            sheet = motion_sheet(m, working_mode)
-        ends = [wrap_pose(space, p) for p in poses]
-        sheets = (sheet, sheet)
-        labels = tuple(f"pose ({numbers(p)})" for p in poses)
-    folder = output_dir(out, m.name)
-    saved = load_pose_aspects(folder, m, depth) if folder.is_dir() else None
-    motion = find_motion(m, depth, ends[0], ends[1], labels, str(config_path), saved, sheets)
+    ends, given = (modes, {option[2:]: legs}) if legs is not None else (poses, {})
+    with option_errors(working_mode="--working-mode", joints=option, legs=option, start="--modes", goal="--modes"):
+        motion = fb_path(m, *ends, depth=depth, working_mode=working_mode, **given, folder=output_dir(out, m.name),
+                         source=str(config_path))
     folder = prepare_out(out, m.name)
-    names = [*pose_columns(m), *joint_columns(m)]
-    rows = [[_exact(v) for v in row] for row in path_rows(motion)]
-    with output_set(folder, "path", PATH_FILES, "fivebar path"):
-        paths = [write_text(folder / PATH_CSV, csv_text(names, rows))]
-        if not no_plot:
-            from fivebar_cli.plotting.pose_aspects import figure_motion
-
-            title = (f"{m.name}: a certified singularity-free motion, {model.classes[motion.cls].label}, "
-                     f"{labels[0]} to {labels[1]}, depth {depth}")
-            paths.append(figure(lambda: figure_motion(model, space, motion.motion.unwrapped(), motion.cls, title,
-                                                      labels[0], labels[1]), folder / PATH_PNG))
-    where = (f"aspect {motion.aspect.number}, {'certified' if motion.aspect.certified else 'not certified'}"
-             if motion.aspect is not None else "one generalized aspect")
-    report(quiet, f"{m.name}: singularity-free motion in {where}: {model.classes[motion.cls].label}, depth {depth}")
-    report(quiet, f"  from {labels[0]} to {labels[1]}: {len(motion.poses)} waypoints, length {motion.length:.6g} "
-                  f"({', '.join(a.name for a in space.axes)}); every segment lies in the certified cells "
-                  f"({motion.motion.checked_cells} cells, checked in exact arithmetic)")
-    if saved is not None:
-        report(quiet, f"  aspect trees read from {folder}")
+    if not no_plot:
+        offscreen()
+    paths = motion.save(folder, figures=not no_plot)
+    for line in motion.notes:
+        report(quiet, line)
     wrote(quiet, paths)

@@ -8,8 +8,8 @@ from pathlib import Path
 import click
 
 from fivebar_cli.analyses import spaces
-from fivebar_cli.analyses.compare import compare
 from fivebar_cli.api.calls import refine as deepen
+from fivebar_cli.api.trees import compare as fb_compare
 from fivebar_cli.cli.options import (
     as_flags, common_options, depth_option, offscreen, option_errors, progress, refuse_stdout, report, wrote,
 )
@@ -17,7 +17,6 @@ from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import PAVE_SET, band_path, sibling_paths
 from fivebar_cli.io.outputs import read_runs
-from fivebar_cli.io.qtfile import read_qt
 
 QT_FILE = click.Path(path_type=Path, dir_okay=False)
 
@@ -110,13 +109,9 @@ def diff(a_path, b_path, sets_only, quiet):
       fivebar workspace configs/m1.yaml --depth 10 -o out/m1 --no-plot
       fivebar diff tests/golden/M1/workspace.qt out/m1/workspace.qt
     """
-    a, b = read_qt(a_path), read_qt(b_path)
-    try:
-        result = compare(a, b)
-    except ValueError as exc:
-        raise InputError(str(b_path), "root", f"{exc} (A is {a_path})") from None
+    result = fb_compare(a_path, b_path, sets_only=sets_only)
     if not quiet:
-        for line in result.report(str(a_path), str(b_path), sets_only):
+        for line in result.notes:
             click.echo(as_flags(line))
-    if not result.same(sets_only):
-        raise click.exceptions.Exit(1)
+    if result.exit_code:
+        raise click.exceptions.Exit(result.exit_code)

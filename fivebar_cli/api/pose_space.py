@@ -1,0 +1,141 @@
+"""What the API's calls over a space of poses (3-RPR, 3-RRR) share, below their entry points
+(`dkp`, `verify`: api/poses.py; `locate`: api/locations.py; `path`, `aspects`: api/calls.py): the
+mechanism checked (`pose_mechanism`), joint values checked and solved into their assembly modes
+(`joint_poses`), the aspects reused from a folder or computed (`pose_aspects_for`), and `path`'s
+motion between two poses or two assembly modes (`pose_path`). It imports no other call module."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH, check_depth
+from fivebar_cli.errors import InputError, param
+from fivebar_cli.mechanisms.base import Mechanism
+
+DEFAULT_POSE_DEPTH = 7
+
+
+def numbers(values) -> str:
+    """Values as messages list them: '14.98, 15.38, 12'."""
+    return ", ".join(f"{v:g}" for v in values)
+
+
+def pose_mechanism(m: Mechanism, *, poses: bool = False, depth: int | None = None, source: str = "") -> Mechanism:
+    """A mechanism with a pose-space aspect model, checked: an orientation range of at most one
+    turn; with `poses`, a space of poses with the three axes (x, y, phi) that poses and joint
+    values need; with `depth`, one its trees can be paved to (at most `MAX_POSE_DEPTH` for an
+    octree, `MAX_PLANE_DEPTH` for a single orientation). InputError naming the field otherwise."""
+    source = source or m.name
+    model = m.pose_aspect_model()
+    if model is None:
+        raise InputError(source, "legs.rho_max", f"this {m.kind} has no bounded space of poses to pave (give rho_max)")
+    space = m.spaces()[model.space]
+    for axis in space.axes:
+        if axis.unit == "deg" and axis.hi - axis.lo > 360.0:
+            raise InputError(source, "phi_range", f"[{axis.lo:g}, {axis.hi:g}] is wider than a full turn: aspects "
+                             "need at most one turn (a full turn is [phi1, phi1 + 360], e.g. [-180, 180])")
+    if poses and space.dim != 3:
+        raise InputError(source, "phi", f"a single orientation: the poses (x, y, phi) of locate, path and dkp need "
+                         f"an orientation range (phi_range), the space here has {space.dim} axes")
+    if depth is not None:
+        check_depth(depth, MAX_PLANE_DEPTH)
+        if space.dim > 2 and depth > MAX_POSE_DEPTH:
+            raise InputError("", param("depth"), f"{depth} is too deep for an octree of poses (at most "
+                             f"{MAX_POSE_DEPTH}: about 4x the time and memory per level; up to {MAX_PLANE_DEPTH} "
+                             "for a single orientation)")
+    return m
+
+
+def check_joints(m: Mechanism, joints, field: str = "joints") -> None:
+    """Joint values in their ranges (InputError on `field`, `joints` or `legs`, otherwise)."""
+    for axis, value in zip(m.pose_aspect_model().joint_axes, joints):
+        if not axis.periodic and not axis.lo <= value <= axis.hi:
+            raise InputError("", param(field), f"{axis.name} = {value:g} is outside its range [{axis.lo:g}, {axis.hi:g}]")
+
+
+def joint_poses(m: Mechanism, joints, field: str = "joints"):
+    """Every pose with these joint values (`analyses.dkp.DkpResult`); InputError on `field` for
+    values out of their ranges or that give no pose at all (certified)."""
+    from fivebar_cli.analyses.dkp import solve
+
+    model = m.pose_aspect_model()
+    if len(joints) != len(model.joint_axes):
+        raise InputError("", param(field), f"expected {len(model.joint_axes)} joint values, got {len(joints)}")
+    check_joints(m, joints, field)
+    result = solve(model, m.spaces()[model.space], [float(j) for j in joints])
+    if not result.solutions and result.certified:
+        raise InputError("", param(field), f"({numbers(joints)}) give no pose within the space of poses (certified: "
+                         "every box of poses is proven to hold none)")
+    return result
+
+
+def pose_aspects_for(m: Mechanism, folder, depth: int, budget: int | None = None, advance=None):
+    """(aspects, where): the aspects an `aspects` run saved in `folder` for this mechanism and
+    depth ('read from FOLDER'), or computed ('computed'); the library's `PoseAspect`s."""
+    from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
+    from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
+    from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
+
+    folder = Path(folder) if folder is not None else None
+    saved = load_pose_aspects(folder, m, depth) if folder is not None and folder.is_dir() else None
+    if saved is not None:
+        return saved, f"read from {folder}"
+    budget = DEFAULT_BUDGET if budget is None else budget
+    return analyse_pose_aspects(m, depth, advance or (lambda n=1: None), budget).aspects, "computed"
+
+
+def class_values(model, cls: int, sheet: int) -> list[str]:
+    """The class's field values for a CSV row; for no certified class, the sheet's fields and '0'."""
+    if cls >= 0:
+        return [v for _, v in model.classes[cls].fields]
+    known = dict(model.sheets[sheet].fields)
+    return [known.get(k, "0") for k, _ in model.classes[0].fields]
+
+
+# ---------------------------------------------------------------- a motion over poses (`fb.path`)
+
+
+def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, joints, legs, folder, source: str):
+    """`fb.path` of a 3-RPR or 3-RRR: between two poses (in `working_mode`), or between assembly
+    modes `start` and `goal` of `joints` (`legs`)."""
+    import numpy as np
+
+    from fivebar_cli.analyses.pose_aspect_files import joint_columns, load_pose_aspects, pose_columns
+    from fivebar_cli.analyses.pose_aspects import motion_sheet, sheet_of
+    from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
+    from fivebar_cli.api.values import Path_
+
+    m = pose_mechanism(m, poses=True, depth=depth, source=source)
+    model = m.pose_aspect_model()
+    space = m.spaces()[model.space]
+    if joints is not None and legs is not None:
+        raise InputError(source, param("legs"), "give joints or legs, not both")
+    values, field = (legs, "legs") if legs is not None else (joints, "joints")
+    if values is not None:
+        result = joint_poses(m, values, field)
+        count = len(result.solutions)
+        for name, mode in (("start", start), ("goal", goal)):
+            if isinstance(mode, bool) or not isinstance(mode, (int, np.integer)) or not 1 <= mode <= count:
+                raise InputError("", param(name), f"mode {mode} is out of range: {field} ({numbers(values)}) have "
+                                 f"{count} assembly modes" + ("" if result.certified else " certified"))
+        chosen = [result.solutions[k - 1] for k in (start, goal)]
+        ends = [s.pose for s in chosen]
+        sheets = tuple(sheet_of(model, s.cls) if s.cls >= 0 else 0 for s in chosen)
+        labels = (f"assembly mode {start}", f"assembly mode {goal}")
+    else:
+        sheet = motion_sheet(m, working_mode)
+        ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
+        sheets = (sheet, sheet)
+        labels = tuple(f"pose ({numbers(p)})" for p in (start, goal))
+    saved = load_pose_aspects(Path(folder), m, depth) if folder is not None and Path(folder).is_dir() else None
+    motion = find_motion(m, depth, ends[0], ends[1], labels, source, saved, sheets)
+    where = (f"aspect {motion.aspect.number}, {'certified' if motion.aspect.certified else 'not certified'}"
+             if motion.aspect is not None else "one generalized aspect")
+    notes = [f"{m.name}: singularity-free motion in {where}: {model.classes[motion.cls].label}, depth {depth}",
+             f"  from {labels[0]} to {labels[1]}: {len(motion.poses)} waypoints, length {motion.length:.6g} "
+             f"({', '.join(a.name for a in space.axes)}); every segment lies in the certified cells "
+             f"({motion.motion.checked_cells} cells, checked in exact arithmetic)"]
+    if saved is not None:
+        notes.append(f"  aspect trees read from {folder}")
+    return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
+                 motion.length, motion, tuple(notes), Path(folder) if saved is not None else None, labels)

@@ -1,0 +1,143 @@
+"""The API calls behind `fivebar dkp`, `locate` and `path` over a space of poses (api/poses.py) and
+`fivebar diff` (api/trees.py): each value gives the command's rows, lines and files byte for byte;
+the numbers agree with independent ones (the legs of every pose measured from the config's
+geometry, a brute-force comparison of two trees' cells); bad input raises InputError naming the
+field."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import yaml
+
+import fivebar_cli as fb
+from fivebar_cli.cli.options import as_flags
+from tests.cli_helpers import REPO, ok, run_cli
+
+CARO = REPO / "configs" / "rpr3-caro.yaml"
+LEGS = (20.6315, 23.2633, 16.0359)  # aspect 1's inner pose at depth 5: two assembly modes, in aspects 1 and 2
+
+
+@pytest.fixture(scope="module")
+def caro():
+    return fb.aspects("rpr3-caro", 5)
+
+
+def leg_lengths(pose) -> list[float]:
+    """The legs of a 3-RPR pose (x, y, phi_deg) measured from the YAML's base and platform points
+    (the platform's first point at (x, y)), independently of the library's model."""
+    spec = yaml.safe_load(CARO.read_text())
+    x, y, phi = pose[0], pose[1], math.radians(pose[2])
+    c, s = math.cos(phi), math.sin(phi)
+    return [math.hypot(x + c * p[0] - s * p[1] - b[0], y + s * p[0] + c * p[1] - b[1])
+            for b, p in zip(spec["base"].values(), spec["platform"].values())]
+
+
+def test_dkp_is_the_command_and_every_pose_has_the_legs(tmp_path, caro):
+    d = fb.dkp(CARO, LEGS, 5, aspects=caro)
+    assert len(d) == 2 and [r["certified"] for r in d.rows()] == ["true", "true"]
+    for r in d.rows():
+        assert np.allclose(leg_lengths((r["x"], r["y"], r["phi_deg"])), LEGS, atol=1e-9, rtol=0)
+    assert [(r["det_sign"], r["aspect"]) for r in d.rows()] == [("+", 1), ("-", 2)]
+    assert abs(d.rows()[0]["phi_deg"] - caro[0].pose[2]) < 1e-3  # the aspect's own inner pose is mode 1
+    # the command (its aspects read from the folder an `aspects` run saved) prints the same lines, writes the same file
+    caro.save(tmp_path)
+    cli = ok(run_cli("dkp", CARO, "--joints", *LEGS, "--depth", 5, "-o", tmp_path, "--no-plot"))
+    assert cli.stdout.splitlines()[:-1] == [line.replace("given", f"read from {tmp_path}") for line in d.notes]
+    made = d.save(tmp_path / "api")
+    assert [p.name for p in made] == ["dkp.csv"] and made[0].read_bytes() == (tmp_path / "dkp.csv").read_bytes()
+
+
+@pytest.mark.parametrize("call, field", [
+    (lambda: fb.dkp("rpr3-caro", (1, 15, 12), 2), "`joints`"),
+    (lambda: fb.dkp("rpr3-caro", (1, 15, 12), 2, what="legs"), "`legs`"),
+    (lambda: fb.dkp("rpr3-caro", (31, 31, 31, 31), 2), "`joints`"),
+    (lambda: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 10), "`depth`"),
+    (lambda: fb.dkp("m1", (1, 1, 1), 2), "legs.rho_max"),
+    (lambda: fb.path("rpr3-caro", 1, 7, legs=(14.98, 15.38, 12), depth=5), "`goal`"),
+    (lambda: fb.path("rpr3-caro", 1, 2, joints=(14.98, 15.38, 12), legs=(14.98, 15.38, 12), depth=5), "`legs`"),
+    (lambda: fb.locate("rpr3-caro", legs=(1, 15, 12), depth=2), "`legs`"),
+    (lambda: fb.locate("rpr3-caro", pose=(500, 0, 0), depth=2), "`pose`"),
+    (lambda: fb.compare(REPO / "tests/golden/M1/workspace.qt", REPO / "tests/golden/M2/workspace.qt"), "root"),
+])
+def test_bad_input_names_the_field(call, field):
+    with pytest.raises(fb.InputError) as caught:
+        call()
+    assert caught.value.field == field
+
+
+def test_locate_and_path_over_poses_are_the_commands(tmp_path, caro):
+    """Two poses of aspect 1 and the two assembly modes of LEGS: the rows, CSV and lines of
+    `fivebar locate`; the motion between the poses is `fivebar path`'s."""
+    ends = [(8, -9, -5.6), (-10.0195, -18.0352, -11.25)]
+    where = fb.locate(CARO, pose=ends, legs=LEGS, aspects=caro)
+    assert [(r["location"], r["class"], r["aspect"]) for r in where.rows()] == [
+        ("pose 8 -9 -5.6", {"det_sign": "+"}, 1), ("pose -10.0195 -18.0352 -11.25", {"det_sign": "+"}, 1),
+        ("legs 20.6315 23.2633 16.0359", {"det_sign": "+"}, 1), ("legs 20.6315 23.2633 16.0359", {"det_sign": "-"}, 2)]
+    for r in where.rows():
+        assert np.allclose(leg_lengths(r["pose"]), r["joints"], atol=1e-9, rtol=0)
+    assert where.lines()[-3:] == [f"  {i} -> {j}: yes, within aspect(s) 1" for i, j in ((1, 2), (1, 3), (2, 3))]
+    caro.save(tmp_path)  # the command reads the saved aspects
+    args = ("locate", CARO, "--pose", *ends[0], "--pose", *ends[1], "-d", 5, "-o", tmp_path)
+    poses = fb.locate(CARO, pose=ends, aspects=caro)
+    assert ok(run_cli(*args, "--csv")).stdout == poses.csv()
+    assert ok(run_cli(*args)).stdout.splitlines()[1:] == poses.lines()[1:] == where.lines()[1:5] + where.lines()[8:10]
+
+    motion = fb.path(CARO, *ends, depth=5)
+    assert motion.labels == ("pose (8, -9, -5.6)", "pose (-10.0195, -18.0352, -11.25)")
+    assert np.allclose(motion.points[[0, -1], :3], ends) and np.allclose(motion.points[:, 3:], [
+        leg_lengths(p) for p in motion.points[:, :3]], atol=1e-9)
+    cli = ok(run_cli("path", CARO, "--pose", *ends[0], "--pose", *ends[1], "-d", 5, "-o", tmp_path / "p", "--no-plot"))
+    assert cli.stdout.splitlines()[:-1] == [as_flags(line) for line in motion.notes]
+    assert motion.save(tmp_path / "api")[0].read_bytes() == (tmp_path / "p" / "path.csv").read_bytes()
+    with pytest.raises(fb.FivebarError, match="different classes"):
+        fb.path(CARO, 1, 2, legs=LEGS, depth=5)
+
+
+def _finest_cells(tree, depth: int) -> set[tuple[int, int]]:
+    """The cells of a quadtree as a set of finest-grid cells (brute force, cell by cell)."""
+    (x0, x1), (y0, y1) = tree.grid.root
+    wx, wy = (x1 - x0) / 2 ** depth, (y1 - y0) / 2 ** depth
+    lo, hi = tree.bounds()
+    out = set()
+    for (ax, ay), (bx, by) in zip(lo, hi):
+        i0, i1 = round((ax - x0) / wx), round((bx - x0) / wx)
+        j0, j1 = round((ay - y0) / wy), round((by - y0) / wy)
+        out.update((i, j) for i in range(i0, i1) for j in range(j0, j1))
+    return out
+
+
+def test_compare_is_a_cell_by_cell_comparison_and_the_command(tmp_path):
+    coarse = fb.pave("m1", "workspace", 5)
+    fine = fb.refine(coarse, 7)
+    c = fb.compare(fine.inside, coarse.inside)  # the finer paving holds more black cells
+    a, b = _finest_cells(fine.inside, 7), _finest_cells(coarse.inside, 7)
+    (x0, x1), (y0, y1) = fine.inside.grid.root
+    cell = (x1 - x0) * (y1 - y0) / 4 ** 7
+    assert b <= a and len(a - b) > 0
+    assert c.only_a.area == pytest.approx(len(a - b) * cell, rel=1e-12) and c.only_b.area == 0
+    assert (c.same, c.equal, c.exit_code) == (False, False, 1)
+    same = fb.compare(coarse.inside, coarse.inside)
+    assert (same.same, same.exit_code, same.notes) == (True, 0, (f"same set: {len(coarse.inside)} cells, area "
+                                                                 f"{coarse.inside.area:.10g}",))
+    # a tree and its complement on the same grid: nothing in common; the command says the same
+    coarse.save(tmp_path)
+    qt, complement = tmp_path / "workspace.qt", tmp_path / "workspace.complement.qt"
+    files = fb.compare(qt, complement)
+    assert not (_finest_cells(files.only_a, 5) & _finest_cells(files.only_b, 5))
+    assert ("colour", "inside", "outside") in files.headers
+    cli = run_cli("diff", qt, complement)
+    assert cli.status == files.exit_code == 1 and cli.stdout.splitlines() == [as_flags(x) for x in files.notes]
+    assert run_cli("diff", qt, qt).status == fb.compare(qt, qt).exit_code == 0
+    assert "0 cells only in A" not in repr(files) and "\n" not in repr(files)
+
+
+def test_compare_docstring_example_runs():
+    import doctest
+
+    from fivebar_cli.api import trees
+
+    result = doctest.testmod(trees, optionflags=doctest.ELLIPSIS)
+    assert result.failed == 0 and result.attempted > 0
