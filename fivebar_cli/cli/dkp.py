@@ -6,7 +6,7 @@ import click
 
 from fivebar_cli.api.poses import dkp as fb_dkp
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import common_options, offscreen, option_errors, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, option_errors, prepare_out, report, save_files, wrote
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_budget_option, pose_depth_option
 
 
@@ -22,9 +22,7 @@ def run_dkp(config_path, joints, option: str, depth: int, budget: int, out, no_p
                        solved=solved)
     for line in found.notes:
         report(quiet, line)
-    if not no_plot:
-        offscreen()
-    wrote(quiet, found.save(folder, figures=not no_plot))
+    wrote(quiet, save_files(found, folder, no_plot))
 
 
 @click.command("dkp", short_help="Every pose with given leg lengths (assembly modes), certified.")

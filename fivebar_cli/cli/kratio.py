@@ -7,7 +7,7 @@ import click
 from fivebar_cli.api import studies
 from fivebar_cli.api.studies import MAX_DEPTH
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, data_on_stdout, offscreen, option_errors, progress, report, wrote,
+    CONFIG, common_options, data_on_stdout, option_errors, progress, report, save_files, wrote,
 )
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import DEFAULT_ROOT, KRATIO_CSV
@@ -55,9 +55,7 @@ def kratio(config_paths, depths, out, no_plot, quiet):
     if stdout:
         click.echo(table.csv(), nl=False)
     else:
-        if not no_plot:
-            offscreen()
-        paths = table.save(folder, figures=not no_plot)
+        paths = save_files(table, folder, no_plot)
     for line in table.notes:
         report(quiet, line)
     wrote(quiet, paths)

@@ -195,6 +195,13 @@ def offscreen() -> None:
     matplotlib.use("Agg")
 
 
+def save_files(value, folder: Path, no_plot: bool, **options) -> list[Path]:
+    """A result's files in `folder` (`value.save`), its figures drawn off screen unless --no-plot."""
+    if not no_plot:
+        offscreen()
+    return value.save(folder, figures=not no_plot, **options)
+
+
 def figure(make, path: Path) -> Path:
     """Draw a figure with `make()` and save it atomically as PNG (`plotting.saving.draw_and_save`),
     off screen."""

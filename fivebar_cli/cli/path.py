@@ -8,8 +8,8 @@ from fivebar_cli.api.calls import check_serial
 from fivebar_cli.api.calls import path as fb_path
 from fivebar_cli.cli.numbers import JOINT, NUMBER, check_joints
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, load_with_aspects, offscreen, option_errors, prepare_out,
-    report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, depth_option, load_with_aspects, option_errors, prepare_out, report,
+    save_files, wrote,
 )
 
 WORKING_MODES = ["++", "+-", "-+", "--"]
@@ -78,9 +78,7 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     folder = prepare_out(out, m.name)
     motion = fb_path(m, *ends, depth=depth, allow_serial=allow_serial, assembly_mode=assembly_mode, folder=folder,
                      source=str(config_path))
-    if not no_plot:
-        offscreen()
-    paths = motion.save(folder, figures=not no_plot)
+    paths = save_files(motion, folder, no_plot)
     for line in motion.notes:
         report(quiet, line)
     wrote(quiet, paths)

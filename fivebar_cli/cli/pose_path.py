@@ -7,7 +7,7 @@ import click
 
 from fivebar_cli.api.calls import path as fb_path
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import common_options, offscreen, option_errors, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, option_errors, prepare_out, report, save_files, wrote
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_depth_option, working_mode_option
 from fivebar_cli.io.layout import output_dir
 
@@ -62,9 +62,7 @@ def pose_path(config_path, poses, legs, joints, modes, working_mode, depth, out,
         motion = fb_path(m, *ends, depth=depth, working_mode=working_mode, **given, folder=output_dir(out, m.name),
                          source=str(config_path))
     folder = prepare_out(out, m.name)
-    if not no_plot:
-        offscreen()
-    paths = motion.save(folder, figures=not no_plot)
+    paths = save_files(motion, folder, no_plot)
     for line in motion.notes:
         report(quiet, line)
     wrote(quiet, paths)

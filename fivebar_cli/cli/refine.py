@@ -11,7 +11,7 @@ from fivebar_cli.analyses import spaces
 from fivebar_cli.api.calls import refine as deepen
 from fivebar_cli.api.trees import compare as fb_compare
 from fivebar_cli.cli.options import (
-    as_flags, common_options, depth_option, offscreen, option_errors, progress, refuse_stdout, report, wrote,
+    as_flags, common_options, depth_option, option_errors, progress, refuse_stdout, report, save_files, wrote,
 )
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import check_writable_dir
@@ -61,9 +61,7 @@ def refine(tree_path, depth, out, no_plot, quiet):
                          f": {problem}")
     total, new = paving.evaluations, paving.evaluations - saved.evaluations
     m, space = saved.mechanism, saved.space
-    if not no_plot:
-        offscreen()
-    paths = paving.save(folder, figures=not no_plot, command=f"fivebar refine {saved.stem}.qt")
+    paths = save_files(paving, folder, no_plot, command=f"fivebar refine {saved.stem}.qt")
     what = space if saved.region is None else f"{space} ({saved.region})"
     report(quiet, f"{m.name} {what}: refined depth {old_depth} -> {depth} with {new} evaluations "
            f"({saved.evaluations} saved by not retesting; a fresh run needs {total})")
@@ -79,9 +77,7 @@ def _refine_pave_set(source: Path, folder: Path, m, old_depth: int, depth: int, 
         result, saved_total = refine_pave_set(source, m, old_depth, depth, advance=advance)
     report(quiet, f"{m.name}: the three pavings of its rpr3 pave run refined together, depth {old_depth} -> {depth} "
                   f"({saved_total} evaluations saved by not retesting)")
-    if not no_plot:
-        offscreen()
-    paths = result.save(folder, figures=not no_plot)
+    paths = save_files(result, folder, no_plot)
     for line in result.notes:
         report(quiet, line)
     wrote(quiet, paths)

@@ -10,7 +10,7 @@ import click
 from fivebar_cli.api import rpr3 as api
 from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH
 from fivebar_cli.cli.options import (
-    common_options, figure, jobs_option, offscreen, option_errors, prepare_out, progress, report, wrote,
+    common_options, figure, jobs_option, option_errors, prepare_out, progress, report, save_files, wrote,
 )
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, VERIFY_CSV, VERIFY_FILES
@@ -50,18 +50,10 @@ def pave_cmd(config: Path, depth: int, jobs: int | None, out: Path | None, no_pl
     regions = mech.regions("workspace")
     with progress(quiet, len(regions) * (depth + 1), f"octree depth {depth}") as advance:
         result = api.pave(mech, depth, advance=advance, jobs=jobs)
-    paths = save_pave(folder, result, no_plot)
+    paths = save_files(result, folder, no_plot)
     for line in result.notes:
         report(quiet, line)
     wrote(quiet, paths)
-
-
-def save_pave(folder: Path, result, no_plot: bool) -> list[Path]:
-    """The files of `rpr3 pave` (its figures drawn off screen, as every command's); `refine` of one
-    of its pairs writes them too."""
-    if not no_plot:
-        offscreen()
-    return result.save(folder, figures=not no_plot)
 
 
 @click.command("verify", short_help="Prove a design singularity-free, or find a reachable singular pose.")

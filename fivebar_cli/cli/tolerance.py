@@ -8,8 +8,8 @@ import click
 from fivebar_cli.api import studies
 from fivebar_cli.api.studies import MAX_TOLERANCES
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, data_on_stdout, depth_option, jobs_option, offscreen, option_errors, prepare_out,
-    progress, report, wrote,
+    CONFIG, common_options, data_on_stdout, depth_option, jobs_option, option_errors, prepare_out, progress, report,
+    save_files, wrote,
 )
 from fivebar_cli.io.layout import TOLERANCE_CSV
 
@@ -64,9 +64,7 @@ def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
         click.echo(study.csv(), nl=False)
         paths = []
     else:
-        if not no_plot:
-            offscreen()
-        paths = study.save(folder, figures=not no_plot)
+        paths = save_files(study, folder, no_plot)
     for line in study.notes:
         report(quiet, line)
     wrote(quiet, paths)

@@ -7,7 +7,7 @@ import click
 
 from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH
 from fivebar_cli.api.poses import verify as fb_verify
-from fivebar_cli.cli.options import common_options, offscreen, option_errors, prepare_out, report, wrote
+from fivebar_cli.cli.options import common_options, option_errors, prepare_out, report, save_files, wrote
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, sheets_chosen
 
 
@@ -43,9 +43,7 @@ def verify_cmd(config_path, working_mode, depth, out, no_plot, quiet):
     sheets_chosen(m, working_mode)
     folder = prepare_out(out, m.name)
     checked = fb_verify(m, depth, working_mode=working_mode)
-    if not no_plot:
-        offscreen()
-    paths = checked.save(folder, figures=not no_plot)
+    paths = save_files(checked, folder, no_plot)
     for line in checked.notes:
         report(quiet, line)
     wrote(quiet, paths)
