@@ -69,15 +69,21 @@ def joint_poses(m: Mechanism, joints, field: str = "joints"):
     return result
 
 
+def saved_pose_aspects(m: Mechanism, folder, depth: int):
+    """The aspects an `aspects` run saved in `folder` for this mechanism and depth (None: no
+    folder, or none saved there for them)."""
+    from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
+
+    return load_pose_aspects(Path(folder), m, depth) if folder is not None and Path(folder).is_dir() else None
+
+
 def pose_aspects_for(m: Mechanism, folder, depth: int, budget: int | None = None, advance=None):
     """(aspects, where): the aspects an `aspects` run saved in `folder` for this mechanism and
     depth ('read from FOLDER'), or computed ('computed'); the library's `PoseAspect`s."""
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
-    from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
     from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
 
-    folder = Path(folder) if folder is not None else None
-    saved = load_pose_aspects(folder, m, depth) if folder is not None and folder.is_dir() else None
+    saved = saved_pose_aspects(m, folder, depth)
     if saved is not None:
         return saved, f"read from {folder}"
     budget = DEFAULT_BUDGET if budget is None else budget
@@ -100,7 +106,7 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
     modes `start` and `goal` of `joints` (`legs`)."""
     import numpy as np
 
-    from fivebar_cli.analyses.pose_aspect_files import joint_columns, load_pose_aspects, pose_columns
+    from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
     from fivebar_cli.analyses.pose_aspects import motion_sheet, sheet_of
     from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
     from fivebar_cli.api.values import Path_
@@ -127,7 +133,7 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
         ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
         sheets = (sheet, sheet)
         labels = tuple(f"pose ({numbers(p)})" for p in (start, goal))
-    saved = load_pose_aspects(Path(folder), m, depth) if folder is not None and Path(folder).is_dir() else None
+    saved = saved_pose_aspects(m, folder, depth)
     motion = find_motion(m, depth, ends[0], ends[1], labels, source, saved, sheets)
     where = (f"aspect {motion.aspect.number}, {'certified' if motion.aspect.certified else 'not certified'}"
              if motion.aspect is not None else "one generalized aspect")
