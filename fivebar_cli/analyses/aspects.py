@@ -383,11 +383,11 @@ class _Count:
     def roots(self) -> np.ndarray:
         """Union-find root of every anchor: the edges added since the last call joined to the
         roots found before (each edge is joined once)."""
-        done = getattr(self, "_roots_for", 0)
-        if done == 0 or done != len(self.edges_i):
-            i = np.array(self.edges_i[done:], np.int64)
-            j = np.array(self.edges_j[done:], np.int64)
-            self._roots = union_find(int(self.offset[-1]), i, j, getattr(self, "_roots", None))
+        done = getattr(self, "_roots_for", None)  # how many edges the roots hold (None: not computed yet)
+        if done != len(self.edges_i):
+            i = np.array(self.edges_i[done or 0:], np.int64)
+            j = np.array(self.edges_j[done or 0:], np.int64)
+            self._roots = union_find(int(self.offset[-1]), i, j, None if done is None else self._roots)
             self._roots_for = len(self.edges_i)
         return self._roots
 
@@ -507,7 +507,7 @@ def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
     """Sample points of every anchor's black cells of a mode set (centres; a DENSE x DENSE grid in
     the leaves of small anchors) and the anchor each comes from."""
     tree = s.region.tree
-    mine, owner = s._mine, s._anchors
+    mine, owner = s.black_leaves, s.leaf_anchors
     lo, hi = tree.bounds(mine)
     small = s.anchor_size[owner] <= SMALL_PIECE
     g = (np.arange(DENSE) + 0.5) / DENSE
@@ -547,9 +547,9 @@ def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSe
     leaves = {}  # group -> {space: (region, leaf indices)}
     for k, s in enumerate(sets):
         local = roots[count.offset[k]:count.offset[k + 1]]
-        mine = s._mine  # the set's black leaves, with their anchors `s._anchors` (a byte or two each)
+        mine = s.black_leaves  # with their anchors `s.leaf_anchors` (a byte or two each)
         for g in np.unique(local).tolist():  # (a few groups)
-            part = mine[np.isin(s._anchors, np.flatnonzero(local == g))]
+            part = mine[np.isin(s.leaf_anchors, np.flatnonzero(local == g))]
             region, idx = leaves.setdefault(g, {}).get(s.space, (s.region, np.zeros(0, np.int64)))
             leaves[g][s.space] = (region, np.concatenate([idx, part]))
     keys = []

@@ -120,7 +120,7 @@ class ModeSet:
         anchors = dense_rank(region.black_labels[mine])
         self.n_anchors = int(anchors.max()) + 1 if len(anchors) else 0
         anchors = anchors.astype(label_type(self.n_anchors))
-        self._anchors = anchors  # the anchor of each of the set's black leaves `mine`
+        self.leaf_anchors = anchors  # the anchor of each of the set's black leaves (`black_leaves`)
         outer, self.n_outer = self._outer_components(mine, fits, anchors)
         self.outer = outer.astype(label_type(self.n_outer))
         self.anchor_outer = np.zeros(self.n_anchors, np.int64)
@@ -129,7 +129,7 @@ class ModeSet:
         self.links = None  # the certificate's link samples, when a worker found them (`aspects.link_points`)
 
     @property
-    def _mine(self) -> np.ndarray:
+    def black_leaves(self) -> np.ndarray:
         """Indices of the region's black leaves that are the set's (sorted)."""
         return np.flatnonzero(np.unpackbits(self._black, count=self._leaves))
 
@@ -139,7 +139,7 @@ class ModeSet:
         int32, built when asked: kept for every mode set of a region, these arrays of all its
         leaves were a third of the sets' memory."""
         out = np.full(self._leaves, -1, np.int32)
-        out[self._mine] = self._anchors
+        out[self.black_leaves] = self.leaf_anchors
         return out
 
     @property
@@ -149,7 +149,7 @@ class ModeSet:
         most of its memory."""
         paving, grid = self.region.paving, self.grid
         fits = np.unpackbits(self._fits, count=self._cells).view(bool)
-        mine, und = self._mine, paving.undetermined[fits]
+        mine, und = self.black_leaves, paving.undetermined[fits]
         level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
         code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
@@ -185,7 +185,7 @@ class ModeSet:
         return possible & _allow(signs, self.secondary)
 
     def anchor_tree(self, anchor: int) -> Tree:
-        return self.region.tree.subset(self._mine[self._anchors == anchor])
+        return self.region.tree.subset(self.black_leaves[self.leaf_anchors == anchor])
 
     def outer_cells(self, o: int) -> CellSet:
         return self.cells.select(self.outer == o)
@@ -228,7 +228,7 @@ class ModeSet:
         small = anchors[groups != biggest]
         cells = self.outer_cells(o)
         grid = cells.grid
-        black_leaf, anchor_of_leaf = self._mine, self.anchor_of_leaf
+        black_leaf, anchor_of_leaf = self.black_leaves, self.anchor_of_leaf
         leaves = self.region.tree
         cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
         found = []
@@ -238,7 +238,7 @@ class ModeSet:
             if radius is None:
                 near, window = ~cells.black, cells.black
             else:
-                targets = np.isin(self._anchors, small)
+                targets = np.isin(self.leaf_anchors, small)
                 t_lo, t_hi = _integer_boxes(grid, leaves.level[black_leaf[targets]], leaves.code[black_leaf[targets]])
                 near = ~cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
                 window = cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
@@ -271,7 +271,7 @@ class ModeSet:
         grid = cells.grid
         leaves = self.region.tree
         anchor_of_leaf = self.anchor_of_leaf
-        members = self._mine[np.isin(self._anchors, group)]
+        members = self.black_leaves[np.isin(self.leaf_anchors, group)]
         g_lo, g_hi = _integer_boxes(grid, leaves.level[members], leaves.code[members])
         cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
         for extra, radius in JOIN_STEPS:

@@ -506,17 +506,15 @@ def root_labels(root: np.ndarray) -> tuple[np.ndarray, int]:
 def union_find(n: int, i: np.ndarray, j: np.ndarray, parent: np.ndarray | None = None) -> np.ndarray:
     """Connected-component roots (smallest index of each component) by hooking + pointer jumping;
     `parent`: roots found from other edges already (each node's smallest-index root), to add to."""
-    small = index_type(n)
-    parent = np.arange(n, dtype=small) if parent is None else parent.astype(small)
-    return _join(parent, i.astype(small, copy=False), j.astype(small, copy=False)).astype(np.int64)
+    return union_find_blocks(n, [(i, j)], parent).astype(np.int64)
 
 
-def union_find_blocks(n: int, blocks) -> np.ndarray:
+def union_find_blocks(n: int, blocks, parent: np.ndarray | None = None) -> np.ndarray:
     """`union_find` of the edges given as blocks (i, j) (e.g. one neighbour direction each), joined
     one block after the other: most edges of a later block then join nodes already joined and
     leave in the first round (about 3x faster than all edges at once); roots in `index_type`."""
     small = index_type(n)
-    parent = np.arange(n, dtype=small)
+    parent = np.arange(n, dtype=small) if parent is None else parent.astype(small)
     for i, j in blocks:
         _join(parent, i.astype(small, copy=False), j.astype(small, copy=False))
     return parent
