@@ -145,7 +145,7 @@ class AspectAnalysis:
     def headline(self) -> str:
         """One line: the certified count, or the bounds and what is left undecided."""
         name, depth = self.mechanism.name, self.depth
-        what = "robust generalized aspect" if getattr(self.mechanism, "is_interval", False) else "generalized aspect"
+        what = "robust generalized aspect" if self.mechanism.is_interval else "generalized aspect"
         if self.certified:
             return (f"{name}: {plural(len(self.aspects), what)} at depth {depth} (certified; "
                     f"{self.evaluations} box evaluations, {self.refinement_evaluations} in local refinement)")

@@ -234,7 +234,7 @@ def _distinct(model: PoseAspectModel, system: PoseSystem, found, root: np.ndarra
                     parent[find(j)] = find(i)
                 else:
                     left.append((np.minimum(a[0], b[0] + shift)[None], np.maximum(a[1], b[1] + shift)[None]))
-    classes = getattr(system, "classes_of_boxes", None) or model.classes_of_boxes  # the joints may decide the sheet
+    classes = system.classes_of_boxes  # the joints may decide the sheet
     groups: dict[int, list[int]] = {}
     for i in range(len(entries)):
         groups.setdefault(find(i), []).append(i)

@@ -179,10 +179,9 @@ def mode_cells(m: Mechanism, depth: int, working: str, assembly: str) -> Tree:
 def parallel_free_cells(m: Mechanism, depth: int, assembly: str) -> Tree:
     """The joint-space cells certified to assemble with det A != 0 (serial singularities allowed)."""
     model = m.aspect_model()
-    test_of = getattr(model, "parallel_free_test", None)
-    if test_of is None:
+    if not m.crosses_serial:
         raise InputError(m.name, param("allow_serial"), f"a {m.kind} has no test for parallel singularities")
-    return pave(m.spaces()["jointspace"].grid(depth), test_of(_signs(assembly)[0])).inside
+    return pave(m.spaces()["jointspace"].grid(depth), model.parallel_free_test(_signs(assembly)[0])).inside
 
 
 # ---------------------------------------------------------------- the motion

@@ -129,7 +129,7 @@ def tolerance_study(m: Mechanism, tolerances: list[float], depth: int, advance=l
     base = m.nominal()
     widest = base.widened(max(tolerances))
     nominal_areas = {"workspace": base.exact_measure("workspace"), "jointspace": jointspace_area(base)}
-    if getattr(base, "constraints", None):  # no closed form under limits and obstacles: the certified area
+    if base.constraints:  # no closed form under limits and obstacles: the certified area
         nominal_areas = {s: pave(widest.spaces()[s].grid(depth), base.box_test(s)).inside.area for s in nominal_areas}
     spaces = ("workspace", "jointspace")
     tasks = [(base.widened(tol), widest.spaces()[space].grid(depth), space) for tol in tolerances for space in spaces]

@@ -184,7 +184,7 @@ def tree_marks(qt: QtFile, source: str) -> tuple:
         m = from_description(qt.get("mechanism"), qt.get("name") or "?", source)
     except InputError:
         return ()
-    return tuple(m.marks(qt.get("space"))) if hasattr(m, "marks") else ()
+    return tuple(m.marks(qt.get("space")))
 
 
 def _space_key(space: str) -> tuple:

@@ -276,7 +276,7 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
 
 def check_serial(m: Mechanism, allow_serial: bool, source) -> None:
     """`allow_serial` needs a kind with a test for parallel singularities (InputError otherwise)."""
-    if allow_serial and not hasattr(m.aspect_model(), "parallel_free_test"):
+    if allow_serial and not m.crosses_serial:
         raise InputError(str(source), param("allow_serial"), f"a {m.kind} has no test for parallel singularities")
 
 

@@ -305,7 +305,7 @@ class Aspects:
         return f"<Aspects {self.mechanism.name}, depth {self.depth}: {plural(len(self), 'aspect')} ({what})>"
 
     def _pose_kind(self) -> bool:
-        return self.analysis.crossings == [] and hasattr(self.analysis.model, "classes")
+        return self.mechanism.pose_aspect_model() is not None  # as `fb.aspects` chose
 
     def rows(self) -> list[dict]:
         """The rows of `aspects.csv`, as dicts by column name."""

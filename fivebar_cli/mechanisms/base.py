@@ -159,6 +159,7 @@ class Mechanism:
 
     # Capabilities a kind may declare (the five-bar declares them all), asked instead of probed.
     widens: ClassVar[bool] = False  # its lengths can be widened into intervals (`widened`)
+    crosses_serial: ClassVar[bool] = False  # its aspect model has `parallel_free_test` (path --allow-serial)
     constraints = ()  # its joint limits and obstacles (falsy: none)
 
     @property
@@ -330,8 +331,9 @@ class AspectModel(Protocol):
         same), from one classification: (may hold an assemblable point, working signs, certified
         free of parallel singularity). The aspects classify a region's undetermined cells once."""
 
-    # Optional (`fivebar path --allow-serial`): a joint-space box test, 1 where every point
-    # assembles in `assembly` with det A != 0 (serial singularities allowed), -1 where none does.
+    # With `Mechanism.crosses_serial` (`fivebar path --allow-serial`): a joint-space box test, 1
+    # where every point assembles in `assembly` with det A != 0 (serial singularities allowed), -1
+    # where none does.
     # def parallel_free_test(self, assembly: int) -> BoxTest: ...
 
 
@@ -366,12 +368,12 @@ class PoseSystem(Protocol):
         """Over boxes [lo, hi] (n, d): certified bounds of F, (n, d) each, and of the Jacobian,
         (n, d, d) each (outward rounded); a point box gives an enclosure of F at that point."""
 
-    # Optional, when the joints decide a solution's sheet (a 3-RRR's working mode follows from the
-    # actuated angles): the class certified over each box of poses with these joints, -1 where not
-    # certified, below -1 where certified in none of the model's classes (a working mode the model
-    # leaves out: such a solution is not one of its configurations and is not counted). Otherwise
-    # `dkp.py` asks the model's `classes_of_boxes` on sheet 0.
-    # def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray: ...
+    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        """The class certified over each box of poses with these joints, -1 where not certified,
+        below -1 where certified in none of the model's classes (a working mode the model leaves
+        out: such a solution is not one of its configurations and is not counted). The model's
+        `classes_of_boxes` on sheet 0, unless the joints decide a solution's sheet (a 3-RRR's
+        working mode follows from its actuated angles)."""
 
 
 class PoseAspectModel(Protocol):

@@ -86,6 +86,7 @@ class FiveBar(Mechanism):
         return {k: getattr(self, k) for k in LENGTHS}
 
     widens = True  # Mechanism's capability: interval lengths (`widened`)
+    crosses_serial = True  # Mechanism's capability: motions across serial singularities
 
     @property
     def is_interval(self) -> bool:

@@ -45,8 +45,7 @@ class Rpr3PoseAspects:
         return boxtests.region_test(self.m, boxtests.REACHABLE)
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
-        sign = boxtests.det_sign(self.g, np.asarray(lo, float), np.asarray(hi, float))
-        return np.where(sign > 0, 0, np.where(sign < 0, 1, -1)).astype(np.int64)
+        return _det_classes(self.g, lo, hi)
 
     def valid(self, poses: np.ndarray, sheet: int | None = None) -> np.ndarray:
         legs = boxtests.leg_lengths(self.g, np.atleast_2d(poses))
@@ -89,6 +88,9 @@ class LegSystem:
         moment = q[..., 0] * e[..., 1] - q[..., 1] * e[..., 0]
         return 2.0 * np.concatenate([e, (moment * (math.pi / 180.0))[..., None]], axis=-1)
 
+    def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+        return _det_classes(self.g, lo, hi)  # the sign of det J, whatever the legs
+
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
@@ -101,3 +103,9 @@ class LegSystem:
         j_lo = np.stack([np.stack([v.lo for v in row], -1) for row in rows], 1)
         j_hi = np.stack([np.stack([v.hi for v in row], -1) for row in rows], 1)
         return f_lo, f_hi, j_lo, j_hi
+
+
+def _det_classes(g: Geometry, lo, hi) -> np.ndarray:
+    """Class 0 (det J > 0) or 1 (det J < 0) certified over each box of poses, -1 where not."""
+    sign = boxtests.det_sign(g, np.asarray(lo, float), np.asarray(hi, float))
+    return np.where(sign > 0, 0, np.where(sign < 0, 1, -1)).astype(np.int64)
