@@ -11,6 +11,7 @@ numerically for the joint space.
 
 from __future__ import annotations
 
+import functools
 import math
 import zlib
 
@@ -40,6 +41,12 @@ from fivebar_cli.mechanisms.fivebar import kinematics as kin
 
 CASES = [(n, s, p) for n in ("M1", "M2") for s in ("jointspace", "workspace") for p in ("exact", "paper")]
 DEPTHS = range(6, 11)
+
+
+@functools.lru_cache(maxsize=None)
+def cached_paving(name: str, space: str, depth: int, procedure: str = "exact"):
+    """The certified paving, computed once for the module: several tests read the same pavings."""
+    return spaces.pave_space(MECHS[name], space, depth, procedure)
 
 
 def point_valid(m, space, pts: np.ndarray) -> np.ndarray:
@@ -120,7 +127,7 @@ def test_certified_cells_hold_no_wrong_point(name, space, procedure):
     rng = np.random.default_rng(zlib.crc32(f"{name} {space} {procedure}".encode()))  # stable across runs
     total_black = total_white = 0
     for depth in DEPTHS:
-        paving = spaces.pave_space(m, space, depth, procedure)
+        paving = cached_paving(name, space, depth, procedure)
         assert len(paving.inside) > 0 and len(paving.outside) > 0
         b, w = assert_sound(m, space, paving, rng)
         total_black += b
@@ -135,7 +142,7 @@ def test_black_and_complement_cells_never_touch(name, space, procedure):
     joint space, which is a torus)."""
     m = MECHS[name]
     depth = 8
-    paving = spaces.pave_space(m, space, depth, procedure)
+    paving = cached_paving(name, space, depth, procedure)
     black, white = tree_to_bool(paving.inside), tree_to_bool(paving.outside)
     assert black.any() and white.any() and not (black & white).any()
     periodic = space == "jointspace"
@@ -160,6 +167,7 @@ def test_m2_singular_points_stay_undetermined_at_every_depth(space, procedure):
     """B1 = B2 (joint space) and P = A1, P = A2 (workspace) of M2: inside the space's closure,
     assemblable or reachable all around, but singular: never certified at depths 1..12."""
     m = M2
+    pavings = {depth: cached_paving("M2", space, depth, procedure) for depth in range(1, 13)}
     for sx, sy in special_points(m, space):
         around = np.array([[sx + dx, sy + dy] for dx in (-1e-7, 0, 1e-7) for dy in (-1e-7, 0, 1e-7)
                            if (dx, dy) != (0, 0)])
@@ -168,8 +176,7 @@ def test_m2_singular_points_stay_undetermined_at_every_depth(space, procedure):
             b1, b2 = kin.cranks(m, sx, sy)
             assert np.hypot(*(b2 - b1)) < 1e-12 <= m.L3 + m.L4  # B1 = B2: |B1B2| = 0 <= L3 + L4
         probes = np.array([[sx, sy]] + [[sx + dx, sy + dy] for dx in (-1e-12, 1e-12) for dy in (-1e-12, 1e-12)])
-        for depth in range(1, 13):
-            paving = spaces.pave_space(m, space, depth, procedure)
+        for depth, paving in pavings.items():
             assert np.all(paving.inside.locate(probes) < 0), f"depth {depth}: singular point in a black cell"
             assert np.all(paving.outside.locate(probes) < 0), f"depth {depth}: singular point in a complement cell"
             coords, ok = paving.grid.cells_of_points(probes)
@@ -181,7 +188,7 @@ def test_m2_singular_points_stay_undetermined_at_every_depth(space, procedure):
 def test_a1_is_a_grid_corner_in_the_m2_workspace():
     """P = A1 = (0, 0) is the common corner of four cells at every depth: all four stay undetermined."""
     for depth in (1, 4, 9, 12):
-        paving = spaces.pave_space(M2, "workspace", depth)
+        paving = cached_paving("M2", "workspace", depth)
         n = 1 << depth
         und = set(map(tuple, paving.undetermined.tolist()))
         assert {(n // 2 - 1, n // 2 - 1), (n // 2, n // 2 - 1), (n // 2 - 1, n // 2), (n // 2, n // 2)} <= und
@@ -317,7 +324,7 @@ def test_certified_area_converges_from_below(name, space):
     tol = 1e-9 * exact_area  # far below the gaps (>= 1e-2 at depth 12)
     previous_inside, previous_gap, previous_und = -1.0, math.inf, math.inf
     for depth in range(6, 13):
-        p = spaces.pave_space(m, space, depth)
+        p = cached_paving(name, space, depth)
         inside, und = p.inside.area, p.undetermined_area
         assert inside < exact_area - tol, f"depth {depth}: certified area {inside} above the true {exact_area}"
         assert inside + und > exact_area + tol, f"depth {depth}: inside + undetermined {inside + und} below the true area"
@@ -335,8 +342,8 @@ def test_paper_procedure_areas_bound_the_true_area(name, space):
     m = MECHS[name]
     exact_area = workspace_area_closed_form(m) if space == "workspace" else jointspace_area_numeric(m)
     for depth in DEPTHS:
-        p = spaces.pave_space(m, space, depth, "paper")
-        q = spaces.pave_space(m, space, depth, "exact")
+        p = cached_paving(name, space, depth, "paper")
+        q = cached_paving(name, space, depth, "exact")
         assert p.inside.area < exact_area < p.inside.area + p.undetermined_area
         # the exact tests certify at least as much, on both sides
         assert len(p.inside - q.inside) == 0 and len(p.outside - q.outside) == 0

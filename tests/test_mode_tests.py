@@ -311,7 +311,7 @@ def boxes(draw, space):
     return m, lo, hi
 
 
-@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(box=boxes("workspace"), wm=st.sampled_from(WORKING_MODES))
 def test_working_mode_test_on_random_boxes(box, wm):
     m, lo, hi = box
@@ -329,7 +329,7 @@ def test_working_mode_test_on_random_boxes(box, wm):
         assert status == 0
 
 
-@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(box=boxes("jointspace"), am=st.sampled_from(ASSEMBLY_MODES))
 def test_assembly_mode_test_on_random_boxes(box, am):
     m, lo, hi = box
@@ -387,7 +387,7 @@ def _unwrap_into(angles, lo):
 coord = st.floats(-10, 10, allow_nan=False)
 
 
-@settings(max_examples=500, deadline=None)
+@settings(max_examples=250, deadline=None)
 @given(a=coord, b=coord, c=coord, d=coord)
 def test_direction_range_against_sampled_atan2(a, b, c, d):
     xlo, xhi = min(a, b), max(a, b)
@@ -425,7 +425,7 @@ def test_direction_range_across_the_negative_x_axis():
     assert hi[0] - lo[0] == pytest.approx(TWO_PI)
 
 
-@settings(max_examples=500, deadline=None)
+@settings(max_examples=250, deadline=None)
 @given(adj=st.floats(0.1, 10), opp=st.floats(0.1, 10), f0=st.floats(0, 1), f1=st.floats(0, 1))
 def test_triangle_angle_range_against_law_of_cosines(adj, opp, f0, f1):
     smin, smax = abs(adj - opp), adj + opp
@@ -462,7 +462,7 @@ def test_triangle_angle_range_closed_forms():
     assert hi[0] == pytest.approx(math.asin(5 / 8)) and lo[0] == pytest.approx(0.0, abs=1e-7)
 
 
-@settings(max_examples=1000, deadline=None)
+@settings(max_examples=300, deadline=None)
 @given(lo=st.floats(-20, 20), width=st.floats(0, 7), margin=st.sampled_from([0.0, 1e-8, 1e-3]))
 def test_sin_sign_against_brute_force(lo, width, margin):
     hi = lo + width

@@ -71,9 +71,25 @@ def sample_cells(tree, rng, per_leaf: int = 4, max_leaves: int = 3000) -> np.nda
 
 
 @pytest.fixture(scope="module")
-def caro():
+def caro_run(tmp_path_factory):
+    """`fivebar aspects` on Caro's example at depth 5 into a folder (in process), with the analysis
+    that run computed: a spy on analyse_pose_aspects keeps it, so that the depth-5 checks below read
+    the command's own analysis instead of computing the same one again."""
+    from fivebar_cli.analyses import pose_aspects
+
+    folder, seen = tmp_path_factory.mktemp("caro"), []
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(pose_aspects, "analyse_pose_aspects",
+                      lambda *args, **kwargs: seen.append(analyse_pose_aspects(*args, **kwargs)) or seen[-1])
+        result = ok(run_cli("aspects", CARO, "--depth", "5", "-o", folder, "--no-plot"))
+    (analysis,) = seen
+    return folder, result, analysis
+
+
+@pytest.fixture(scope="module")
+def caro(caro_run):
     m = load(CARO)
-    return m, {depth: analyse_pose_aspects(m, depth) for depth in (5, 6)}
+    return m, {5: caro_run[2], 6: analyse_pose_aspects(m, 6)}
 
 
 def test_caros_example_is_a_certified_two_at_every_depth(caro):
@@ -139,10 +155,8 @@ def test_certified_counts_on_random_robots_match_the_grid_and_do_not_change_with
 
 
 @pytest.fixture(scope="module")
-def caro_folder(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("caro")
-    result = ok(run_cli("aspects", CARO, "--depth", "5", "-o", folder, "--no-plot"))
-    return folder, result
+def caro_folder(caro_run):
+    return caro_run[:2]
 
 
 def test_aspects_command_writes_the_table_trees_and_meshes(caro_folder):
