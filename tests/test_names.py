@@ -61,7 +61,7 @@ def test_every_writing_command_writes_the_name_or_the_file_is_refused(tmp_path_f
         assert not (root / "outputs").exists()
         return
     folder = root / "outputs" / name
-    for args in (["workspace", fivebar, "--depth", 3], ["aspects", fivebar, "--depth", 4],
+    for args in (["workspace", fivebar, "--depth", 3], ["aspects", fivebar, "--depth", 6],
                  ["tolerance", fivebar, "--tolerances", "0", "--depth", 2], ["rpr3", "area", rpr3],
                  ["kratio", fivebar, "--depths", 2]):
         ok(run_cli(*args, "--no-plot", "-q", cwd=root))
