@@ -4,7 +4,8 @@ of 2 workers and on an external cluster (a real `dask scheduler` and `dask worke
 `atlas.csv`, and their reruns compute only the missing batches and give the same bytes.
 
 Dask runs are `python -m fivebar_cli` subprocesses (cli_helpers.run_process): a local cluster starts
-worker processes, and signals need a process of their own.
+worker processes, and signals need a process of their own. The client of the external cluster runs
+in this process (its workers are processes already).
 """
 
 from __future__ import annotations
@@ -68,7 +69,10 @@ def _stop(proc: subprocess.Popen) -> None:
 
 
 def test_external_scheduler_writes_the_same_bytes(spec_file, reference, tmp_path):
-    """A `dask scheduler` and one `dask worker` on 127.0.0.1, started and stopped here."""
+    """A `dask scheduler` and one `dask worker` on 127.0.0.1, started and stopped here. The worker
+    runs without a nanny (in the `dask worker` process, not in one more it would spawn), and the
+    run is in this process (a client needs no process of its own): the batches still cross to
+    another process over TCP."""
     address = f"tcp://127.0.0.1:{_free_port()}"
     log = tmp_path / "scheduler.log"
     procs = []
@@ -76,14 +80,14 @@ def test_external_scheduler_writes_the_same_bytes(spec_file, reference, tmp_path
         with open(log, "wb") as fh:
             procs.append(subprocess.Popen([DASK, "scheduler", "--host", "127.0.0.1", "--port", address.rsplit(":", 1)[1],
                                            "--no-dashboard"], stdout=fh, stderr=fh, env=ENV, cwd=tmp_path))
-        procs.append(subprocess.Popen([DASK, "worker", address, "--nthreads", "1", "--nworkers", "1", "--no-dashboard",
+        procs.append(subprocess.Popen([DASK, "worker", address, "--nthreads", "1", "--no-nanny", "--no-dashboard",
                                        "--host", "127.0.0.1"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
                                       env=ENV, cwd=tmp_path))
         deadline = time.monotonic() + 60
         while "Register worker" not in log.read_text(errors="replace"):
             assert time.monotonic() < deadline and all(p.poll() is None for p in procs), log.read_text()[-2000:]
             time.sleep(0.1)
-        r = ok(run_process("atlas", spec_file, "--scheduler", address, "-o", "out", "--no-plot", cwd=tmp_path))
+        r = ok(run_cli("atlas", spec_file, "--scheduler", address, "-o", "out", "--no-plot", cwd=tmp_path))
         assert f"on the cluster at {address} (1 worker connected)" in r.stdout
         assert r.stderr == ""
         assert (tmp_path / "out" / "atlas.csv").read_bytes() == reference
@@ -184,7 +188,7 @@ def test_ctrl_c_during_the_start_up_of_a_local_cluster(spec_file, tmp_path):
             if moment == "workers":
                 deadline = time.monotonic() + 120
                 while proc.poll() is None and not _workers(proc) and time.monotonic() < deadline:
-                    time.sleep(0.005)
+                    time.sleep(0.02)  # a look scans /proc (~2 ms); a worker imports for ~1 s before a batch
                 assert not (folder / "atlas.parts").exists() or not list((folder / "atlas.parts").glob("part-*.csv"))
             else:
                 time.sleep(0.3)

@@ -132,7 +132,8 @@ def interrupt(args, cwd: Path, watch: Path, trigger: tuple[str, float], sig: int
 ASPECT_TRIGGERS = [("tmp", 1), ("tmp", 6), ("png", 1), ("png", 3), ("time", 0.4)]
 REPRODUCE_TRIGGERS = [("tmp", 1), ("png", 2), ("time", 2.5)]
 NEW_ASPECT_FILE = re.compile(r"aspects/aspect-\d\d\.(workspace|jointspace)\.(qt|geojson)")
-OLD_DEPTH, NEW_DEPTH = 6, 10  # at depth 10 `aspects` writes its trees after ~1 s, then draws for ~1.5 s
+OLD_DEPTH, NEW_DEPTH = 6, 9  # at depth 9 `aspects` writes its trees after ~0.8 s, then draws for ~1 s
+# (depth 10 has the same phases, each longer: 3.5 s of CPU a run instead of 2.3 s, for a dozen runs)
 # (moments in the run are phases, "the first/third figure is being written", not times: a faster
 # machine or faster figures would end the run before a fixed time)
 
@@ -147,7 +148,7 @@ def old_aspects(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="module")
 def killed_aspects(tmp_path_factory, old_aspects):
-    """`aspects --depth 10` (with figures) SIGKILLed while it replaces the outputs of a depth-6 run."""
+    """`aspects --depth 9` (with figures) SIGKILLed while it replaces the outputs of a depth-6 run."""
     root = tmp_path_factory.mktemp("killed-aspects")
     return snapshot(old_aspects), kill_copies(root, old_aspects, ASPECT_TRIGGERS,
                                               lambda folder: ["aspects", M1, "--depth", NEW_DEPTH, "-o", folder, "-q"])
@@ -213,7 +214,7 @@ def read_as_one_run(folder: Path) -> set[int]:
 
 
 def test_sigkill_keeps_the_old_trees_until_replaced(killed_aspects):
-    """Every aspect tree after a kill is the depth-6 one or the depth-10 one, never anything else; and the
+    """Every aspect tree after a kill is the depth-6 one or the depth-9 one, never anything else; and the
     kills did hit writes in progress: their temporary files are still there (nothing removes them later)."""
     before, results = killed_aspects
     depths, leftovers = set(), []
@@ -324,11 +325,11 @@ def phase_lengths(seen: dict[str, float]) -> dict[str, float]:
 
 @pytest.fixture(scope="module")
 def ctrl_c_at_random_times(tmp_path_factory, old_aspects):
-    """`aspects --depth 10` (with figures) over copies of the depth-6 outputs, Ctrl-C at a random moment
+    """`aspects --depth 9` (with figures) over copies of the depth-6 outputs, Ctrl-C at a random moment
     of each phase of its run (fixed seed): once its outputs are complete (as it reports and exits), then,
     two runs at a time, while it computes (nothing written yet) and while it writes. Moments are fractions
-    of the phases as the first run took them, not times: a loaded machine stretches them (a run took 3.5 s
-    idle, 10 s with both cores busy). A run that passed the phase before its moment (the load dropped) is
+    of the phases as the first run took them, not times: a loaded machine stretches them (a run at depth 10
+    took 3.5 s idle, 10 s with both cores busy). A run that passed the phase before its moment (the load dropped) is
     tried again, twice at most, at half the fraction of the phase as that run took it.
     Returns the snapshot of the old outputs and [(phase aimed at, trigger, folder, result)]."""
     root = tmp_path_factory.mktemp("ctrl-c-random")

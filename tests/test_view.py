@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from browser import body_attributes, not_blank, require_chromium, screenshot
+from browser import body_attributes, image, not_blank, require_chromium
 from cli_helpers import ok, one_line, run_cli
 
 from fivebar_cli.io.qtfile import read_qt, write_qt
@@ -289,13 +289,12 @@ def chromium() -> str:
 
 @pytest.mark.parametrize("key", ["aspects", "joint", "work", "octree"])
 def test_page_paints_every_leaf_in_chromium(chromium, pages, inputs, key, tmp_path):
-    state = body_attributes(chromium, pages[key])
+    state = body_attributes(chromium, pages[key], png=tmp_path / f"{key}.png")  # one Chromium run: DOM and image
     assert state.get("data-ready") == "true", state
     leaves = black_leaves(given_trees(inputs[key]))
     assert int(state["data-cells"]) >= leaves > 0
     assert 0 < float(state["data-paint-ms"]) < 10_000
-    image = screenshot(chromium, pages[key], tmp_path / f"{key}.png")
-    coloured, distinct = not_blank(image)
+    coloured, distinct = not_blank(image(tmp_path / f"{key}.png"))
     assert coloured > 0.05 and distinct > 20, (coloured, distinct)
 
 
