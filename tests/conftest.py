@@ -242,30 +242,39 @@ def morton_coords(code: int, level: int, dim: int) -> tuple[int, ...]:
     return tuple(c)
 
 
-def tree_to_bool(tree) -> np.ndarray:
-    """Boolean depth-D grid of a tree, from its (level, code) leaves decoded here."""
-    dim, depth = tree.grid.dim, tree.grid.depth
-    n = 1 << depth
-    arr = np.zeros((n,) * dim, dtype=bool)
-    for lev, code in zip(tree.level.tolist(), tree.code.tolist()):
-        c = morton_coords(code, lev, dim)
-        s = 1 << (depth - lev)
-        block = tuple(slice(ci * s, (ci + 1) * s) for ci in c)
-        assert not arr[block].any(), "overlapping leaves"
-        arr[block] = True
-    return arr
+def leaf_coords(tree) -> np.ndarray:
+    """Integer coordinates (m, dim) of every leaf at its own level: morton_coords, vectorised."""
+    dim = tree.grid.dim
+    level = np.asarray(tree.level, dtype=np.int64)
+    code = np.asarray(tree.code, dtype=np.int64)
+    coords = np.zeros((code.size, dim), dtype=np.int64)
+    for b in range(int(level.max(initial=0))):
+        for j in range(dim):
+            coords[:, j] |= ((code >> (b * dim + j)) & 1) << b
+    return coords
 
 
 def leaf_index_grid(tree) -> np.ndarray:
-    """Depth-D grid holding the index of the leaf covering each cell (-1: not in the tree)."""
+    """Depth-D grid holding the index of the leaf covering each cell (-1: not in the tree), from the
+    (level, code) leaves decoded here; no two leaves may overlap. Level by level: each level's
+    leaves on a grid of that level, blown up to depth D."""
     dim, depth = tree.grid.dim, tree.grid.depth
-    n = 1 << depth
-    arr = np.full((n,) * dim, -1, dtype=np.int64)
-    for i, (lev, code) in enumerate(zip(tree.level.tolist(), tree.code.tolist())):
-        c = morton_coords(code, lev, dim)
-        s = 1 << (depth - lev)
-        arr[tuple(slice(ci * s, (ci + 1) * s) for ci in c)] = i
+    arr = np.full((1 << depth,) * dim, -1, dtype=np.int64)
+    level, coords = np.asarray(tree.level, dtype=np.int64), leaf_coords(tree)
+    for lev in np.unique(level).tolist():
+        sel = np.flatnonzero(level == lev)
+        small = np.full((1 << lev,) * dim, -1, dtype=np.int64)
+        small[tuple(coords[sel].T)] = sel
+        assert np.count_nonzero(small >= 0) == len(sel), "overlapping leaves"
+        big = upsample(small, depth - lev)
+        assert not np.any((big >= 0) & (arr >= 0)), "overlapping leaves"
+        arr = np.where(big >= 0, big, arr)
     return arr
+
+
+def tree_to_bool(tree) -> np.ndarray:
+    """Boolean depth-D grid of a tree, from its (level, code) leaves decoded here."""
+    return leaf_index_grid(tree) >= 0
 
 
 def cells_of(arr: np.ndarray) -> np.ndarray:
@@ -309,13 +318,8 @@ def flood_fill(arr: np.ndarray, periodic: tuple[bool, ...]) -> tuple[np.ndarray,
 
 def leaf_bounds(tree) -> tuple[np.ndarray, np.ndarray]:
     """(lo, hi) of every leaf, shape (m, dim), from the Morton codes decoded here (vectorised)."""
-    dim = tree.grid.dim
     level = np.asarray(tree.level, dtype=np.int64)
-    code = np.asarray(tree.code, dtype=np.int64)
-    coords = np.zeros((code.size, dim), dtype=np.int64)
-    for b in range(int(level.max(initial=0))):
-        for j in range(dim):
-            coords[:, j] |= ((code >> (b * dim + j)) & 1) << b
+    coords = leaf_coords(tree)
     root = np.array(tree.grid.root, dtype=float)
     width = (root[:, 1] - root[:, 0])[None, :] / (2.0 ** level)[:, None]
     lo = root[:, 0] + coords * width

@@ -29,10 +29,11 @@ def _in_arc(angle, lo_deg, hi_deg):
 
 
 def _segment_point_distance(a, b, c):
-    ab = b - a
-    t = np.clip(np.sum((c - a) * ab, -1) / np.maximum(np.sum(ab * ab, -1), 1e-300), 0, 1)
-    q = a + t[..., None] * ab
-    return np.hypot(q[..., 0] - c[..., 0], q[..., 1] - c[..., 1])
+    """Distance from c to the segment [a, b] (x and y apart: no reductions over an axis of 2)."""
+    (ax, ay), (bx, by), (cx, cy) = ((p[..., 0], p[..., 1]) for p in (a, b, c))
+    abx, aby = bx - ax, by - ay
+    t = np.clip(((cx - ax) * abx + (cy - ay) * aby) / np.maximum(abx * abx + aby * aby, 1e-300), 0, 1)
+    return np.hypot(ax + t * abx - cx, ay + t * aby - cy)
 
 
 def _crosses(a, b, c, d):

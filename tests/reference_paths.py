@@ -15,6 +15,7 @@ from itertools import product
 import numpy as np
 
 PINCH = 1e-7  # the union is shrunk by this many lattice steps, which parts cells touching at a corner
+HAIR = 1e-4  # lattice steps: a point this far from the union is outside it whatever the rounding
 
 
 def _reflex_vertices(union) -> np.ndarray:
@@ -32,6 +33,22 @@ def _reflex_vertices(union) -> np.ndarray:
             turn = (v - prev)[:, 0] * (nxt - v)[:, 1] - (v - prev)[:, 1] * (nxt - v)[:, 0]
             out.append(v[turn < 0])
     return np.concatenate(out) if out else np.zeros((0, 2))
+
+
+def _maybe_covered(union, a: np.ndarray, b: np.ndarray, hair: float) -> np.ndarray:
+    """False for segments a-b that the union certainly does not cover: a point sampled on them lies
+    outside the union grown by `hair` (far more than the rounding of the sample), so a point of the
+    segment lies outside the union. Only a cheap first pass: shapely.covers decides the rest."""
+    import shapely
+
+    grown = union.buffer(hair)
+    shapely.prepare(grown)
+    keep = np.ones(len(a), bool)
+    for t in (0.5, 0.25, 0.75, 0.125, 0.375, 0.625, 0.875):
+        idx = np.flatnonzero(keep)
+        p = a[idx] + t * (b[idx] - a[idx])
+        keep[idx] = shapely.intersects_xy(grown, p[:, 0], p[:, 1])
+    return keep
 
 
 def shortest_through_boxes(lo: np.ndarray, hi: np.ndarray, start, ends, bound: float | None = None,
@@ -71,8 +88,8 @@ def shortest_through_boxes(lo: np.ndarray, hi: np.ndarray, start, ends, bound: f
         corners = corners[reach <= bound * (1 + 1e-9) + 1e-12]
     nodes = np.concatenate([start[None], ends, corners])
     i, j = np.triu_indices(len(nodes), 1)
-    lines = shapely.linestrings(np.stack([nodes[i], nodes[j]], axis=1))
-    ok = shapely.covers(union, lines)
+    ok = _maybe_covered(union, nodes[i], nodes[j], HAIR * float(scale.min()))
+    ok[ok] = shapely.covers(union, shapely.linestrings(np.stack([nodes[i[ok]], nodes[j[ok]]], axis=1)))
     i, j = i[ok], j[ok]
     w = np.hypot(*(nodes[i] - nodes[j]).T)
     graph = coo_matrix((np.concatenate([w, w]) + 0.0, (np.concatenate([i, j]), np.concatenate([j, i]))),

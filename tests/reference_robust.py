@@ -54,25 +54,29 @@ def possible_work(bounds, x, y):
 
 
 def zonotope_min(c, W, D):
-    """min over |d_k| <= D_k of |c + W d|; c (n, 2), W (n, 2, 3), D (3,)."""
-    best = np.full(len(c), np.inf)
+    """min over |d_k| <= D_k of |c + W d|; c = (cx, cy), W = three columns (wx, wy), D (3,); the
+    coordinates are arrays of n points (or scalars), kept apart for speed."""
+    cx, cy = c
+    best = np.full(np.broadcast(cx, cy).shape, np.inf)
     for k in range(3):  # the 12 edges: one free coefficient, the others at +-D
         others = [j for j in range(3) if j != k]
+        wx, wy = W[k]
         for s in itertools.product((-1, 1), repeat=2):
-            p = c + sum(s[t] * D[j] * W[:, :, j] for t, j in enumerate(others))
-            w = W[:, :, k]
+            steps = [s[t] * D[j] for t, j in enumerate(others)]
+            px = cx + sum(f * W[j][0] for f, j in zip(steps, others))
+            py = cy + sum(f * W[j][1] for f, j in zip(steps, others))
             with np.errstate(divide="ignore", invalid="ignore"):
-                t = np.clip(np.nan_to_num(-(p * w).sum(1) / (w * w).sum(1)), -D[k], D[k])
-            best = np.minimum(best, np.hypot(*(p + t[:, None] * w).T))
+                t = np.clip(np.nan_to_num(-(px * wx + py * wy) / (wx * wx + wy * wy)), -D[k], D[k])
+            best = np.minimum(best, np.hypot(px + t * wx, py + t * wy))
     for k in range(3):  # the origin inside a 2-D face (the zonotope is flat in the plane)
+        (a00, a10), (a01, a11) = (W[j] for j in range(3) if j != k)
         others = [j for j in range(3) if j != k]
         for s in (-1, 1):
-            p = c + s * D[k] * W[:, :, k]
-            A = W[:, :, others]
-            det = A[:, 0, 0] * A[:, 1, 1] - A[:, 0, 1] * A[:, 1, 0]
+            px, py = cx + s * D[k] * W[k][0], cy + s * D[k] * W[k][1]
+            det = a00 * a11 - a01 * a10
             with np.errstate(divide="ignore", invalid="ignore"):
-                d0 = (-p[:, 0] * A[:, 1, 1] + p[:, 1] * A[:, 0, 1]) / det
-                d1 = (-p[:, 1] * A[:, 0, 0] + p[:, 0] * A[:, 1, 0]) / det
+                d0 = (-px * a11 + py * a01) / det
+                d1 = (-py * a00 + px * a10) / det
             inside = (np.abs(d0) <= D[others[0]]) & (np.abs(d1) <= D[others[1]])
             best = np.where(inside, 0.0, best)
     return best
@@ -83,12 +87,11 @@ def crank_distance_range(bounds, th1, th2):
     th1, th2 = np.ravel(th1), np.ravel(th2)
     mid = [0.5 * (lo + hi) for lo, hi in bounds]
     half = np.array([0.5 * (hi - lo) for lo, hi in bounds[:3]])
-    u1 = np.stack([np.cos(th1), np.sin(th1)], -1)
-    u2 = np.stack([np.cos(th2), np.sin(th2)], -1)
-    c = np.stack([mid[0] + mid[2] * np.cos(th2) - mid[1] * np.cos(th1),
-                  mid[2] * np.sin(th2) - mid[1] * np.sin(th1)], -1)
-    W = np.stack([np.broadcast_to([1.0, 0.0], c.shape), -u1, u2], -1)
-    zmax = np.max([np.hypot(*(c + sum(s[k] * half[k] * W[:, :, k] for k in range(3))).T)
+    c1, s1, c2, s2 = np.cos(th1), np.sin(th1), np.cos(th2), np.sin(th2)
+    c = (mid[0] + mid[2] * c2 - mid[1] * c1, mid[2] * s2 - mid[1] * s1)
+    W = [(1.0, 0.0), (-c1, -s1), (c2, s2)]  # the columns: d/dL0, d/dL1, d/dL2 of B2 - B1
+    zmax = np.max([np.hypot(c[0] + sum(s[k] * half[k] * W[k][0] for k in range(3)),
+                            c[1] + sum(s[k] * half[k] * W[k][1] for k in range(3)))
                    for s in itertools.product((-1, 1), repeat=3)], axis=0)
     return zonotope_min(c, W, half), zmax
 

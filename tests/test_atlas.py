@@ -258,7 +258,8 @@ def test_heat_map_figure(atlas_run):
     ("{L0: 3, L1: 0.4, L2: 0.4, L3: 0.9, L4: 0.3}", False),  # one design: no figure
 ])
 def test_figures_for_one_or_three_swept_lengths(tmp_path, lengths, figure):
-    (tmp_path / "s.yaml").write_text(f"name: s\ntype: fivebar-atlas\nlengths: {lengths}\ndepth: 5\n")
+    """The figure's layout follows the swept lengths, not the depth: depth 2 draws the same panels."""
+    (tmp_path / "s.yaml").write_text(f"name: s\ntype: fivebar-atlas\nlengths: {lengths}\ndepth: 2\n")
     res = ok(run_cli("atlas", tmp_path / "s.yaml", "--workers", "0", "-o", "o", cwd=tmp_path))
     assert (tmp_path / "o" / "atlas.png").exists() == figure
     assert ("no figure" in res.stdout) != figure

@@ -34,10 +34,16 @@ def samples(unwrapped: np.ndarray, per_segment: int = 200) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def change():
-    """The motion from assembly mode 1 to assembly mode 2 of legs (14.98, 15.38, 12): both det J > 0."""
+def caro_modes():
+    """The six assembly modes of legs (14.98, 15.38, 12), solved once for the tests that start from them."""
     m = load(CARO)
-    modes = solve(m.pose_aspect_model(), m.spaces()["workspace"], CUSP_LEGS).solutions
+    return m, solve(m.pose_aspect_model(), m.spaces()["workspace"], CUSP_LEGS).solutions
+
+
+@pytest.fixture(scope="module")
+def change(caro_modes):
+    """The motion from assembly mode 1 to assembly mode 2 of legs (14.98, 15.38, 12): both det J > 0."""
+    m, modes = caro_modes
     return m, modes, find_motion(m, 6, modes[0].pose, modes[1].pose, ("mode 1", "mode 2"), "test")
 
 
@@ -105,9 +111,8 @@ def test_the_exact_check_says_no_to_a_segment_leaving_the_cells():
     assert exact.covers(inside[0], zero, np.array([0.1, 0.1, -90.0]), zero)  # the closed cell's face
 
 
-def test_different_signs_and_undecided_depths_say_so():
-    m = load(CARO)
-    modes = solve(m.pose_aspect_model(), m.spaces()["workspace"], CUSP_LEGS).solutions
+def test_different_signs_and_undecided_depths_say_so(caro_modes):
+    m, modes = caro_modes
     with pytest.raises(NoMotion, match="different classes: every motion between them crosses a singularity"):
         find_motion(m, 5, modes[0].pose, modes[3].pose, ("mode 1", "mode 4"), "test")
     with pytest.raises(NoMotion, match="not decided at depth 2"):

@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 from conftest import (
     cells_of,
     flood_fill,
+    leaf_coords,
     leaf_index_grid,
     morton_coords,
     ref_decode,
@@ -543,20 +544,27 @@ def test_well_formed_bodies_at_the_depth_limit_parse():
 def brute_pairs(tree: Tree, target: Tree, offset, itself: bool) -> list[tuple[int, int]]:
     """(i, j) for each leaf i of `tree` whose same-size cell one step along `offset` (wrapping on
     periodic axes) lies inside leaf j of `target`, in order of i: read off a depth-D grid of leaf
-    indices, leaf by leaf (the definition of `Tree.adjacency`)."""
+    indices (the definition of `Tree.adjacency`), level by level: the block of depth-D cells under
+    each cell of that level holds one leaf j when its smallest and largest index are that j."""
     grid, dim, depth = tree.grid, tree.grid.dim, tree.grid.depth
     owner = leaf_index_grid(target)
-    out = []
-    for i, (lev, code) in enumerate(zip(tree.level.tolist(), tree.code.tolist())):
-        c = np.array(morton_coords(code, lev, dim)) + offset
-        if any(not grid.periodic[a] and not 0 <= c[a] < (1 << lev) for a in range(dim)):
-            continue
-        s = 1 << (depth - lev)
-        block = owner[tuple(slice((v % (1 << lev)) * s, (v % (1 << lev) + 1) * s) for v in c.tolist())]
-        j = int(block.flat[0])
-        if j >= 0 and np.all(block == j) and not (itself and j == i):
-            out.append((i, j))
-    return out
+    level, coords = np.asarray(tree.level, dtype=np.int64), leaf_coords(tree) + np.asarray(offset)
+    found_i, found_j = [], []
+    for lev in np.unique(level).tolist():
+        n, s = 1 << lev, 1 << (depth - lev)
+        i = np.flatnonzero(level == lev)
+        c = coords[i]
+        keep = np.all([grid.periodic[a] | ((c[:, a] >= 0) & (c[:, a] < n)) for a in range(dim)], axis=0)
+        i, c = i[keep], c[keep] % n
+        blocks = owner.reshape(sum(((n, s) for _ in range(dim)), ()))
+        inner = tuple(range(1, 2 * dim, 2))
+        low, high = blocks.min(axis=inner)[tuple(c.T)], blocks.max(axis=inner)[tuple(c.T)]
+        ok = (low >= 0) & (low == high) & ~(itself & (low == i))
+        found_i.append(i[ok])
+        found_j.append(low[ok])
+    i, j = np.concatenate([np.zeros(0, np.int64), *found_i]), np.concatenate([np.zeros(0, np.int64), *found_j])
+    order = np.argsort(i, kind="stable")
+    return list(zip(i[order].tolist(), j[order].tolist()))
 
 
 @contextmanager

@@ -124,10 +124,11 @@ def brute_rho_max(t1, t2, t3, k, phi, rho, n=400001):
     """min over sampled circle points at distance >= rho from every C_i of the largest distance."""
     (ox, oy), r = rpr3.singularity_circle(t1, t2, t3, k, phi)
     th = np.linspace(0, 2 * math.pi, n)
-    c = rpr3.workspace_centres(t1, t2, t3, k, phi)
-    d = np.hypot(ox + r * np.cos(th)[:, None] - c[:, 0], oy + r * np.sin(th)[:, None] - c[:, 1])
-    ok = d.min(1) >= rho
-    return (d.max(1)[ok].min() if ok.any() else np.inf), r
+    px, py = ox + r * np.cos(th), oy + r * np.sin(th)
+    d = [np.hypot(px - cx, py - cy) for cx, cy in rpr3.workspace_centres(t1, t2, t3, k, phi)]  # one per centre
+    ok = np.minimum(np.minimum(d[0], d[1]), d[2]) >= rho
+    far = np.maximum(np.maximum(d[0], d[1]), d[2])
+    return (far[ok].min() if ok.any() else np.inf), r
 
 
 @settings(max_examples=25, deadline=None)

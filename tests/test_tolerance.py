@@ -73,10 +73,10 @@ def check_decisions(m: FiveBar, space: str, status: np.ndarray, lo: np.ndarray, 
             assert not POSSIBLE[space](m.bounds, x, y).any(), (space, name, p[POSSIBLE[space](m.bounds, x, y)][:3])
         if code == BAND:
             assert POSSIBLE[space](m.bounds, x, y).all(), (space, name)
-        if code != BAND:
-            for L in vectors:
-                valid = VALID[space](L, x, y)
-                assert valid.all() if code == 1 else not valid.any(), (space, name, L)
+        if code != BAND:  # every length vector at once: row k of `valid` is vector k's verdicts
+            valid = VALID[space](vectors.T[..., None], x, y)
+            wrong = ~valid.all(axis=1) if code == 1 else valid.any(axis=1)
+            assert not wrong.any(), (space, name, vectors[np.argmax(wrong)])
             checked += len(p) * len(vectors)
     return checked
 

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fivebar_cli.numerics import interval as iv
+from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.ranges import angle_inside
 from fivebar_cli.numerics.verdict import verdict
 
@@ -211,3 +213,19 @@ def arc_extent(t1: float, t2: float) -> tuple[tuple[float, float], tuple[float, 
         c.append(math.cos(k * 0.5 * math.pi))
         s.append(math.sin(k * 0.5 * math.pi))
     return (min(c), max(c)), (min(s), max(s))
+
+
+def leg_equations(ex: Interval, ey: Interval, moments: Interval, lengths, moment_scale) -> tuple[np.ndarray, ...]:
+    """Enclosures over boxes of F_i = |e_i|^2 - l_i^2 (each leg's vector e_i = (ex_i, ey_i) of
+    length l_i) and of its Jacobian's rows 2 (e_ix, e_iy, moment_i * moment_scale / 2): (f_lo,
+    f_hi) (n, 3) and (j_lo, j_hi) (n, 3, 3), from Intervals (n, 3) with the legs on the last axis
+    (`stack_legs`). The three legs in one pass of interval operations (entry by entry the
+    operations of one leg)."""
+    f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(lengths, float)))
+    rows = (ex * 2.0, ey * 2.0, moments * moment_scale)
+    return f.lo, f.hi, np.stack([v.lo for v in rows], -1), np.stack([v.hi for v in rows], -1)
+
+
+def stack_legs(columns: list) -> Interval:
+    """Three Interval columns (n,), one per leg, as one Interval (n, 3)."""
+    return Interval(np.stack([v.lo for v in columns], -1), np.stack([v.hi for v in columns], -1))
