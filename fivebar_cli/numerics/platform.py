@@ -215,17 +215,15 @@ def arc_extent(t1: float, t2: float) -> tuple[tuple[float, float], tuple[float, 
     return (min(c), max(c)), (min(s), max(s))
 
 
-def leg_equations(ex: Interval, ey: Interval, moments: Interval, lengths, moment_scale) -> tuple[np.ndarray, ...]:
+def leg_equations(ex: list, ey: list, moments: list, lengths, moment_scale) -> tuple[np.ndarray, ...]:
     """Enclosures over boxes of F_i = |e_i|^2 - l_i^2 (each leg's vector e_i = (ex_i, ey_i) of
     length l_i) and of its Jacobian's rows 2 (e_ix, e_iy, moment_i * moment_scale / 2): (f_lo,
-    f_hi) (n, 3) and (j_lo, j_hi) (n, 3, 3), from Intervals (n, 3) with the legs on the last axis
-    (`stack_legs`). The three legs in one pass of interval operations (entry by entry the
-    operations of one leg)."""
+    f_hi) (n, 3) and (j_lo, j_hi) (n, 3, 3), from three Interval columns (n,) per argument. The
+    three legs in one pass of interval operations (entry by entry the operations of one leg)."""
+    def legs(columns):
+        return Interval(np.stack([v.lo for v in columns], -1), np.stack([v.hi for v in columns], -1))
+
+    ex, ey, moments = legs(ex), legs(ey), legs(moments)
     f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(lengths, float)))
     rows = (ex * 2.0, ey * 2.0, moments * moment_scale)
     return f.lo, f.hi, np.stack([v.lo for v in rows], -1), np.stack([v.hi for v in rows], -1)
-
-
-def stack_legs(columns: list) -> Interval:
-    """Three Interval columns (n,), one per leg, as one Interval (n, 3)."""
-    return Interval(np.stack([v.lo for v in columns], -1), np.stack([v.hi for v in columns], -1))

@@ -94,7 +94,7 @@ class LegSystem:
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
-        ex, ey, mm, *_ = boxtests.leg_columns(self.g, *box)
+        ex, ey, mm, *_ = boxtests._columns(self.g, *box)
         return leg_equations(ex, ey, mm, self.rho, boxtests._D2R * 2.0)
 
 

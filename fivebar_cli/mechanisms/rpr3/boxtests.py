@@ -87,28 +87,26 @@ def _det3(a, b, c, minors=None):
     return c[0] * m[0] + c[1] * m[1] + c[2] * m[2]
 
 
-def leg_columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval) -> tuple[Interval, ...]:
-    """Interval columns of J and the pieces its derivatives need over boxes (n,): e_x, e_y, q x e,
-    q_x, q_y, u, v, each (n, 3) with the three legs on the last axis (one pass of interval
-    operations for the three legs; entry by entry the operations of one leg)."""
-    ph = (phi_deg - g.shift) * _D2R
-    radii = [iv.hypot(px, py) for px, py in g.platform]
-    r = Interval(np.array([v.lo for v in radii]), np.array([v.hi for v in radii]))
-    a = np.array([math.atan2(py, px) for px, py in g.platform])
-    c, s = iv.cos_sin(_legs(ph) + Interval(a - 1e-15, a + 1e-15))
-    qx, qy = r * c, r * s
-    u, v = _legs(x) - g.base[:, 0], _legs(y) - g.base[:, 1]
-    return u + qx, v + qy, qx * v - qy * u, qx, qy, u, v
-
-
-def _legs(x: Interval) -> Interval:
-    """A column (n,) as (n, 1), to meet the three legs."""
-    return Interval(x.lo[:, None], x.hi[:, None])
-
-
 def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
-    """`leg_columns` as lists of three columns (n,), one per leg: e_x, e_y, q x e, q_x, q_y, u, v."""
-    return tuple([Interval(v.lo[:, i], v.hi[:, i]) for i in range(3)] for v in leg_columns(g, x, y, phi_deg))
+    """Interval columns of J and the pieces its derivatives need: e_x, e_y, q x e, q_x, q_y, u, v."""
+    ph = (phi_deg - g.shift) * _D2R
+    ex, ey, mm, qx, qy, us, vs = ([] for _ in range(7))
+    for i in range(3):
+        (bx, by), (px, py) = g.base[i], g.platform[i]
+        r = iv.hypot(px, py)
+        a = math.atan2(py, px)
+        t = ph + Interval(a - 1e-15, a + 1e-15)
+        c, s = iv.cos_sin(t)
+        qxi, qyi = r * c, r * s
+        u, v = x - bx, y - by
+        ex.append(u + qxi)
+        ey.append(v + qyi)
+        mm.append(qxi * v - qyi * u)
+        qx.append(qxi)
+        qy.append(qyi)
+        us.append(u)
+        vs.append(v)
+    return ex, ey, mm, qx, qy, us, vs
 
 
 def det_enclosure(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

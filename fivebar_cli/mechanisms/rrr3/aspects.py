@@ -26,7 +26,7 @@ from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
 from fivebar_cli.mechanisms.rrr3.jointspace import joint_axes
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
-from fivebar_cli.numerics.platform import leg_equations, stack_legs
+from fivebar_cli.numerics.platform import leg_equations
 
 OUTSIDE = -2  # a DKP solution certified in a working mode the model leaves out (`working_mode:` set)
 
@@ -158,7 +158,7 @@ class DistalSystem:
         return ex, ey, mm
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
-        ex, ey, mm = (stack_legs(c) for c in self._columns(lo, hi))
+        ex, ey, mm = self._columns(lo, hi)
         return leg_equations(ex, ey, mm, self.g.l2, _D2R * 2.0)
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
