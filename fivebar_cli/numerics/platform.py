@@ -15,8 +15,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fivebar_cli.numerics import interval as iv
-from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.ranges import angle_inside
 from fivebar_cli.numerics.verdict import verdict
 
@@ -213,17 +211,3 @@ def arc_extent(t1: float, t2: float) -> tuple[tuple[float, float], tuple[float, 
         c.append(math.cos(k * 0.5 * math.pi))
         s.append(math.sin(k * 0.5 * math.pi))
     return (min(c), max(c)), (min(s), max(s))
-
-
-def leg_equations(ex: list, ey: list, moments: list, lengths, moment_scale) -> tuple[np.ndarray, ...]:
-    """Enclosures over boxes of F_i = |e_i|^2 - l_i^2 (each leg's vector e_i = (ex_i, ey_i) of
-    length l_i) and of its Jacobian's rows 2 (e_ix, e_iy, moment_i * moment_scale / 2): (f_lo,
-    f_hi) (n, 3) and (j_lo, j_hi) (n, 3, 3), from three Interval columns (n,) per argument. The
-    three legs in one pass of interval operations (entry by entry the operations of one leg)."""
-    def legs(columns):
-        return Interval(np.stack([v.lo for v in columns], -1), np.stack([v.hi for v in columns], -1))
-
-    ex, ey, moments = legs(ex), legs(ey), legs(moments)
-    f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(lengths, float)))
-    rows = (ex * 2.0, ey * 2.0, moments * moment_scale)
-    return f.lo, f.hi, np.stack([v.lo for v in rows], -1), np.stack([v.hi for v in rows], -1)

@@ -26,7 +26,6 @@ from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
 from fivebar_cli.mechanisms.rrr3.jointspace import joint_axes
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
-from fivebar_cli.numerics.platform import leg_equations
 
 OUTSIDE = -2  # a DKP solution certified in a working mode the model leaves out (`working_mode:` set)
 
@@ -159,7 +158,11 @@ class DistalSystem:
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
         ex, ey, mm = self._columns(lo, hi)
-        return leg_equations(ex, ey, mm, self.g.l2, _D2R * 2.0)
+        f = [iv.sqr(ex[i]) + iv.sqr(ey[i]) - iv.sqr(Interval.point(self.g.l2[i])) for i in range(3)]
+        rows = [[ex[i] * 2.0, ey[i] * 2.0, mm[i] * (_D2R * 2.0)] for i in range(3)]
+        j_lo = np.stack([np.stack([v.lo for v in row], -1) for row in rows], 1)
+        j_hi = np.stack([np.stack([v.hi for v in row], -1) for row in rows], 1)
+        return np.stack([v.lo for v in f], -1), np.stack([v.hi for v in f], -1), j_lo, j_hi
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The class certified over each box of poses with these joints; -1 where a sign (or, with
