@@ -68,9 +68,8 @@ class DkpResult:
 # ---------------------------------------------------------------- interval linear algebra
 
 
-def _column(x: Interval, k: int) -> Interval:
-    """Column k of boxes (n, d) as (n, 1), to multiply every row's entry k."""
-    return Interval(x.lo[:, k, None], x.hi[:, k, None])
+def _columns(lo: np.ndarray, hi: np.ndarray) -> list[Interval]:
+    return [Interval(lo[:, k], hi[:, k]) for k in range(lo.shape[1])]
 
 
 def krawczyk(system: PoseSystem, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -88,18 +87,20 @@ def krawczyk(system: PoseSystem, lo: np.ndarray, hi: np.ndarray) -> tuple[np.nda
     y = np.where(ok[:, None, None], y, 0.0)
     f_lo, f_hi, _, _ = system.enclosure(m, m)
     _, _, j_lo, j_hi = system.enclosure(lo, hi)
-    y, f_lo, f_hi, j_lo, j_hi = y[:, :d, :d], f_lo[:, :d], f_hi[:, :d], j_lo[:, :d, :d], j_hi[:, :d, :d]  # the box's axes
-    dx = Interval(lo, hi) - Interval.point(m)
-    # K = m - Y F(m) + (I - Y J(X)) dx, every row i at once (entry by entry the same operations in
-    # the same order as one row at a time: the sums run over a, then b, as written)
-    value = Interval.point(m)
-    coefficient = Interval.point(np.eye(d))
-    for a in range(d):
-        value = value - y[:, :, a] * Interval(f_lo[:, a, None], f_hi[:, a, None])
-        coefficient = coefficient - y[:, :, a, None] * Interval(j_lo[:, None, a, :], j_hi[:, None, a, :])
-    for b in range(d):
-        value = value + Interval(coefficient.lo[:, :, b], coefficient.hi[:, :, b]) * _column(dx, b)
-    k_lo, k_hi = value.lo.copy(), value.hi.copy()
+    fm = _columns(f_lo, f_hi)
+    dx = [box - Interval.point(c) for box, c in zip(_columns(lo, hi), m.T)]
+    jac = [[Interval(j_lo[:, a, b], j_hi[:, a, b]) for b in range(d)] for a in range(d)]
+    k_lo, k_hi = np.empty((n, d)), np.empty((n, d))
+    for i in range(d):
+        value = Interval.point(m[:, i])
+        for a in range(d):
+            value = value - y[:, i, a] * fm[a]
+        for b in range(d):
+            coefficient = Interval.point(1.0 if i == b else 0.0)
+            for a in range(d):
+                coefficient = coefficient - y[:, i, a] * jac[a][b]
+            value = value + coefficient * dx[b]
+        k_lo[:, i], k_hi[:, i] = value.lo, value.hi
     bad = ~ok | np.any(~np.isfinite(k_lo) | ~np.isfinite(k_hi), axis=1)
     k_lo[bad], k_hi[bad] = -np.inf, np.inf
     return k_lo, k_hi, ~bad
@@ -111,13 +112,13 @@ def excludes_zero(system: PoseSystem, lo: np.ndarray, hi: np.ndarray) -> np.ndar
     f_lo, f_hi, j_lo, j_hi = system.enclosure(lo, hi)
     out = np.any((f_lo > 0) | (f_hi < 0), axis=1)
     fm_lo, fm_hi, _, _ = system.enclosure(m, m)
-    d = lo.shape[1]
-    dx = Interval(lo, hi) - Interval.point(m)
-    value = Interval(fm_lo[:, :d], fm_hi[:, :d])  # every component i < d at once
-    j_lo, j_hi = j_lo[:, :d, :d], j_hi[:, :d, :d]
-    for b in range(d):
-        value = value + Interval(j_lo[:, :, b], j_hi[:, :, b]) * _column(dx, b)
-    return out | np.any((value.lo > 0) | (value.hi < 0), axis=1)
+    dx = [box - Interval.point(c) for box, c in zip(_columns(lo, hi), m.T)]
+    for i in range(lo.shape[1]):
+        value = Interval(fm_lo[:, i], fm_hi[:, i])
+        for b in range(lo.shape[1]):
+            value = value + Interval(j_lo[:, i, b], j_hi[:, i, b]) * dx[b]
+        out |= (value.lo > 0) | (value.hi < 0)
+    return out
 
 
 # ---------------------------------------------------------------- the search
