@@ -92,17 +92,16 @@ class LegSystem:
         return _det_classes(self.g, lo, hi)  # the sign of det J, whatever the legs
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
+        """F and J over boxes: the three legs as the rows of (3, n) Intervals (`_leg_columns`), the
+        same bounds as leg by leg, laid out (n, leg) and (n, leg, column)."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
-        ex, ey, mm, *_ = boxtests._columns(self.g, *box)
-        rho2 = [iv.sqr(Interval.point(r)) for r in self.rho]
-        f = [iv.sqr(ex[i]) + iv.sqr(ey[i]) - rho2[i] for i in range(3)]
-        rows = [[ex[i] * 2.0, ey[i] * 2.0, mm[i] * (boxtests._D2R * 2.0)] for i in range(3)]
-        f_lo = np.stack([v.lo for v in f], -1)
-        f_hi = np.stack([v.hi for v in f], -1)
-        j_lo = np.stack([np.stack([v.lo for v in row], -1) for row in rows], 1)
-        j_hi = np.stack([np.stack([v.hi for v in row], -1) for row in rows], 1)
-        return f_lo, f_hi, j_lo, j_hi
+        ex, ey, mm, *_ = boxtests._leg_columns(self.g, *box)
+        f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(self.rho[:, None]))
+        row = [ex * 2.0, ey * 2.0, mm * (boxtests._D2R * 2.0)]
+        j_lo = np.ascontiguousarray(np.stack([v.lo for v in row], -1).transpose(1, 0, 2))
+        j_hi = np.ascontiguousarray(np.stack([v.hi for v in row], -1).transpose(1, 0, 2))
+        return np.ascontiguousarray(f.lo.T), np.ascontiguousarray(f.hi.T), j_lo, j_hi
 
 
 def _det_classes(g: Geometry, lo, hi) -> np.ndarray:
