@@ -140,29 +140,39 @@ class DistalSystem:
         return 2.0 * np.concatenate([e, (moment * D2R)[..., None]], axis=-1)
 
     def _columns(self, lo: np.ndarray, hi: np.ndarray):
-        """Interval e_x, e_y, q x e and the arms u_i = B_i - A_i over boxes of poses."""
+        """Interval e_x, e_y, q x e over boxes of poses, each a list of the three legs' intervals
+        (rows of `_leg_columns`)."""
+        return [[Interval._of(v.lo[i], v.hi[i]) for i in range(3)] for v in self._leg_columns(lo, hi)]
+
+    def _leg_columns(self, lo: np.ndarray, hi: np.ndarray):
+        """`_columns` with the legs stacked on a first axis: (3, n) Intervals, the legs' constants,
+        arms u_i = B_i - A_i and bases as (3, 1) columns. Each bound is the operation a leg-by-leg
+        evaluation makes, on the same operands in the same order, in a third of the numpy calls."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         x, y, phi = (Interval(lo[:, k], hi[:, k]) for k in range(3))
-        t0 = (phi - self.g.shift) * _D2R
-        ex, ey, mm = [], [], []
-        for i in range(3):
-            radius, angle, *_ = self.g.constants(i)
-            t = t0 + angle
-            c, s = iv.cos_sin(t)
-            qx, qy = c * radius, s * radius
-            ux, uy = self.arm[i]
-            ex.append(x + qx - ux - float(self.g.base[i, 0]))
-            ey.append(y + qy - uy - float(self.g.base[i, 1]))
-            mm.append(qx * ey[i] - qy * ex[i])
-        return ex, ey, mm
+        radius, angle, *_, base_x, base_y = self.g.leg_constants()
+        c, s = iv.cos_sin((phi - self.g.shift) * _D2R + angle)
+        qx, qy = c * radius, s * radius
+        ux, uy = self._stacked_arms
+        ex = x + qx - ux - base_x
+        ey = y + qy - uy - base_y
+        return ex, ey, qx * ey - qy * ex
+
+    @property
+    def _stacked_arms(self) -> tuple[Interval, Interval]:
+        if not hasattr(self, "_arms"):
+            self._arms = tuple(Interval(np.array([[float(a[k].lo)] for a in self.arm]),
+                                        np.array([[float(a[k].hi)] for a in self.arm])) for k in range(2))
+        return self._arms
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
-        ex, ey, mm = self._columns(lo, hi)
-        f = [iv.sqr(ex[i]) + iv.sqr(ey[i]) - iv.sqr(Interval.point(self.g.l2[i])) for i in range(3)]
-        rows = [[ex[i] * 2.0, ey[i] * 2.0, mm[i] * (_D2R * 2.0)] for i in range(3)]
-        j_lo = np.stack([np.stack([v.lo for v in row], -1) for row in rows], 1)
-        j_hi = np.stack([np.stack([v.hi for v in row], -1) for row in rows], 1)
-        return np.stack([v.lo for v in f], -1), np.stack([v.hi for v in f], -1), j_lo, j_hi
+        """F and J over boxes from the stacked legs (`_leg_columns`), laid out (n, leg) and (n, leg, column)."""
+        ex, ey, mm = self._leg_columns(lo, hi)
+        f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(self.g.l2, float)[:, None]))
+        row = [ex * 2.0, ey * 2.0, mm * (_D2R * 2.0)]
+        j_lo = np.ascontiguousarray(np.stack([v.lo for v in row], -1).transpose(1, 0, 2))
+        j_hi = np.ascontiguousarray(np.stack([v.hi for v in row], -1).transpose(1, 0, 2))
+        return np.ascontiguousarray(f.lo.T), np.ascontiguousarray(f.hi.T), j_lo, j_hi
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The class certified over each box of poses with these joints; -1 where a sign (or, with
