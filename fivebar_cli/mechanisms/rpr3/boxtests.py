@@ -87,23 +87,42 @@ def _det3(a, b, c, minors=None):
     return c[0] * m[0] + c[1] * m[1] + c[2] * m[2]
 
 
+ONE_PASS = 2048  # up to this many boxes the three legs are evaluated as one (3, n) pass; beyond, leg by leg
+
+
 def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
-    """Interval columns of J and the pieces its derivatives need: e_x, e_y, q x e, q_x, q_y, u, v
-    (each a list of the three legs' intervals: rows of `_leg_columns`)."""
-    return [[Interval._of(v.lo[i], v.hi[i]) for i in range(3)] for v in _leg_columns(g, x, y, phi_deg)]
+    """Interval columns of J and the pieces its derivatives need: e_x, e_y, q x e, q_x, q_y, u, v,
+    each a list of the three legs' intervals (`_leg_passes`)."""
+    passes = _leg_passes(g, x, y, phi_deg)
+    return [[Interval._of(v.lo[i], v.hi[i]) for part in passes for v in (part[q],) for i in range(len(v.lo))]
+            for q in range(7)]
 
 
 def _leg_columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
-    """`_columns` with the three legs stacked on a first axis: (3, n) Intervals. Each bound is the
-    operation a leg-by-leg evaluation makes, on the same operands in the same order (the legs'
-    constants are (3, 1) columns), in a third of the numpy calls."""
-    radius, angle = _leg_constants(g)
-    base = np.asarray(g.base, float)
+    """`_columns` with the three legs stacked on a first axis: (3, n) Intervals."""
+    passes = _leg_passes(g, x, y, phi_deg)
+    if len(passes) == 1:
+        return passes[0]
+    return tuple(Interval._of(np.concatenate([p[q].lo for p in passes]), np.concatenate([p[q].hi for p in passes]))
+                 for q in range(7))
+
+
+def _leg_passes(g: Geometry, x: Interval, y: Interval, phi_deg: Interval) -> list[tuple]:
+    """e_x, e_y, q x e, q_x, q_y, u, v with the legs on a first axis ((k, n) Intervals): the three
+    legs in one pass on few boxes (a third of the numpy calls), leg by leg on many (arrays that
+    stay in cache). Each bound is the operation a leg-by-leg evaluation makes, on the same operands
+    in the same order (the legs' constants are (k, 1) columns)."""
     ph = (phi_deg - g.shift) * _D2R
-    c, s = iv.cos_sin(ph + angle)
-    qx, qy = radius * c, radius * s
-    u, v = x - base[:, :1], y - base[:, 1:]
-    return u + qx, v + qy, qx * v - qy * u, qx, qy, u, v
+    groups = [slice(0, 3)] if len(ph.lo) <= ONE_PASS else [slice(i, i + 1) for i in range(3)]
+    out = []
+    for legs in groups:
+        radius, angle = (v[legs] for v in _leg_constants(g))
+        base = np.asarray(g.base, float)[legs]
+        c, s = iv.cos_sin(ph + angle)
+        qx, qy = radius * c, radius * s
+        u, v = x - base[:, :1], y - base[:, 1:]
+        out.append((u + qx, v + qy, qx * v - qy * u, qx, qy, u, v))
+    return out
 
 
 def _leg_constants(g: Geometry) -> tuple[Interval, Interval]:
