@@ -141,22 +141,38 @@ class DistalSystem:
 
     def _columns(self, lo: np.ndarray, hi: np.ndarray):
         """Interval e_x, e_y, q x e over boxes of poses, each a list of the three legs' intervals
-        (rows of `_leg_columns`)."""
-        return [[Interval._of(v.lo[i], v.hi[i]) for i in range(3)] for v in self._leg_columns(lo, hi)]
+        (`_leg_passes`)."""
+        passes = self._leg_passes(lo, hi)
+        return [[Interval._of(v.lo[i], v.hi[i]) for part in passes for v in (part[q],) for i in range(len(v.lo))]
+                for q in range(3)]
 
     def _leg_columns(self, lo: np.ndarray, hi: np.ndarray):
-        """`_columns` with the legs stacked on a first axis: (3, n) Intervals, the legs' constants,
-        arms u_i = B_i - A_i and bases as (3, 1) columns. Each bound is the operation a leg-by-leg
-        evaluation makes, on the same operands in the same order, in a third of the numpy calls."""
+        """`_columns` with the legs stacked on a first axis: (3, n) Intervals."""
+        passes = self._leg_passes(lo, hi)
+        if len(passes) == 1:
+            return passes[0]
+        return tuple(Interval._of(np.concatenate([p[q].lo for p in passes]), np.concatenate([p[q].hi for p in passes]))
+                     for q in range(3))
+
+    def _leg_passes(self, lo: np.ndarray, hi: np.ndarray) -> list[tuple]:
+        """e_x, e_y, q x e with the legs on a first axis ((k, n) Intervals): the three legs in one
+        pass on up to `boxtests.ONE_PASS` boxes (a third of the numpy calls), leg by leg beyond
+        (arrays that stay in cache), as `boxtests._det_a`. Each bound is the operation a leg-by-leg
+        evaluation makes, on the same operands in the same order (the legs' constants, arms
+        u_i = B_i - A_i and bases are (k, 1) columns)."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         x, y, phi = (Interval(lo[:, k], hi[:, k]) for k in range(3))
-        radius, angle, *_, base_x, base_y = self.g.leg_constants()
-        c, s = iv.cos_sin((phi - self.g.shift) * _D2R + angle)
-        qx, qy = c * radius, s * radius
-        ux, uy = self._stacked_arms
-        ex = x + qx - ux - base_x
-        ey = y + qy - uy - base_y
-        return ex, ey, qx * ey - qy * ex
+        t0 = (phi - self.g.shift) * _D2R
+        out = []
+        for first, stop in [(0, 3)] if len(lo) <= boxtests.ONE_PASS else [(0, 1), (1, 2), (2, 3)]:
+            radius, angle, *_, base_x, base_y = self.g.leg_constants(first, stop)
+            c, s = iv.cos_sin(t0 + angle)
+            qx, qy = c * radius, s * radius
+            ux, uy = (Interval(a.lo[first:stop], a.hi[first:stop]) for a in self._stacked_arms)
+            ex = x + qx - ux - base_x
+            ey = y + qy - uy - base_y
+            out.append((ex, ey, qx * ey - qy * ex))
+        return out
 
     @property
     def _stacked_arms(self) -> tuple[Interval, Interval]:
