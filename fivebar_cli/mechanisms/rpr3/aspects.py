@@ -92,16 +92,22 @@ class LegSystem:
         return _det_classes(self.g, lo, hi)  # the sign of det J, whatever the legs
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
-        """F and J over boxes: the three legs as the rows of (3, n) Intervals (`_leg_columns`), the
-        same bounds as leg by leg, laid out (n, leg) and (n, leg, column)."""
+        """F and J over boxes, the legs in the passes of `boxtests._leg_passes` ((k, n) Intervals,
+        the same bounds as leg by leg), laid out (n, leg) and (n, leg, column)."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
-        ex, ey, mm, *_ = boxtests._leg_columns(self.g, *box)
-        f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(self.rho[:, None]))
-        row = [ex * 2.0, ey * 2.0, mm * (boxtests._D2R * 2.0)]
-        j_lo = np.ascontiguousarray(np.stack([v.lo for v in row], -1).transpose(1, 0, 2))
-        j_hi = np.ascontiguousarray(np.stack([v.hi for v in row], -1).transpose(1, 0, 2))
-        return np.ascontiguousarray(f.lo.T), np.ascontiguousarray(f.hi.T), j_lo, j_hi
+        f_lo, f_hi, j_lo, j_hi, first = [], [], [], [], 0
+        for ex, ey, mm, *_ in boxtests._leg_passes(self.g, *box):
+            stop = first + len(ex.lo)
+            f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(self.rho[first:stop, None]))
+            row = [ex * 2.0, ey * 2.0, mm * (boxtests._D2R * 2.0)]
+            f_lo.append(f.lo)
+            f_hi.append(f.hi)
+            j_lo.append(np.stack([v.lo for v in row], -1))
+            j_hi.append(np.stack([v.hi for v in row], -1))
+            first = stop
+        return (*(np.ascontiguousarray(np.concatenate(v).T) for v in (f_lo, f_hi)),
+                *(np.ascontiguousarray(np.concatenate(v).transpose(1, 0, 2)) for v in (j_lo, j_hi)))
 
 
 def _det_classes(g: Geometry, lo, hi) -> np.ndarray:

@@ -98,15 +98,6 @@ def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
             for q in range(7)]
 
 
-def _leg_columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
-    """`_columns` with the three legs stacked on a first axis: (3, n) Intervals."""
-    passes = _leg_passes(g, x, y, phi_deg)
-    if len(passes) == 1:
-        return passes[0]
-    return tuple(Interval._of(np.concatenate([p[q].lo for p in passes]), np.concatenate([p[q].hi for p in passes]))
-                 for q in range(7))
-
-
 def _leg_passes(g: Geometry, x: Interval, y: Interval, phi_deg: Interval) -> list[tuple]:
     """e_x, e_y, q x e, q_x, q_y, u, v with the legs on a first axis ((k, n) Intervals): the three
     legs in one pass on few boxes (a third of the numpy calls), leg by leg on many (arrays that

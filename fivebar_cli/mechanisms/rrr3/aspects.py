@@ -146,14 +146,6 @@ class DistalSystem:
         return [[Interval._of(v.lo[i], v.hi[i]) for part in passes for v in (part[q],) for i in range(len(v.lo))]
                 for q in range(3)]
 
-    def _leg_columns(self, lo: np.ndarray, hi: np.ndarray):
-        """`_columns` with the legs stacked on a first axis: (3, n) Intervals."""
-        passes = self._leg_passes(lo, hi)
-        if len(passes) == 1:
-            return passes[0]
-        return tuple(Interval._of(np.concatenate([p[q].lo for p in passes]), np.concatenate([p[q].hi for p in passes]))
-                     for q in range(3))
-
     def _leg_passes(self, lo: np.ndarray, hi: np.ndarray) -> list[tuple]:
         """e_x, e_y, q x e with the legs on a first axis ((k, n) Intervals): the three legs in one
         pass on up to `boxtests.ONE_PASS` boxes (a third of the numpy calls), leg by leg beyond
@@ -182,13 +174,20 @@ class DistalSystem:
         return self._arms
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
-        """F and J over boxes from the stacked legs (`_leg_columns`), laid out (n, leg) and (n, leg, column)."""
-        ex, ey, mm = self._leg_columns(lo, hi)
-        f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(self.g.l2, float)[:, None]))
-        row = [ex * 2.0, ey * 2.0, mm * (_D2R * 2.0)]
-        j_lo = np.ascontiguousarray(np.stack([v.lo for v in row], -1).transpose(1, 0, 2))
-        j_hi = np.ascontiguousarray(np.stack([v.hi for v in row], -1).transpose(1, 0, 2))
-        return np.ascontiguousarray(f.lo.T), np.ascontiguousarray(f.hi.T), j_lo, j_hi
+        """F and J over boxes, the legs in the passes of `_leg_passes` ((k, n) Intervals, the same
+        bounds as leg by leg), laid out (n, leg) and (n, leg, column)."""
+        f_lo, f_hi, j_lo, j_hi, first = [], [], [], [], 0
+        for ex, ey, mm in self._leg_passes(lo, hi):
+            stop = first + len(ex.lo)
+            f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(self.g.l2[first:stop], float)[:, None]))
+            row = [ex * 2.0, ey * 2.0, mm * (_D2R * 2.0)]
+            f_lo.append(f.lo)
+            f_hi.append(f.hi)
+            j_lo.append(np.stack([v.lo for v in row], -1))
+            j_hi.append(np.stack([v.hi for v in row], -1))
+            first = stop
+        return (*(np.ascontiguousarray(np.concatenate(v).T) for v in (f_lo, f_hi)),
+                *(np.ascontiguousarray(np.concatenate(v).transpose(1, 0, 2)) for v in (j_lo, j_hi)))
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The class certified over each box of poses with these joints; -1 where a sign (or, with
