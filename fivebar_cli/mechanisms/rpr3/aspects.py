@@ -16,8 +16,8 @@ import numpy as np
 from fivebar_cli.mechanisms.base import Axis, SignClass
 from fivebar_cli.mechanisms.rpr3 import boxtests
 from fivebar_cli.mechanisms.rpr3.boxtests import MINUS, PLUS, Geometry
-from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
+from fivebar_cli.numerics.platform import leg_enclosure
 
 CLASSES = (SignClass((("det_sign", "+"),)), SignClass((("det_sign", "-"),)))
 REGIONS = (PLUS, MINUS)  # the class tests, in the order of CLASSES
@@ -92,22 +92,10 @@ class LegSystem:
         return _det_classes(self.g, lo, hi)  # the sign of det J, whatever the legs
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
-        """F and J over boxes, the legs in the passes of `boxtests._leg_passes` ((k, n) Intervals,
-        the same bounds as leg by leg), laid out (n, leg) and (n, leg, column)."""
+        """F and J over boxes (`platform.leg_enclosure` of the legs' passes, `boxtests._leg_passes`)."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
-        f_lo, f_hi, j_lo, j_hi, first = [], [], [], [], 0
-        for ex, ey, mm, *_ in boxtests._leg_passes(self.g, *box):
-            stop = first + len(ex.lo)
-            f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(self.rho[first:stop, None]))
-            row = [ex * 2.0, ey * 2.0, mm * (boxtests._D2R * 2.0)]
-            f_lo.append(f.lo)
-            f_hi.append(f.hi)
-            j_lo.append(np.stack([v.lo for v in row], -1))
-            j_hi.append(np.stack([v.hi for v in row], -1))
-            first = stop
-        return (*(np.ascontiguousarray(np.concatenate(v).T) for v in (f_lo, f_hi)),
-                *(np.ascontiguousarray(np.concatenate(v).transpose(1, 0, 2)) for v in (j_lo, j_hi)))
+        return leg_enclosure(boxtests._leg_passes(self.g, *box), self.rho, boxtests._D2R)
 
 
 def _det_classes(g: Geometry, lo, hi) -> np.ndarray:

@@ -26,6 +26,7 @@ from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
 from fivebar_cli.mechanisms.rrr3.jointspace import joint_axes
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
+from fivebar_cli.numerics.platform import leg_enclosure
 
 OUTSIDE = -2  # a DKP solution certified in a working mode the model leaves out (`working_mode:` set)
 
@@ -174,20 +175,8 @@ class DistalSystem:
         return self._arms
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
-        """F and J over boxes, the legs in the passes of `_leg_passes` ((k, n) Intervals, the same
-        bounds as leg by leg), laid out (n, leg) and (n, leg, column)."""
-        f_lo, f_hi, j_lo, j_hi, first = [], [], [], [], 0
-        for ex, ey, mm in self._leg_passes(lo, hi):
-            stop = first + len(ex.lo)
-            f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(self.g.l2[first:stop], float)[:, None]))
-            row = [ex * 2.0, ey * 2.0, mm * (_D2R * 2.0)]
-            f_lo.append(f.lo)
-            f_hi.append(f.hi)
-            j_lo.append(np.stack([v.lo for v in row], -1))
-            j_hi.append(np.stack([v.hi for v in row], -1))
-            first = stop
-        return (*(np.ascontiguousarray(np.concatenate(v).T) for v in (f_lo, f_hi)),
-                *(np.ascontiguousarray(np.concatenate(v).transpose(1, 0, 2)) for v in (j_lo, j_hi)))
+        """F and J over boxes (`platform.leg_enclosure` of the legs' passes, `_leg_passes`)."""
+        return leg_enclosure(self._leg_passes(lo, hi), self.g.l2, _D2R)
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The class certified over each box of poses with these joints; -1 where a sign (or, with
