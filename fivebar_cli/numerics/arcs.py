@@ -47,7 +47,14 @@ def circle_intersections(c1, r1, c2, r2):
 
 
 def _cut_angles_pair(x1, y1, r1, x2, y2, r2):
-    """Angles on circle 1 of its intersections with circle 2: (..., 2) and a validity mask (...).
+    """Angles on circle 1 of its intersections with circle 2: (..., 2) and a validity mask (...)."""
+    alpha, beta, ok = _cut_alpha_beta(x1, y1, r1, x2, y2, r2)
+    ang = np.stack([alpha - beta, alpha + beta], -1)
+    return np.where(ok[..., None], ang, np.nan), ok
+
+
+def _cut_alpha_beta(x1, y1, r1, x2, y2, r2):
+    """Intersections of circle 1 with circle 2 as angles alpha -+ beta on circle 1, and a validity mask.
 
     Written so that nothing cancels when one circle is much larger than the other (a nearly
     straight singularity circle): the distances a1, a2 from each centre to the foot of the common
@@ -66,8 +73,7 @@ def _cut_angles_pair(x1, y1, r1, x2, y2, r2):
         h = np.where(h < _SNAP * np.minimum(r1, r2), 0.0, h)  # rounding noise near tangency: one point
         alpha = np.arctan2(dy, dx)
         beta = np.arctan2(h, a1)
-    ang = np.stack([alpha - beta, alpha + beta], -1)
-    return np.where(ok[..., None], ang, np.nan), ok
+    return alpha, beta, ok
 
 
 # ---------------------------------------------------------------- elementary arcs
@@ -100,61 +106,76 @@ def _arcs(centres, radii, sides):
 
     Returns start, end (N, M, K) angles on circle j (end >= start), keep (N, M, K) bool and the
     Green's-theorem contribution of each arc (N, M, K), zero where not kept.
+
+    The work is laid out batch-last, (pair or arc axes..., N): every broadcast then repeats whole
+    rows of N regions, so numpy's inner loops run over N contiguous numbers instead of over the
+    M - 1 other circles or the K arcs of one circle (per-loop overhead was most of the time).
+    Each number is the same expression of the same operands as in a batch-first layout, the
+    sort sorts the same lanes and the maximum over constraints runs in the same order; start, end
+    and keep are returned as (N, M, K) views, and Green's terms are scattered into an (N, M, K)
+    array, so what callers read and sum is unchanged.
     """
     n, m = radii.shape
     x, y, r, s = centres[..., 0], centres[..., 1], radii, sides
     trivial = ((s < 0) & (r == 0)) | ((s > 0) & np.isinf(r))
     empty = np.any(((s > 0) & (r == 0)) | ((s < 0) & np.isinf(r)), axis=1)
     active = ~trivial & np.isfinite(r) & (r > 0)
+    xt, yt, rt, st, at_ = (np.ascontiguousarray(v.T) for v in (x, y, r, s, active))  # (M, N)
 
-    # Cut angles of circle j by the other circles: (N, j, m, 2) -> (N, j, 2M - 2), ordered, inf last.
-    ang, ok = _cut_angles_pair(x[:, :, None], y[:, :, None], r[:, :, None], x[:, None, :], y[:, None, :], r[:, None, :])
-    ok &= active[:, :, None] & active[:, None, :]
-    ang = np.where(ang < 0.0, ang + TWO_PI, ang)  # alpha +- beta lies in (-2 pi, 2 pi)
+    # Cut angles of circle j by the other circles o != j: (j, o, 2, N) -> (j, N, 2M - 2) ordered,
+    # inf last -> (K, j, N). A circle does not cut itself: only pairs of distinct circles.
     rows, others, first_index = _indices(m)
-    ang = np.where(ok[..., None], ang, np.inf)[:, rows, others].reshape(n, m, 2 * (m - 1))
-    ang = np.sort(ang, axis=-1)
-    count = np.sum(ok, axis=-1) * 2  # (N, M)
-    k = np.arange(max(2 * (m - 1), 1))
+    kk = max(2 * (m - 1), 1)
     if m == 1:
-        ang = np.full((n, 1, 1), np.inf)
-    last = np.maximum(count, 1)[..., None]
-    start = np.where(count[..., None] == 0, 0.0, ang)  # a circle without cuts is one whole arc
+        ang, count = np.full((1, 1, n), np.inf), np.zeros((1, n), int)
+    else:
+        alpha, beta, ok = _cut_alpha_beta(xt[:, None], yt[:, None], rt[:, None], xt[others], yt[others], rt[others])
+        ok &= at_[:, None] & at_[others]
+        ang = np.stack([alpha - beta, alpha + beta], 2)
+        ang = np.where(ang < 0.0, ang + TWO_PI, ang)  # alpha +- beta lies in (-2 pi, 2 pi)
+        ang = np.where(ok[:, :, None], ang, np.inf).reshape(m, kk, n)
+        ang = np.ascontiguousarray(np.sort(ang.transpose(0, 2, 1), axis=-1).transpose(2, 0, 1))
+        count = np.sum(ok, axis=1) * 2  # (M, N)
+    k = np.arange(kk)[:, None, None]
+    last = np.maximum(count, 1)
+    start = np.where(count == 0, 0.0, ang)  # a circle without cuts is one whole arc
     wrap = k + 1 >= last
-    end = np.take_along_axis(start, np.broadcast_to(np.where(wrap, 0, k + 1), start.shape), axis=-1)
-    end = np.where(wrap, end + TWO_PI, end)
-    valid = (k < last) & active[..., None]
+    end = np.where(wrap, start[:1] + TWO_PI, np.roll(start, -1, axis=0))  # the next cut, or the first + 2 pi
+    valid = (k < last) & at_
     start = np.where(valid, start, 0.0)
     end = np.where(valid, end, 0.0)
-    mid = 0.5 * (start + end)
-    ux, uy = np.cos(mid), np.sin(mid)
+    mid = 0.5 * (start + end)[valid]  # only the valid arcs' midpoints (some 40 %) are tested: the rest is
+    ux, uy = np.ones(valid.shape), np.zeros(valid.shape)  # not kept, so any finite direction will do there
+    ux[valid], uy[valid] = np.cos(mid), np.sin(mid)
 
-    # Midpoint p = c_j + r_j u against constraint m: (|p - c_m|^2 - r_m^2) s_m <= 0, expanded as
-    # A_jm + B_jm . u with A = (|c_j - c_m|^2 + r_j^2 - r_m^2) s_m and B = 2 r_j (c_j - c_m) s_m.
-    # Trivial constraints give -inf (always satisfied). An arc satisfies its own circle; of two
-    # identical circles with the same side only the first one carries the boundary. (Against a
-    # huge circle of radius R the rounding of A is ~R^2 eps: a misplaced midpoint would have to be
-    # within ~R eps of it.)
+    # Midpoint p = c_j + r_j u against constraint i: (|p - c_i|^2 - r_i^2) s_i <= 0, expanded as
+    # A_ji + B_ji . u with A = (|c_j - c_i|^2 + r_j^2 - r_i^2) s_i and B = 2 r_j (c_j - c_i) s_i,
+    # stored (i, j, N). Trivial constraints give -inf (always satisfied). An arc satisfies its own
+    # circle; of two identical circles with the same side only the first one carries the boundary.
+    # (Against a huge circle of radius R the rounding of A is ~R^2 eps: a misplaced midpoint would
+    # have to be within ~R eps of it.)
     with np.errstate(invalid="ignore", over="ignore"):
-        dx = x[:, :, None] - x[:, None, :]
-        dy = y[:, :, None] - y[:, None, :]
-        rj, rm, sm = r[:, :, None], r[:, None, :], s[:, None, :]
-        coef_a = (dx * dx + dy * dy + rj * rj - rm * rm) * sm
-        coef_bx = 2.0 * rj * dx * sm
-        coef_by = 2.0 * rj * dy * sm
-        tol = _SAME_TOL * (np.abs(x) + np.abs(y) + r)[:, :, None]
-        same = (np.abs(dx) <= tol) & (np.abs(dy) <= tol) & (np.abs(rj - rm) <= tol)
-        first = (s[:, :, None] != sm) | first_index
+        dx = xt[None, :, :] - xt[:, None, :]
+        dy = yt[None, :, :] - yt[:, None, :]
+        rj, ri, si = rt[None, :, :], rt[:, None, :], st[:, None, :]
+        coef_a = (dx * dx + dy * dy + rj * rj - ri * ri) * si
+        coef_bx = 2.0 * rj * dx * si
+        coef_by = 2.0 * rj * dy * si
+        tol = _SAME_TOL * (np.abs(xt) + np.abs(yt) + rt)[None, :, :]
+        same = (np.abs(dx) <= tol) & (np.abs(dy) <= tol) & (np.abs(rj - ri) <= tol)
+        first = (st[None, :, :] != si) | first_index.T[:, :, None]
         coef_a = np.where(same, np.where(first, -np.inf, np.inf), coef_a)
         coef_bx = np.where(same, 0.0, coef_bx)
         coef_by = np.where(same, 0.0, coef_by)
         worst = np.full(ux.shape, -np.inf)
+        t = np.empty(ux.shape)
         for i in range(m):
-            t = coef_bx[:, :, i, None] * ux
-            t += coef_by[:, :, i, None] * uy
-            t += coef_a[:, :, i, None]
+            np.multiply(coef_bx[i], ux, out=t)
+            t += coef_by[i] * uy
+            t += coef_a[i]
             np.maximum(worst, t, out=worst)
-    keep = valid & (worst <= 0.0) & ~empty[:, None, None]
+    keep = (valid & (worst <= 0.0) & ~empty).transpose(2, 1, 0)
+    start, end, ux, uy = (v.transpose(2, 1, 0) for v in (start, end, ux, uy))
 
     # Green, as chord plus circular segment: 1/2 s_j [P_s x P_e + r^2 (theta - sin theta)], theta = e - s,
     # with P_s x P_e = 2 r sin(h) (c . u + r cos h), h = theta / 2. Unlike r^2 theta + 2 r sin(h) c . u,

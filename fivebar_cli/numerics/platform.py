@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fivebar_cli.numerics import interval as iv
+from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.ranges import angle_inside
 from fivebar_cli.numerics.verdict import verdict
 
@@ -95,6 +97,25 @@ class Platform:
         c, s = np.cos(phi), np.sin(phi)
         q = np.stack([np.stack([c * px - s * py, s * px + c * py], -1) for px, py in self.platform], -2)
         return poses[:, None, :2] + q - np.asarray(self.base, float)[None], q
+
+
+def leg_enclosure(passes, lengths: np.ndarray, d2r: Interval):
+    """Enclosures of F_i = |e_i|^2 - L_i^2 (L: `lengths` (3,)) and of its Jacobian rows
+    2 (e_ix, e_iy, (q_i x e_i) d2r) over boxes, from `passes` of (e_x, e_y, q x e, ...) as (k, n)
+    Intervals covering legs 0, 1, 2 in order (all three in one pass, or one leg a pass): the same
+    bounds either way, laid out (f_lo, f_hi) (n, leg) and (j_lo, j_hi) (n, leg, column)."""
+    f_lo, f_hi, j_lo, j_hi, first = [], [], [], [], 0
+    for ex, ey, mm, *_ in passes:
+        stop = first + len(ex.lo)
+        f = iv.sqr(ex) + iv.sqr(ey) - iv.sqr(Interval.point(np.asarray(lengths[first:stop], float)[:, None]))
+        row = [ex * 2.0, ey * 2.0, mm * (d2r * 2.0)]
+        f_lo.append(f.lo)
+        f_hi.append(f.hi)
+        j_lo.append(np.stack([v.lo for v in row], -1))
+        j_hi.append(np.stack([v.hi for v in row], -1))
+        first = stop
+    return (*(np.ascontiguousarray(np.concatenate(v).T) for v in (f_lo, f_hi)),
+            *(np.ascontiguousarray(np.concatenate(v).transpose(1, 0, 2)) for v in (j_lo, j_hi)))
 
 
 def _box_distance(px, py, xlo, xhi, ylo, yhi):

@@ -16,8 +16,8 @@ import numpy as np
 from fivebar_cli.mechanisms.base import Axis, SignClass
 from fivebar_cli.mechanisms.rpr3 import boxtests
 from fivebar_cli.mechanisms.rpr3.boxtests import MINUS, PLUS, Geometry
-from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
+from fivebar_cli.numerics.platform import leg_enclosure
 
 CLASSES = (SignClass((("det_sign", "+"),)), SignClass((("det_sign", "-"),)))
 REGIONS = (PLUS, MINUS)  # the class tests, in the order of CLASSES
@@ -92,17 +92,10 @@ class LegSystem:
         return _det_classes(self.g, lo, hi)  # the sign of det J, whatever the legs
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
+        """F and J over boxes (`platform.leg_enclosure` of the legs' passes, `boxtests._leg_passes`)."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
-        ex, ey, mm, *_ = boxtests._columns(self.g, *box)
-        rho2 = [iv.sqr(Interval.point(r)) for r in self.rho]
-        f = [iv.sqr(ex[i]) + iv.sqr(ey[i]) - rho2[i] for i in range(3)]
-        rows = [[ex[i] * 2.0, ey[i] * 2.0, mm[i] * (boxtests._D2R * 2.0)] for i in range(3)]
-        f_lo = np.stack([v.lo for v in f], -1)
-        f_hi = np.stack([v.hi for v in f], -1)
-        j_lo = np.stack([np.stack([v.lo for v in row], -1) for row in rows], 1)
-        j_hi = np.stack([np.stack([v.hi for v in row], -1) for row in rows], 1)
-        return f_lo, f_hi, j_lo, j_hi
+        return leg_enclosure(boxtests._leg_passes(self.g, *box), self.rho, boxtests._D2R)
 
 
 def _det_classes(g: Geometry, lo, hi) -> np.ndarray:

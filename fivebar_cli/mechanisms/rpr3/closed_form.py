@@ -100,7 +100,11 @@ def rho_max_auto(t1, t2, t3, k, phi, rho_min):
     perpendicular bisector, through the centre) or at an end of the allowed set (distance rho_min
     from some C_i): twelve closed-form candidates.
     """
-    o, r, c = _circle_frame(t1, t2, t3, k, phi)
+    return _rho_max_auto(*_circle_frame(t1, t2, t3, k, phi), rho_min)
+
+
+def _rho_max_auto(o, r, c, rho_min):
+    """`rho_max_auto` given the circle frame (o, R, C_i) of the design and orientation."""
     rho = np.asarray(rho_min, float)
     shape = np.broadcast_shapes(r.shape, rho.shape)
     o, r, rho = (np.broadcast_to(v, shape) for v in (o, r, rho))
@@ -152,7 +156,11 @@ def rho_min_limit(t1, t2, t3, k, phi):
 
 def region(t1, t2, t3, k, phi, rho_min, rho_max):
     """Circles of W: centres (..., 7, 2), radii (..., 7); sides are SIDES. rho_max may be inf."""
-    o, r, c = _circle_frame(t1, t2, t3, k, phi)
+    return _region(*_circle_frame(t1, t2, t3, k, phi), rho_min, rho_max)
+
+
+def _region(o, r, c, rho_min, rho_max):
+    """`region` given the circle frame (o, R, C_i) of the design and orientation."""
     rmin, rmax = np.asarray(rho_min, float), np.asarray(rho_max, float)
     shape = np.broadcast_shapes(r.shape, rmin.shape, rmax.shape)
     centres = np.broadcast_to(np.concatenate([o[..., None], c, c], -1), shape + (7,))
@@ -168,8 +176,10 @@ def area(t1, t2, t3, k, phi, rho_min, rho_max):
 
 
 def area_auto(t1, t2, t3, k, phi, rho_min):
-    """Area of W with rho_max = rho_max_auto at the same orientation (a design for that phi)."""
-    return area(t1, t2, t3, k, phi, rho_min, rho_max_auto(t1, t2, t3, k, phi, rho_min))
+    """Area of W with rho_max = rho_max_auto at the same orientation (a design for that phi); the
+    circle frame, which both take, computed once."""
+    frame = _circle_frame(t1, t2, t3, k, phi)
+    return arcs.area(*_region(*frame, rho_min, _rho_max_auto(*frame, rho_min)), SIDES)
 
 
 def boundary(t1, t2, t3, k, phi, rho_min, rho_max) -> list[arcs.Arc]:

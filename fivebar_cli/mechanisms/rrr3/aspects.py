@@ -26,6 +26,7 @@ from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
 from fivebar_cli.mechanisms.rrr3.jointspace import joint_axes
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
+from fivebar_cli.numerics.platform import leg_enclosure
 
 OUTSIDE = -2  # a DKP solution certified in a working mode the model leaves out (`working_mode:` set)
 
@@ -140,29 +141,42 @@ class DistalSystem:
         return 2.0 * np.concatenate([e, (moment * D2R)[..., None]], axis=-1)
 
     def _columns(self, lo: np.ndarray, hi: np.ndarray):
-        """Interval e_x, e_y, q x e and the arms u_i = B_i - A_i over boxes of poses."""
+        """Interval e_x, e_y, q x e over boxes of poses, each a list of the three legs' intervals
+        (`_leg_passes`)."""
+        passes = self._leg_passes(lo, hi)
+        return [[Interval._of(v.lo[i], v.hi[i]) for part in passes for v in (part[q],) for i in range(len(v.lo))]
+                for q in range(3)]
+
+    def _leg_passes(self, lo: np.ndarray, hi: np.ndarray) -> list[tuple]:
+        """e_x, e_y, q x e with the legs on a first axis ((k, n) Intervals): the three legs in one
+        pass on up to `boxtests.ONE_PASS` boxes (a third of the numpy calls), leg by leg beyond
+        (arrays that stay in cache), as `boxtests._det_a`. Each bound is the operation a leg-by-leg
+        evaluation makes, on the same operands in the same order (the legs' constants, arms
+        u_i = B_i - A_i and bases are (k, 1) columns)."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         x, y, phi = (Interval(lo[:, k], hi[:, k]) for k in range(3))
         t0 = (phi - self.g.shift) * _D2R
-        ex, ey, mm = [], [], []
-        for i in range(3):
-            radius, angle, *_ = self.g.constants(i)
-            t = t0 + angle
-            c, s = iv.cos_sin(t)
+        out = []
+        for first, stop in [(0, 3)] if len(lo) <= boxtests.ONE_PASS else [(0, 1), (1, 2), (2, 3)]:
+            radius, angle, *_, base_x, base_y = self.g.leg_constants(first, stop)
+            c, s = iv.cos_sin(t0 + angle)
             qx, qy = c * radius, s * radius
-            ux, uy = self.arm[i]
-            ex.append(x + qx - ux - float(self.g.base[i, 0]))
-            ey.append(y + qy - uy - float(self.g.base[i, 1]))
-            mm.append(qx * ey[i] - qy * ex[i])
-        return ex, ey, mm
+            ux, uy = (Interval(a.lo[first:stop], a.hi[first:stop]) for a in self._stacked_arms)
+            ex = x + qx - ux - base_x
+            ey = y + qy - uy - base_y
+            out.append((ex, ey, qx * ey - qy * ex))
+        return out
+
+    @property
+    def _stacked_arms(self) -> tuple[Interval, Interval]:
+        if not hasattr(self, "_arms"):
+            self._arms = tuple(Interval(np.array([[float(a[k].lo)] for a in self.arm]),
+                                        np.array([[float(a[k].hi)] for a in self.arm])) for k in range(2))
+        return self._arms
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
-        ex, ey, mm = self._columns(lo, hi)
-        f = [iv.sqr(ex[i]) + iv.sqr(ey[i]) - iv.sqr(Interval.point(self.g.l2[i])) for i in range(3)]
-        rows = [[ex[i] * 2.0, ey[i] * 2.0, mm[i] * (_D2R * 2.0)] for i in range(3)]
-        j_lo = np.stack([np.stack([v.lo for v in row], -1) for row in rows], 1)
-        j_hi = np.stack([np.stack([v.hi for v in row], -1) for row in rows], 1)
-        return np.stack([v.lo for v in f], -1), np.stack([v.hi for v in f], -1), j_lo, j_hi
+        """F and J over boxes (`platform.leg_enclosure` of the legs' passes, `_leg_passes`)."""
+        return leg_enclosure(self._leg_passes(lo, hi), self.g.l2, _D2R)
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         """The class certified over each box of poses with these joints; -1 where a sign (or, with
