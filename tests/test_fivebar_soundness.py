@@ -140,7 +140,6 @@ def test_black_and_complement_cells_never_touch(name, space, procedure):
     """A point shared by a closed black cell and a closed complement cell would be both valid and
     invalid: a sound paving keeps them apart (no face, edge or corner contact; across +-pi in the
     joint space, which is a torus)."""
-    m = MECHS[name]
     depth = 8
     paving = cached_paving(name, space, depth, procedure)
     black, white = tree_to_bool(paving.inside), tree_to_bool(paving.outside)
