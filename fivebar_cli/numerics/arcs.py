@@ -95,10 +95,10 @@ def _prepare(centres, radii, sides):
 
 @lru_cache(maxsize=None)
 def _indices(m: int):
-    """For M circles: row and column indices of the other circles of each one, and j <= m."""
+    """For M circles: the indices of the other circles of each one, and j <= m."""
     others = np.array([[i for i in range(m) if i != j] for j in range(m)], int).reshape(m, max(m - 1, 0))
     jj, mm = np.meshgrid(np.arange(m), np.arange(m), indexing="ij")
-    return np.arange(m)[:, None], others, jj <= mm
+    return others, jj <= mm
 
 
 def _arcs(centres, radii, sides):
@@ -124,7 +124,7 @@ def _arcs(centres, radii, sides):
 
     # Cut angles of circle j by the other circles o != j: (j, o, 2, N) -> (j, N, 2M - 2) ordered,
     # inf last -> (K, j, N). A circle does not cut itself: only pairs of distinct circles.
-    rows, others, first_index = _indices(m)
+    others, first_index = _indices(m)
     kk = max(2 * (m - 1), 1)
     if m == 1:
         ang, count = np.full((1, 1, n), np.inf), np.zeros((1, n), int)
@@ -185,9 +185,9 @@ def _arcs(centres, radii, sides):
     at = np.nonzero(keep)
     row = at[:2]
     rr = np.where(active, r, 0.0)[row]
-    half = 0.5 * (end[at] - start[at])
-    ch, sh = np.cos(half), np.sin(half)
     theta = end[at] - start[at]
+    half = 0.5 * theta
+    ch, sh = np.cos(half), np.sin(half)
     seg = np.where(theta < 0.05, theta_minus_sin(theta), theta - 2.0 * sh * ch)
     green = np.zeros(keep.shape)
     green[at] = 0.5 * s[row] * (2.0 * rr * sh * (x[row] * ux[at] + y[row] * uy[at] + rr * ch) + rr * rr * seg)
