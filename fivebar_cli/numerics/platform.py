@@ -99,6 +99,20 @@ class Platform:
         return poses[:, None, :2] + q - np.asarray(self.base, float)[None], q
 
 
+def leg_groups(boxes: int, one_pass: int) -> list[tuple[int, int]]:
+    """The legs' passes (first, stop) over `boxes` boxes: the three legs in one pass up to
+    `one_pass` boxes (a third of the numpy calls: interval arithmetic on small arrays costs its
+    calls), leg by leg beyond (arrays that stay in cache). Either way each bound is the operation
+    a leg-by-leg evaluation makes, so the grouping changes no number."""
+    return [(0, 3)] if boxes <= one_pass else [(0, 1), (1, 2), (2, 3)]
+
+
+def legs_apart(passes, count: int) -> list[list[Interval]]:
+    """The first `count` quantities of `passes` ((k, n) Intervals covering legs 0, 1, 2 in order)
+    as lists of the three legs' (n,) Intervals (views, the same bounds)."""
+    return [[Interval._of(lo, hi) for part in passes for lo, hi in zip(part[q].lo, part[q].hi)] for q in range(count)]
+
+
 def leg_enclosure(passes, lengths: np.ndarray, d2r: Interval):
     """Enclosures of F_i = |e_i|^2 - L_i^2 (L: `lengths` (3,)) and of its Jacobian rows
     2 (e_ix, e_iy, (q_i x e_i) d2r) over boxes, from `passes` of (e_x, e_y, q x e, ...) as (k, n)

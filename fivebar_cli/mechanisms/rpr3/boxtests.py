@@ -30,7 +30,7 @@ import numpy as np
 
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
-from fivebar_cli.numerics.platform import ETA_REL, D2R, Platform  # noqa: F401 (ETA_REL: the margin, as before)
+from fivebar_cli.numerics.platform import ETA_REL, D2R, Platform, leg_groups, legs_apart  # noqa: F401 (ETA_REL: the margin, as before)
 from fivebar_cli.numerics.verdict import verdict
 
 REACHABLE = "reachable"  # the regions a box test decides (the `region:` of the .qt files)
@@ -93,20 +93,16 @@ ONE_PASS = 2048  # up to this many boxes the three legs are evaluated as one (3,
 def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
     """Interval columns of J and the pieces its derivatives need: e_x, e_y, q x e, q_x, q_y, u, v,
     each a list of the three legs' intervals (`_leg_passes`)."""
-    passes = _leg_passes(g, x, y, phi_deg)
-    return [[Interval._of(v.lo[i], v.hi[i]) for part in passes for v in (part[q],) for i in range(len(v.lo))]
-            for q in range(7)]
+    return legs_apart(_leg_passes(g, x, y, phi_deg), 7)
 
 
 def _leg_passes(g: Geometry, x: Interval, y: Interval, phi_deg: Interval) -> list[tuple]:
-    """e_x, e_y, q x e, q_x, q_y, u, v with the legs on a first axis ((k, n) Intervals): the three
-    legs in one pass on few boxes (a third of the numpy calls), leg by leg on many (arrays that
-    stay in cache). Each bound is the operation a leg-by-leg evaluation makes, on the same operands
-    in the same order (the legs' constants are (k, 1) columns)."""
+    """e_x, e_y, q x e, q_x, q_y, u, v with the legs on a first axis ((k, n) Intervals), in the
+    passes of `platform.leg_groups` (the legs' constants are (k, 1) columns)."""
     ph = (phi_deg - g.shift) * _D2R
-    groups = [slice(0, 3)] if len(ph.lo) <= ONE_PASS else [slice(i, i + 1) for i in range(3)]
     out = []
-    for legs in groups:
+    for first, stop in leg_groups(len(ph.lo), ONE_PASS):
+        legs = slice(first, stop)
         radius, angle = (v[legs] for v in _leg_constants(g))
         base = np.asarray(g.base, float)[legs]
         c, s = iv.cos_sin(ph + angle)

@@ -26,7 +26,7 @@ from fivebar_cli.mechanisms.rrr3.boxtests import D2R, Geometry, _D2R, signs_of
 from fivebar_cli.mechanisms.rrr3.jointspace import joint_axes
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
-from fivebar_cli.numerics.platform import leg_enclosure
+from fivebar_cli.numerics.platform import leg_enclosure, leg_groups, legs_apart
 
 OUTSIDE = -2  # a DKP solution certified in a working mode the model leaves out (`working_mode:` set)
 
@@ -126,6 +126,9 @@ class DistalSystem:
         self.elbows = self.g.base + self.g.l1[:, None] * np.column_stack([np.cos(t), np.sin(t)])
         arm = [Interval.point(theta[i]) * _D2R for i in range(3)]
         self.arm = [(iv.cos(a) * float(self.g.l1[i]), iv.sin(a) * float(self.g.l1[i])) for i, a in enumerate(arm)]
+        # the same arms as (3, 1) columns, for the legs' passes
+        self.arm_columns = tuple(Interval(np.array([[float(a[k].lo)] for a in self.arm]),
+                                          np.array([[float(a[k].hi)] for a in self.arm])) for k in range(2))
 
     def _distal(self, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         d, q = self.g.legs_and_arms(np.atleast_2d(poses))
@@ -143,36 +146,25 @@ class DistalSystem:
     def _columns(self, lo: np.ndarray, hi: np.ndarray):
         """Interval e_x, e_y, q x e over boxes of poses, each a list of the three legs' intervals
         (`_leg_passes`)."""
-        passes = self._leg_passes(lo, hi)
-        return [[Interval._of(v.lo[i], v.hi[i]) for part in passes for v in (part[q],) for i in range(len(v.lo))]
-                for q in range(3)]
+        return legs_apart(self._leg_passes(lo, hi), 3)
 
     def _leg_passes(self, lo: np.ndarray, hi: np.ndarray) -> list[tuple]:
-        """e_x, e_y, q x e with the legs on a first axis ((k, n) Intervals): the three legs in one
-        pass on up to `boxtests.ONE_PASS` boxes (a third of the numpy calls), leg by leg beyond
-        (arrays that stay in cache), as `boxtests._det_a`. Each bound is the operation a leg-by-leg
-        evaluation makes, on the same operands in the same order (the legs' constants, arms
+        """e_x, e_y, q x e with the legs on a first axis ((k, n) Intervals), in the passes of
+        `platform.leg_groups` with det A's `boxtests.ONE_PASS` (the legs' constants, arms
         u_i = B_i - A_i and bases are (k, 1) columns)."""
         lo, hi = self.g.poses(lo), self.g.poses(hi)
         x, y, phi = (Interval(lo[:, k], hi[:, k]) for k in range(3))
         t0 = (phi - self.g.shift) * _D2R
         out = []
-        for first, stop in [(0, 3)] if len(lo) <= boxtests.ONE_PASS else [(0, 1), (1, 2), (2, 3)]:
+        for first, stop in leg_groups(len(lo), boxtests.ONE_PASS):
             radius, angle, *_, base_x, base_y = self.g.leg_constants(first, stop)
             c, s = iv.cos_sin(t0 + angle)
             qx, qy = c * radius, s * radius
-            ux, uy = (Interval(a.lo[first:stop], a.hi[first:stop]) for a in self._stacked_arms)
+            ux, uy = (Interval(a.lo[first:stop], a.hi[first:stop]) for a in self.arm_columns)
             ex = x + qx - ux - base_x
             ey = y + qy - uy - base_y
             out.append((ex, ey, qx * ey - qy * ex))
         return out
-
-    @property
-    def _stacked_arms(self) -> tuple[Interval, Interval]:
-        if not hasattr(self, "_arms"):
-            self._arms = tuple(Interval(np.array([[float(a[k].lo)] for a in self.arm]),
-                                        np.array([[float(a[k].hi)] for a in self.arm])) for k in range(2))
-        return self._arms
 
     def enclosure(self, lo: np.ndarray, hi: np.ndarray):
         """F and J over boxes (`platform.leg_enclosure` of the legs' passes, `_leg_passes`)."""

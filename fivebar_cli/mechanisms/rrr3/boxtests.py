@@ -33,7 +33,7 @@ import numpy as np
 from fivebar_cli.numerics import gradients as gr
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
-from fivebar_cli.numerics.platform import D2R, ETA_REL, Platform  # noqa: F401 (ETA_REL: the margin)
+from fivebar_cli.numerics.platform import D2R, ETA_REL, Platform, leg_groups  # noqa: F401 (ETA_REL: the margin)
 from fivebar_cli.numerics.verdict import verdict
 
 _D2R = Interval(D2R * (1.0 - 4e-16), D2R * (1.0 + 4e-16))  # encloses pi / 180
@@ -118,14 +118,11 @@ ONE_PASS = 8192  # up to this many boxes the three legs are evaluated as one (3,
 
 def _det_a(g: Geometry, signs, x, y, phi):
     """det A, rows scaled by 2 rho_i^2 (module docstring), at (x, y, phi in degrees) given as
-    Intervals or `gradients.Dual`s (x first in every sum, so that a Dual absorbs the constants).
-    The legs are evaluated together on few boxes (fewer numpy calls: interval arithmetic on small
-    arrays costs its calls) and one by one on many (arrays that stay in cache): the same
-    operations per element either way, so the same bounds."""
+    Intervals or `gradients.Dual`s (x first in every sum, so that a Dual absorbs the constants),
+    the legs in the passes of `platform.leg_groups`."""
     boxes = max(np.size((v.v if isinstance(v, gr.Dual) else v).lo) for v in (x, y, phi))
-    groups = [(0, 3)] if boxes <= ONE_PASS else [(0, 1), (1, 2), (2, 3)]
     rows = []
-    for first, stop in groups:
+    for first, stop in leg_groups(boxes, ONE_PASS):
         columns = _rows(g, signs[first:stop], x, y, phi, first, stop)
         rows += [[column[k] for column in columns] for k in range(stop - first)]
     return _det3(*rows)
