@@ -39,9 +39,8 @@ from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, on_cells, pave_many
 from fivebar_cli.paving.arrays import unique_pairs
-from fivebar_cli.paving.grid import MAX_INDEX_BITS
+from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import finest_order
-from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree, finest_indices, union_find
 
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
@@ -342,6 +341,7 @@ class _Count:
         self.offset = np.cumsum([0] + [s.n_anchors for s in sets])
         total = int(self.offset[-1])
         self.edges_i, self.edges_j = [], []
+        self._roots, self._roots_for = None, None  # the roots, and how many edges they hold
         self._link()
         self._join()
         self.partner = self._partners()
@@ -383,11 +383,11 @@ class _Count:
     def roots(self) -> np.ndarray:
         """Union-find root of every anchor: the edges added since the last call joined to the
         roots found before (each edge is joined once)."""
-        done = getattr(self, "_roots_for", None)  # how many edges the roots hold (None: not computed yet)
+        done = self._roots_for  # None: not computed yet
         if done != len(self.edges_i):
             i = np.array(self.edges_i[done or 0:], np.int64)
             j = np.array(self.edges_j[done or 0:], np.int64)
-            self._roots = union_find(int(self.offset[-1]), i, j, None if done is None else self._roots)
+            self._roots = union_find(int(self.offset[-1]), i, j, self._roots)
             self._roots_for = len(self.edges_i)
         return self._roots
 
