@@ -36,7 +36,7 @@ import math
 import numpy as np
 
 from fivebar_cli.paving.morton import deinterleave
-from fivebar_cli.paving.tree import Tree
+from fivebar_cli.paving.tree import Tree, cell_bounds
 
 TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
 MAX_ROUNDS = 60
@@ -97,8 +97,8 @@ class _Obstacles:
         self.cells = tree.complement()
         grid, level = tree.grid, self.cells.level.astype(np.int64)
         coords = deinterleave(self.cells.code, level, 2)
-        # the bounds of `Tree.bounds` (the same floats), from the one deinterleave
-        (self.x0, self.x1), (self.y0, self.y1) = (_axis_bounds(grid, axis, coords[:, axis], level) for axis in (0, 1))
+        lo, hi = cell_bounds(grid, coords, level)  # `Tree.bounds`, from the one deinterleave
+        self.x0, self.y0, self.x1, self.y1 = (np.ascontiguousarray(v) for v in (*lo.T, *hi.T))
         self.big = np.flatnonzero(level < BIG_LEVEL)
         self.root_lo, self.root_hi = grid.lo, grid.lo + grid.size
         # each small cell filed in every bucket (cell of level BUCKET_LEVEL) it meets, column by column:
@@ -218,13 +218,6 @@ class _Obstacles:
         cx, cy = centre
         d = _cell_distance(metric, cx, cy, self.x0[cell], self.x1[cell], self.y0[cell], self.y1[cell])
         return np.unique(cell[d <= radius])  # (a cell may sit in several buckets)
-
-
-def _axis_bounds(grid, axis: int, coords: np.ndarray, level: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Cells' (low, high) bounds along one axis: `Tree.bounds`'s floats, one axis at a time."""
-    width = np.ldexp(grid.size[axis], -level)
-    low = grid.lo[axis] + coords * width
-    return low, low + width
 
 
 def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:

@@ -17,7 +17,7 @@ from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.morton import axis_mask, deinterleave, finest_key, finest_order, floor_log2, interleave, trailing_zeros
 
-__all__ = ["Tree", "BodyError", "finest_indices", "union_find", "union_find_blocks", "root_labels"]
+__all__ = ["Tree", "BodyError", "cell_bounds", "finest_indices", "union_find", "union_find_blocks", "root_labels"]
 
 PAIR_CHUNK = 1 << 18  # leaves whose neighbours are looked up together
 
@@ -101,9 +101,7 @@ class Tree:
         """Leaf bounds (lo, hi), each of shape (m, dim); of the leaves `index` (a mask or indices) only
         when given."""
         level, code = (self.level, self.code) if index is None else (self.level[index], self.code[index])
-        width = np.ldexp(self.grid.size[None, :], -level[:, None])
-        lo = self.grid.lo + deinterleave(code, level, self.grid.dim) * width
-        return lo, lo + width
+        return cell_bounds(self.grid, deinterleave(code, level, self.grid.dim), level)
 
     def centres(self) -> np.ndarray:
         lo, hi = self.bounds()
@@ -321,6 +319,14 @@ class Tree:
         """Parse a preorder body; raises BodyError with the offending node position."""
         level, code, black = decode(grid, body)
         return cls(grid, level[black], code[black])
+
+
+def cell_bounds(grid: Grid, coords: np.ndarray, level: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds (lo, hi), each (m, dim), of the cells of integer coordinates `coords` (m, dim) at
+    their levels (`Tree.bounds`, for a caller that has the coordinates already)."""
+    width = np.ldexp(grid.size[None, :], -level[:, None])
+    lo = grid.lo + coords * width
+    return lo, lo + width
 
 
 def finest_indices(grid: Grid, points: np.ndarray) -> np.ndarray:
