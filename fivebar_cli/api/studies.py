@@ -82,14 +82,15 @@ class Report:
 # ---------------------------------------------------------------- tolerance
 
 
-def tolerance_mechanism(mech, tolerances) -> Mechanism:
-    """The five-bar of a tolerance study, checked: every tolerance a finite number >= 0 (at most
-    `MAX_TOLERANCES` of them) that keeps every length positive (InputError naming `tolerances`, or
-    the length reaching 0, with the mechanism's source)."""
+def tolerance_mechanism(mech, tolerances) -> tuple[Mechanism, list[float]]:
+    """The five-bar of a tolerance study and its tolerances (`tolerance_values`), checked: every
+    tolerance a finite number >= 0 (at most `MAX_TOLERANCES` of them) that keeps every length
+    positive (InputError naming `tolerances`, or the length reaching 0, with the mechanism's source)."""
     m = load(mech, kind="fivebar")
-    for t in tolerance_values(tolerances, source_name(mech)):
+    values = tolerance_values(tolerances, source_name(mech))
+    for t in values:
         m.nominal().widened(t, source_name(mech))  # every tolerance keeps the lengths positive
-    return m
+    return m, values
 
 
 def tolerance_values(tolerances, source: str = "") -> list[float]:
@@ -145,8 +146,7 @@ def tolerance(mech, tolerances=DEFAULT_TOLERANCES, depth: int = 10, *, jobs: int
     from fivebar_cli.analyses.tolerance import HEADER, fate_text, tolerance_study
     from fivebar_cli.io.layout import TOLERANCE_ASPECTS_PNG, TOLERANCE_BANDS_PNG, TOLERANCE_CSV, TOLERANCE_FILES
 
-    m = tolerance_mechanism(mech, tolerances)
-    tolerances = tolerance_values(tolerances)
+    m, tolerances = tolerance_mechanism(mech, tolerances)
     check_depth(depth, MAX_DEPTH)
     study = tolerance_study(m, tolerances, depth, advance or (lambda n=1: None), jobs)
     nominal = study.nominal

@@ -55,7 +55,7 @@ def tolerance(config_path, tolerances, depth, jobs, out, no_plot, quiet):
       fivebar tolerance configs/m2.yaml --tolerances 0,0.01 --depth 6 -o - > m2-tolerance.csv
       fivebar tolerance configs/m1.yaml --tolerances 0,0.05 --depth 6 --jobs 2 -o out/m1-tolerance-jobs --no-plot
     """
-    m = studies.tolerance_mechanism(config_path, tolerances)
+    m, tolerances = studies.tolerance_mechanism(config_path, tolerances)
     stdout = data_on_stdout(out)
     folder = None if stdout else prepare_out(out, m.name)
     with progress(quiet, 3 * len(tolerances), f"tolerances, depth {depth}") as advance:
