@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
-from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table
+from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
 
@@ -287,9 +287,7 @@ def _path_notes(result, trees) -> tuple[str, ...]:
         what = (f"motion free of parallel singularities, det A {start.assembly}, working mode {start.working} to "
                 f"{end.working} (serial singularities may be crossed)")
     else:
-        where = (f"aspect {result.aspect.number}, {'certified' if result.aspect.certified else 'not certified'}"
-                 if result.aspect is not None else "one generalized aspect")
-        what = f"singularity-free motion in {where}: working mode {start.working}, det A {start.assembly}"
+        what = f"singularity-free motion in {motion_where(result.aspect)}: working mode {start.working}, det A {start.assembly}"
     notes = [f"{result.mechanism.name}: {what}, depth {result.depth}",
              f"  from {start.label} to {end.label}: {len(result.joints)} waypoints, joint-space length "
              f"{result.length:.6g}; every segment lies in the certified cells ({result.checked_cells} cells, "

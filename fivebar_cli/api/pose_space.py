@@ -109,7 +109,7 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
     from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
     from fivebar_cli.analyses.pose_aspects import motion_sheet, sheet_of
     from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
-    from fivebar_cli.api.values import Path_
+    from fivebar_cli.api.values import Path_, motion_where
 
     m = pose_mechanism(m, poses=True, depth=depth, source=source)
     model = m.pose_aspect_model()
@@ -135,9 +135,7 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
         labels = tuple(f"pose ({numbers(p)})" for p in (start, goal))
     saved = saved_pose_aspects(m, folder, depth)
     motion = find_motion(m, depth, ends[0], ends[1], labels, source, saved, sheets)
-    where = (f"aspect {motion.aspect.number}, {'certified' if motion.aspect.certified else 'not certified'}"
-             if motion.aspect is not None else "one generalized aspect")
-    notes = [f"{m.name}: singularity-free motion in {where}: {model.classes[motion.cls].label}, depth {depth}",
+    notes = [f"{m.name}: singularity-free motion in {motion_where(motion.aspect)}: {model.classes[motion.cls].label}, depth {depth}",
              f"  from {labels[0]} to {labels[1]}: {len(motion.poses)} waypoints, length {motion.length:.6g} "
              f"({', '.join(a.name for a in space.axes)}); every segment lies in the certified cells "
              f"({motion.motion.checked_cells} cells, checked in exact arithmetic)"]

@@ -347,6 +347,14 @@ class Aspects:
 # ---------------------------------------------------------------- path (Location: locations.py)
 
 
+def motion_where(aspect) -> str:
+    """Where a motion lies, as `fivebar path` says it: 'aspect N, certified' (or 'not certified'),
+    or 'one generalized aspect' when the aspects were not numbered."""
+    if aspect is None:
+        return "one generalized aspect"
+    return f"aspect {aspect.number}, {'certified' if aspect.certified else 'not certified'}"
+
+
 @dataclass(frozen=True, repr=False)
 class Path_:
     """A certified motion: `points` (joints then pose per waypoint, the columns of path.csv),
