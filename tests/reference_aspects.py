@@ -39,14 +39,15 @@ class JointGeometry:
         dist = np.hypot(dx, dy)
         self.ok = (dist < L3 + L4) & (dist > abs(L3 - L4))
         c = np.clip((dist**2 + L3**2 - L4**2) / (2 * L3 * np.where(dist > 0, dist, 1.0)), -1, 1)
-        self.toward, self.spread = np.arctan2(dy, dx), np.arccos(c)
+        self.toward, self.spread = _unit(dx, dy, dist), (c, np.sqrt(1 - c * c))  # cos and sin of both angles
 
     def modes(self, assembly):
-        """(valid and non-singular, sign B11, sign B22, P) for one assembly mode."""
+        """(valid and non-singular, sign B11, sign B22, P) for one assembly mode: P at the angle
+        toward + assembly * spread from B1 (cos and sin by the sum formulas: no trigonometry)."""
         L0, L3 = self.L[0], self.L[3]
         (b1x, b1y), (b2x, b2y) = self.b1, self.b2
-        angle = self.toward + assembly * self.spread
-        px, py = b1x + L3 * np.cos(angle), b1y + L3 * np.sin(angle)
+        cos, sin = _turned(self.toward, self.spread, assembly)
+        px, py = b1x + L3 * cos, b1y + L3 * sin
         u = np.sign(b1x * (py - b1y) - b1y * (px - b1x))
         v = np.sign((b2x - L0) * (py - b2y) - b2y * (px - b2x))
         return self.ok & (u != 0) & (v != 0), u, v, np.stack([px, py], -1)
@@ -65,6 +66,9 @@ class WorkGeometry:
         c2 = np.clip((L2**2 + m2**2 - L4**2) / (2 * L2 * np.maximum(m2, 1e-300)), -1, 1)
         self.toward = np.arctan2(y, x), np.arctan2(y, x - L0)
         self.spread = np.arccos(c1), np.arccos(c2)
+        # cos and sin of both angles, for the cranks' ends by the sum formulas (no trigonometry)
+        self._unit = _unit(x, y, m1), _unit(x - L0, y, m2)
+        self._cos_sin = (c1, np.sqrt(1 - c1 * c1)), (c2, np.sqrt(1 - c2 * c2))
         self._cranks = {}
 
     def crank(self, leg: int, sign: int):
@@ -72,8 +76,8 @@ class WorkGeometry:
         if (leg, sign) not in self._cranks:
             L0, L1, L2 = self.L[:3]
             th = self.toward[leg] - sign * self.spread[leg]
-            self._cranks[leg, sign] = ((th, L1 * np.cos(th), L1 * np.sin(th)) if leg == 0
-                                       else (th, L0 + L2 * np.cos(th), L2 * np.sin(th)))
+            cos, sin = _turned(self._unit[leg], self._cos_sin[leg], -sign)
+            self._cranks[leg, sign] = ((th, L1 * cos, L1 * sin) if leg == 0 else (th, L0 + L2 * cos, L2 * sin))
         return self._cranks[leg, sign]
 
     def modes(self, working):
@@ -83,6 +87,19 @@ class WorkGeometry:
         th2, b2x, b2y = self.crank(1, working[1])
         t = np.sign((x - b1x) * (y - b2y) - (y - b1y) * (x - b2x))
         return self.ok & (t != 0), t, th1, th2
+
+
+def _unit(dx, dy, length):
+    """cos and sin of the direction (dx, dy) of length `length` (arctan2's (1, 0) at the origin)."""
+    zero = length == 0
+    scale = 1 / np.where(zero, 1.0, length)
+    return np.where(zero, 1.0, dx * scale), dy * scale
+
+
+def _turned(direction, turn, sign):
+    """cos and sin of a + sign * b, from (cos a, sin a) and (cos b, sin b)."""
+    (ca, sa), (cb, sb) = direction, turn
+    return ca * cb - sign * sa * sb, sa * cb + sign * ca * sb
 
 
 def joint_modes(L, th1, th2, assembly):
