@@ -70,6 +70,9 @@ def as_drawn(rgba: np.ndarray) -> np.ndarray:
 
 
 def _outlines(ax, trees: list[Tree]) -> None:
+    """The leaves' edges in grey (up to 4 x MAX_OUTLINES segments). They take no part in the
+    axes' limits (`autolim=False`), which the caller sets to the grid's root box anyway: matplotlib
+    would otherwise measure every segment's extent, for nothing."""
     from matplotlib.collections import LineCollection
 
     for tree in trees:
@@ -80,7 +83,7 @@ def _outlines(ax, trees: list[Tree]) -> None:
                 [np.stack([x0, y0, x1, y0], 1), np.stack([x1, y0, x1, y1], 1),
                  np.stack([x1, y1, x0, y1], 1), np.stack([x0, y1, x0, y0], 1)], 1
             ).reshape(-1, 2, 2)
-            ax.add_collection(LineCollection(segs, colors="0.55", linewidths=0.15))
+            ax.add_collection(LineCollection(segs, colors="0.55", linewidths=0.15), autolim=False)
 
 
 def axes_labels(ax, axes) -> None:
