@@ -2,7 +2,8 @@
 pixel by pixel: white, then each layer's coverage (the fraction of the pixel its cells cover)
 blended in its colour, in order. Layers overlap and have cells finer than a pixel, so both the
 whole-pixel shortcut and the blended pixels are exercised; the image must be the same to the bit
-(the PNGs of the commands depend on it)."""
+(the PNGs of the commands depend on it): the blend's colours as `as_drawn` stores them, float32
+values that matplotlib draws to the very bytes of the float64 blend (checked here on Agg)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ from hypothesis import strategies as st
 from conftest import cells_of
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree
-from fivebar_cli.plotting.trees import paint
+from fivebar_cli.plotting.trees import as_drawn, paint
 
 GRID = Grid(((0.0, 1.0), (0.0, 1.0)), 6, (False, False))
 
@@ -56,14 +57,15 @@ def test_paint_is_the_layer_by_layer_blend_to_the_bit(seed, layers, level):
     rng = np.random.default_rng(seed)
     stack = [(random_tree(rng), tuple(rng.random(3))) for _ in range(layers)]
     image = paint(stack, level)
-    assert np.array_equal(image[..., :3], reference(stack, level)) and (image[..., 3] == 1).all()  # opaque
+    assert image.dtype == np.float32 and (image[..., 3] == 1).all()  # opaque
+    assert np.array_equal(image[..., :3], as_drawn(reference(stack, level)))
 
 
 def test_a_layer_covering_a_pixel_wholly_replaces_what_was_under_it():
     full, red, blue = Tree.full(GRID), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0)
     half = Tree.from_cells(GRID, 1, np.array([[0, 0], [1, 0]]))  # the lower half
     image = paint([(full, red), (half, blue)], 3)
-    assert (image[:4, :, :3] == blue).all() and (image[4:, :, :3] == red).all()
+    assert (image[:4, :, :3] == blue).all() and (image[4:, :, :3] == red).all()  # 0 and 1 exactly
 
 
 @settings(max_examples=25, deadline=None)
@@ -81,3 +83,33 @@ def test_covered_pixels_are_those_the_coarse_leaves_fill(seed, level):
     assert np.array_equal(tree.covered(level), expect)
     if tree.level.max(initial=0) <= level:  # an empty tree too: no pixel covered, none of coverage 1
         assert np.array_equal(tree.covered(level), tree.coverage(level) == 1)
+
+
+def drawn_bytes(image: np.ndarray) -> bytes:
+    """The pixels matplotlib's Agg draws for `image` as the figures show a raster (nearest, scaled
+    by a non-integer factor, here on a tiny figure)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(1.3, 1.1), dpi=97)
+    FigureCanvasAgg(fig)
+    ax = fig.add_axes((0.1, 0.1, 0.8, 0.8))
+    ax.imshow(image, origin="lower", extent=(0, 1, 0, 1), interpolation="nearest")
+    fig.canvas.draw()
+    return bytes(fig.canvas.buffer_rgba())
+
+
+def test_as_drawn_colours_draw_to_the_bytes_of_the_float64_ones():
+    """Every byte k survives matplotlib's float32 round trip (k / 255, times 255, truncated), and a
+    float64 image, its colours near every byte boundary and blends of random coverage included,
+    draws to the same pixels as its float32 `as_drawn` stand-in (an image half as large)."""
+    k = np.arange(256, dtype=np.uint8)
+    assert np.array_equal((np.divide(k, 255, dtype=np.float32) * np.float32(255)).astype(np.uint8), k)
+    rng = np.random.default_rng(7)
+    near = (k[:, None] + np.array([-1e-12, 0, 1e-12, 0.5, 1 - 1e-9])).ravel() / 255  # around each x * 255 = k
+    values = np.concatenate([np.clip(near, 0, 1), rng.random(64 * 64 * 3 - near.size)])
+    image = np.ones((64, 64, 4))
+    image[..., :3] = rng.permutation(values).reshape(64, 64, 3)
+    stored = as_drawn(image)
+    assert stored.dtype == np.float32
+    assert drawn_bytes(stored) == drawn_bytes(image)

@@ -27,7 +27,8 @@ def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> 
 
     A layer covering a pixel wholly replaces its colour, so a pixel that no layer covers in part
     takes the colour of the last layer covering it (white if none): one gather. Only the pixels
-    some layer covers in part (cells finer than a pixel) are blended, layer by layer."""
+    some layer covers in part (cells finer than a pixel) are blended, layer by layer (in float64),
+    and each colour is stored as `as_drawn` gives it: float32, drawn to the same bytes."""
     n = 1 << level
     last = np.zeros(n * n, dtype=np.int32)  # 0: white; k: the k-th layer covers it wholly, last
     mixed = np.zeros(n * n, dtype=bool)
@@ -41,7 +42,7 @@ def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> 
             cover = None
             last[tree.covered(level).ravel()] = k
         covers.append(cover)
-    palette = np.array([(*WHITE, 1.0), *((*colour, 1.0) for _, colour in layers)], dtype=float)
+    palette = as_drawn(np.array([(*WHITE, 1.0), *((*colour, 1.0) for _, colour in layers)], dtype=float))
     image = np.take(palette, last, axis=0)  # palette[last], without fancy indexing's per-row copies (3x faster)
     blend = np.flatnonzero(mixed)
     if len(blend):
@@ -50,11 +51,28 @@ def paint(layers: list[tuple[Tree, tuple[float, float, float]]], level: int) -> 
             cover = tree.coverage(level).ravel() if cover is None else cover
             c = np.clip(cover[blend], 0, 1)[:, None]
             pixels = pixels * (1 - c) + np.asarray(colour) * c
-        image[blend, :3] = pixels
+        image[blend, :3] = as_drawn(pixels)
     return image.reshape(n, n, 4)
 
 
+BYTE_LEVELS = np.divide(np.arange(256, dtype=np.uint8), 0xFF, dtype=np.float32)  # as matplotlib reads bytes
+
+
+def as_drawn(rgba: np.ndarray) -> np.ndarray:
+    """Colours in [0, 1] as float32 values that matplotlib draws to the very bytes of the float64
+    ones, at half the memory it copies and resamples at each draw (a 1024 x 1024 raster: 16 MB).
+
+    `imshow` turns a float image into bytes by clipping to [0, 1] and truncating `x * 255` after
+    resampling (nearest: the values as they are); in float32 that truncation can fall one short,
+    but not for the values it gives a byte image (k / 255 in float32, for every byte k), which
+    are the values kept here."""
+    return BYTE_LEVELS[(np.clip(rgba, 0, 1) * 255).astype(np.uint8)]
+
+
 def _outlines(ax, trees: list[Tree]) -> None:
+    """The leaves' edges in grey (up to 4 x MAX_OUTLINES segments). They take no part in the
+    axes' limits (`autolim=False`), which the caller sets to the grid's root box anyway: matplotlib
+    would otherwise measure every segment's extent, for nothing."""
     from matplotlib.collections import LineCollection
 
     for tree in trees:
@@ -65,7 +83,7 @@ def _outlines(ax, trees: list[Tree]) -> None:
                 [np.stack([x0, y0, x1, y0], 1), np.stack([x1, y0, x1, y1], 1),
                  np.stack([x1, y1, x0, y1], 1), np.stack([x0, y1, x0, y0], 1)], 1
             ).reshape(-1, 2, 2)
-            ax.add_collection(LineCollection(segs, colors="0.55", linewidths=0.15))
+            ax.add_collection(LineCollection(segs, colors="0.55", linewidths=0.15), autolim=False)
 
 
 def axes_labels(ax, axes) -> None:
