@@ -567,23 +567,28 @@ def union_find_blocks(n: int, blocks, parent: np.ndarray | None = None) -> np.nd
     one block after the other: most edges of a later block then join nodes already joined and
     leave in the first round (about 3x faster than all edges at once); roots in `index_type`."""
     small = index_type(n)
-    parent = np.arange(n, dtype=small) if parent is None else parent.astype(small)
+    fresh = parent is None  # every node its own root: the first block's ends are their roots
+    parent = np.arange(n, dtype=small) if fresh else parent.astype(small)
     for i, j in blocks:
-        _join(parent, i.astype(small, copy=False), j.astype(small, copy=False))
+        _join(parent, i.astype(small, copy=False), j.astype(small, copy=False), fresh)
+        fresh = False
     return parent
 
 
-def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-    """`union_find` in place on `parent` (every node pointing at its root, on entry and on return):
-    each round hooks the larger root of every edge joining two components to the smaller one,
-    follows the hooked roots' pointers by doubling until each points at a root (only they moved),
-    then points every node at its root's root (one pass); the edges left are those still across."""
+def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray, fresh: bool = False) -> np.ndarray:
+    """`union_find` in place on `parent` (every node pointing at its root, on entry and on return;
+    `fresh`: every node its own root, no need to read them): each round hooks the larger root of
+    every edge joining two components to the smaller one, follows the hooked roots' pointers by
+    doubling until each points at a root (only they moved), then points every node at its root's
+    root (one pass, in place: a node read after its update points at the same root); the edges
+    left are those still across (all of them: no copies)."""
+    ri, rj = (i, j) if fresh else (parent[i], parent[j])
     while True:
-        ri, rj = parent[i], parent[j]
         cross = np.flatnonzero(ri != rj)
         if not len(cross):
             return parent
-        i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
+        if len(cross) < len(i):
+            i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
         hooked = np.maximum(ri, rj)
         np.minimum.at(parent, hooked, np.minimum(ri, rj))
         while len(hooked):
@@ -591,7 +596,8 @@ def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
             root = parent[up]
             parent[hooked] = root
             hooked = hooked[root != up]
-        parent[:] = parent[parent]
+        np.take(parent, parent, out=parent, mode="clip")
+        ri, rj = parent[i], parent[j]
 
 
 def _upsample(image: np.ndarray, levels: int) -> np.ndarray:
