@@ -70,11 +70,13 @@ def _band_pairs(band: Tree, black: Tree):
     both: a cell across a band leaf that lies in the band lies in no black leaf (they are
     disjoint), so only the others are looked up among the black leaves."""
     n_black, across = len(black), []
+    small = index_type(max(len(band), n_black))
 
     def own():  # the band's own pairs, a direction at a time; its pairs with the black leaves kept
         for i, j in band.neighbour_pairs(black, itself=True):
             mine = j >= n_black
-            across.append((i[~mine], j[~mine]))
+            other = np.flatnonzero(~mine)  # kept until the labels are known: in the smallest type
+            across.append((i[other].astype(small), j[other].astype(small)))
             yield i[mine], j[mine] - n_black
 
     labels, count = root_labels(union_find_blocks(len(band), own()))

@@ -169,9 +169,7 @@ class ModeSet:
         def edges():  # the region's pairs within the set, a direction at a time (`union_find_blocks`)
             for u, n in self.region.und_pairs:
                 a, b = node_und[u], node[n]
-                # both ends in the set: neither -1, the sign bit clear in both; the indices of a
-                # mask then a gather (a random mask's own selection is several times slower)
-                keep = np.flatnonzero((a | b) >= 0)
+                keep = (a | b) >= 0  # both ends in the set: neither is -1 (the sign bit clear in both)
                 yield a[keep], b[keep]
 
         labels, count = root_labels(union_find_blocks(self.n_anchors + len(und), edges()))
