@@ -608,6 +608,24 @@ def check_neighbour_pairs(rng, dim: int, corners: bool) -> None:
         assert list(zip(i.tolist(), j.tolist())) == expected
     i, j = a.adjacency(corners=corners)
     assert sorted(zip(i.tolist(), j.tolist())) == sorted(p for o in offsets for p in brute_pairs(a, a, o, True))
+    # `once`: a's cells as leaves of one level, their own pairs looked up in half the directions
+    index = np.concatenate([np.zeros(0, np.int64)] + [np.arange(s, e) for s, e in zip(a.start.tolist(), a.end.tolist())])
+    cells = Tree(grid, np.full(len(index), depth), index, canonical=True)
+    forward = [o for o in offsets if o[np.flatnonzero(o)[0]] > 0]
+    assert len(forward) == len(offsets) // 2
+    for other, shift in ((b, len(b)), (None, 0)):
+        blocks = list(cells.neighbour_pairs(other, corners=corners, itself=other is not None, once=True))
+        assert len(blocks) == len(offsets)
+        for n, offset in enumerate(forward):
+            own = [(x, shift + y) for x, y in brute_pairs(cells, cells, offset, True)]
+            across = brute_pairs(cells, b, offset, False) if other is not None else []
+            back = brute_pairs(cells, b, -offset, False) if other is not None else []
+            i, j = blocks[2 * n]
+            assert list(zip(i.tolist(), j.tolist())) == sorted(across + own)
+            i, j = blocks[2 * n + 1]
+            assert list(zip(i.tolist(), j.tolist())) == back
+            # the opposite direction's own pairs are those found, reversed
+            assert sorted((y - shift, x) for x, y in own) == brute_pairs(cells, cells, -offset, True)
 
 
 @settings(max_examples=60, deadline=None)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from fivebar_cli.mechanisms.base import AspectModel, plural
 from fivebar_cli.paving.arrays import index_type, label_type, unique_pairs
 from fivebar_cli.paving.engine import on_cells
-from fivebar_cli.paving.tree import Tree
+from fivebar_cli.paving.tree import Tree, root_labels, union_find_blocks
 
 
 @dataclass(frozen=True)
@@ -57,12 +57,30 @@ def serial_bands(model: AspectModel, region, band_signs=None) -> list[Band]:
         if not band.any():
             continue
         band_tree = Tree.from_cells(grid, grid.depth, cells[band])
-        labels, count = band_tree.components()
-        i, j = band_tree.adjacency(region.tree)
+        labels, count, i, j = _band_pairs(band_tree, region.tree)
         touched = unique_pairs(labels[i], j)  # kept through the analysis: in the smallest types
         bands.append(Band(changing, np.bincount(labels, minlength=count), touched[:, 0].astype(label_type(count)),
                           touched[:, 1].astype(index_type(len(region.tree)))))
     return bands
+
+
+def _band_pairs(band: Tree, black: Tree):
+    """The band's face-connected components (`Tree.components`: labels, count) and its pairs
+    (band leaf, black leaf) sharing a face (`band.adjacency(black)`), from one neighbour search of
+    both: a cell across a band leaf that lies in the band lies in no black leaf (they are
+    disjoint), so only the others are looked up among the black leaves."""
+    n_black, across = len(black), []
+    small = index_type(max(len(band), n_black))
+
+    def own():  # the band's own pairs, a direction at a time; its pairs with the black leaves kept
+        for i, j in band.neighbour_pairs(black, itself=True):
+            mine = j >= n_black
+            other = np.flatnonzero(~mine)  # kept until the labels are known: in the smallest type
+            across.append((i[other].astype(small), j[other].astype(small)))
+            yield i[mine], j[mine] - n_black
+
+    labels, count = root_labels(union_find_blocks(len(band), own()))
+    return labels, count, np.concatenate([i for i, _ in across]), np.concatenate([j for _, j in across])
 
 
 def find_crossings(model: AspectModel, regions, aspects, leaf_aspect: dict) -> list[Crossing]:

@@ -169,8 +169,7 @@ class ModeSet:
         def edges():  # the region's pairs within the set, a direction at a time (`union_find_blocks`)
             for u, n in self.region.und_pairs:
                 a, b = node_und[u], node[n]
-                keep = a >= 0
-                keep &= b >= 0
+                keep = (a | b) >= 0  # both ends in the set: neither is -1 (the sign bit clear in both)
                 yield a[keep], b[keep]
 
         labels, count = root_labels(union_find_blocks(self.n_anchors + len(und), edges()))
@@ -401,8 +400,9 @@ def undetermined_pairs(paving: Paving) -> list[tuple[np.ndarray, np.ndarray]]:
     once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
     n - len(black leaves); as arrays (u, n), one block per direction (`union_find_blocks` joins
     them faster a block at a time). Undetermined cells are the smallest cells, so looking up their
-    neighbours (among themselves, then among the black leaves) finds every pair. int32 when the
-    indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
+    neighbours (among themselves, then among the black leaves) finds every pair; a pair of
+    undetermined cells is looked up in half the directions (`Tree.neighbour_pairs`'s `once`), so
+    the blocks come in the order of `once`. int32 when the indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
     n_black = len(inside)
     small = index_type(n_black + len(und))
@@ -414,14 +414,16 @@ def undetermined_pairs(paving: Paving) -> list[tuple[np.ndarray, np.ndarray]]:
     cells = Tree(grid, np.full(len(code), grid.depth, np.int64), code, canonical=True)
     del code
     blocks = []
-    for i, j in cells.neighbour_pairs(inside, corners=True, itself=True):
+    # a pair of undetermined cells is looked up from one side only (`once`: they share a level)
+    for i, j in cells.neighbour_pairs(inside, corners=True, itself=True, once=True):
         u, n = i.astype(small), j.astype(small)
         if order is not None:
             u = order[i]
             und_n = n >= n_black
             n[und_n] = n_black + order[n[und_n] - n_black]
-        once = (n < n_black) | (n - n_black > u)
-        blocks.append((u[once], n[once]))
+        swap = np.flatnonzero((n >= n_black) & (n - n_black < u))  # the lower index first
+        u[swap], n[swap] = n[swap] - n_black, u[swap] + n_black
+        blocks.append((u, n))
     return blocks
 
 

@@ -185,52 +185,93 @@ class Tree:
         pairs = list(self._pairs(other, corners))
         return np.concatenate([i for i, _ in pairs]), np.concatenate([j for _, j in pairs])
 
-    def neighbour_pairs(self, other: "Tree | None" = None, corners: bool = False, itself: bool = False):
+    def neighbour_pairs(self, other: "Tree | None" = None, corners: bool = False, itself: bool = False,
+                        once: bool = False):
         """The pairs of `adjacency` as (i, j) arrays, one direction at a time (a generator: the
         memory of one direction's pairs, not of all 8 or 26). With `other` and `itself`: the pairs
         with the leaves of both trees (disjoint sets), `other`'s leaves numbered first, then this
-        tree's (len(other) + index)."""
-        return self._pairs(other, corners, itself)
+        tree's (len(other) + index). With `once`, for a tree whose leaves share one level (each
+        pair of its own leaves is found from both sides): its own pairs once, looked up in the
+        directions whose first nonzero step is positive only, each followed by its opposite
+        direction, whose own pairs are the reverse of those found and are not given again."""
+        return self._pairs(other, corners, itself, once)
 
-    def _pairs(self, other: "Tree | None", corners: bool, itself: bool = False):
-        """The pairs of `adjacency` (with `itself`: of `neighbour_pairs`), one direction at a time
-        (each found PAIR_CHUNK leaves at a time: the temporaries of a block, not of every leaf)."""
+    def _pairs(self, other: "Tree | None", corners: bool, itself: bool = False, once: bool = False):
+        """The pairs of `adjacency` (with `itself`, `once`: of `neighbour_pairs`), one direction at
+        a time (each found PAIR_CHUNK leaves at a time: the temporaries of a block, not of every
+        leaf)."""
         grid = self.grid
         if other is not None and other.grid != grid:
             raise ValueError("trees live on different grids")
         start = self.start
+        # leaves all of one level (undetermined cells): one size for all, else each leaf's, once
+        # for every direction
+        uniform = len(self) and self.level.min() == self.level.max()
+        size = self._sizes(self.level[0] if uniform else self.level)
         # this tree's own leaves: each search starts from the leaf itself, among its neighbours in
         # Morton order (`_search_near`); another tree's: a binary search
-        own = (_padded(start), _ends(self, start)) if other is None or itself else None
+        own = (_padded(start), _ends(start, size)) if other is None or itself else None
         others = None
         if other is not None:
             other_start = other.start
-            others = other_start, _ends(other, other_start)
-        # leaves all of one level (undetermined cells): one size for all, not a size per leaf and direction
-        level = self.level[0] if len(self) and self.level.min() == self.level.max() else None
-        for offset in _offsets(grid.dim, corners):
-            found = [self._pairs_of(s, offset, start, own, others, level) for s in range(0, len(self), PAIR_CHUNK)]
-            if not found:
+            others = other_start, _ends(other_start, other._sizes(other.level))
+        torus = len(self) == 1 and self.level[0] == 0  # the root cell, its own neighbour on a torus
+        offsets = _offsets(grid.dim, corners)
+        if not once:
+            for offset in offsets:
+                yield self._direction(offset, start, size, own, others, torus)
+            return
+        if own is None or not (uniform or not len(self)):
+            raise ValueError("own pairs once: for a tree's own leaves of one level")
+        shift = 0 if others is None else len(others[0])
+        for offset in offsets:
+            if offset[np.flatnonzero(offset)[0]] < 0:  # looked up as the opposite of another
+                continue
+            i, j = self._direction(offset, start, size, own, others, torus)
+            yield i, j
+            mine = j >= shift
+            back = np.full(len(self), -1, index_type(len(self)))  # the leaf each leaf is the neighbour of
+            back[j[mine] - shift] = i[mine]
+            del i, j, mine
+            if others is None:  # the opposite direction holds the same pairs, reversed
                 yield np.zeros(0, np.int64), np.zeros(0, np.int64)
                 continue
-            yield np.concatenate([i for i, _ in found]), np.concatenate([j for _, j in found])
+            yield self._direction(-offset, start, size, None, others, torus, back)
 
-    def _pairs_of(self, s: int, offset, start, own, others, uniform=None):
+    def _direction(self, offset, start, size, own, others, torus, back=None):
+        """The pairs of one direction (`_pairs_of`, block after block)."""
+        found = [self._pairs_of(s, offset, start, size, own, others, torus, back) for s in range(0, len(self), PAIR_CHUNK)]
+        if not found:
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        return np.concatenate([i for i, _ in found]), np.concatenate([j for _, j in found])
+
+    def _pairs_of(self, s: int, offset, start, size, own, others, torus: bool = False, back=None):
         """The pairs of leaves s .. s + PAIR_CHUNK in one direction `offset`: the same-size cell
         across each leaf (its first depth-D index, stepped from the leaf's own), then the leaf
         holding that index, which is a neighbour when it holds the whole cell: looked up among
         this tree's leaves (`own`: padded starts and ends), then, for the cells not found there,
-        among `others` (starts and ends) (either may be None). `uniform`: the level of every leaf,
-        when they share one."""
-        grid, level = self.grid, self.level[s:s + PAIR_CHUNK]
-        size = self._sizes(level if uniform is None else uniform)
-        first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, grid, offset)
+        among `others` (starts and ends) (either may be None). `size`: the leaves' counts of
+        depth-D cells (one for all when they share a level); `torus`: the tree is the root cell
+        alone (not its own neighbour); `back`: each leaf's own neighbour in this direction, known
+        already (-1: none), whose pair is not given: only the cells without one are looked up, in
+        `others`."""
+        if np.ndim(size):
+            size = size[s:s + PAIR_CHUNK]
+        first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, self.grid, offset)
         last = first + size
+        if back is not None:
+            other_start, other_end = others
+            rest = np.flatnonzero(back[s:s + PAIR_CHUNK] < 0)
+            leaf = np.searchsorted(other_start, first[rest], side="right") - 1
+            hit = other_end[leaf] >= last[rest]
+            if valid is not None:
+                hit &= valid[rest]
+            return rest[hit] + s, leaf[hit]
         if own is not None:
             near, end = own
             leaf = _search_near(near, start, first, s, _morton_sign(offset))
             hit = end[leaf] >= last
-            if level[0] == 0:  # the root cell (the tree's only leaf) is its own neighbour on a torus
+            if torus:
                 hit &= leaf != s
         if others is not None:
             other_start, other_end = others
@@ -421,11 +462,11 @@ NEAR = 16  # a leaf's neighbour is first looked for among the NEAR leaves either
 _FAR = np.iinfo(np.int64).max
 
 
-def _ends(tree: Tree, start: np.ndarray) -> np.ndarray:
-    """One past the last depth-D index of each leaf, then -1: a search that finds no leaf (-1)
-    finds no end either."""
+def _ends(start: np.ndarray, size) -> np.ndarray:
+    """One past the last depth-D index of each leaf (`start`, `size`: its first index and count of
+    depth-D cells), then -1: a search that finds no leaf (-1) finds no end either."""
     end = np.empty(len(start) + 1, np.int64)
-    np.add(start, tree._sizes(tree.level), out=end[:-1])
+    np.add(start, size, out=end[:-1])
     end[-1] = -1
     return end
 
@@ -452,16 +493,22 @@ def _step_finest(start: np.ndarray, size: np.ndarray, grid: Grid, offset) -> tup
     first, valid = start, None
     for axis in np.flatnonzero(offset):
         mask = np.int64(axis_mask(dim, int(axis)) & ((1 << (dim * depth)) - 1))
-        along = first & mask
-        if offset[axis] > 0:
-            moved = ((along | ~mask) + (size << axis)) & mask
-            wrapped = moved == 0
+        step = size << axis
+        if offset[axis] > 0:  # the other axes' bits all set: the carry runs through them
+            moved = first | ~mask
+            moved += step
+            moved &= mask
+            wrapped = None if grid.periodic[axis] else moved == 0
         else:
-            moved = (along - (size << axis)) & mask
-            wrapped = along == 0
-        first = (first & ~mask) | moved
-        if not grid.periodic[axis]:
-            valid = ~wrapped if valid is None else valid & ~wrapped
+            moved = first & mask
+            wrapped = None if grid.periodic[axis] else moved == 0
+            moved -= step
+            moved &= mask
+        first = first & ~mask
+        first |= moved
+        if wrapped is not None:
+            np.logical_not(wrapped, out=wrapped)
+            valid = wrapped if valid is None else valid & wrapped
     return first, valid
 
 
@@ -520,23 +567,28 @@ def union_find_blocks(n: int, blocks, parent: np.ndarray | None = None) -> np.nd
     one block after the other: most edges of a later block then join nodes already joined and
     leave in the first round (about 3x faster than all edges at once); roots in `index_type`."""
     small = index_type(n)
-    parent = np.arange(n, dtype=small) if parent is None else parent.astype(small)
+    fresh = parent is None  # every node its own root: the first block's ends are their roots
+    parent = np.arange(n, dtype=small) if fresh else parent.astype(small)
     for i, j in blocks:
-        _join(parent, i.astype(small, copy=False), j.astype(small, copy=False))
+        _join(parent, i.astype(small, copy=False), j.astype(small, copy=False), fresh)
+        fresh = False
     return parent
 
 
-def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-    """`union_find` in place on `parent` (every node pointing at its root, on entry and on return):
-    each round hooks the larger root of every edge joining two components to the smaller one,
-    follows the hooked roots' pointers by doubling until each points at a root (only they moved),
-    then points every node at its root's root (one pass); the edges left are those still across."""
+def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray, fresh: bool = False) -> np.ndarray:
+    """`union_find` in place on `parent` (every node pointing at its root, on entry and on return;
+    `fresh`: every node its own root, no need to read them): each round hooks the larger root of
+    every edge joining two components to the smaller one, follows the hooked roots' pointers by
+    doubling until each points at a root (only they moved), then points every node at its root's
+    root (one pass, in place: a node read after its update points at the same root); the edges
+    left are those still across (all of them: no copies)."""
+    ri, rj = (i, j) if fresh else (parent[i], parent[j])
     while True:
-        ri, rj = parent[i], parent[j]
         cross = np.flatnonzero(ri != rj)
         if not len(cross):
             return parent
-        i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
+        if len(cross) < len(i):
+            i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
         hooked = np.maximum(ri, rj)
         np.minimum.at(parent, hooked, np.minimum(ri, rj))
         while len(hooked):
@@ -544,7 +596,8 @@ def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
             root = parent[up]
             parent[hooked] = root
             hooked = hooked[root != up]
-        parent[:] = parent[parent]
+        np.take(parent, parent, out=parent, mode="clip")
+        ri, rj = parent[i], parent[j]
 
 
 def _upsample(image: np.ndarray, levels: int) -> np.ndarray:
