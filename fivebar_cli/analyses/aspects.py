@@ -228,7 +228,10 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
     for k in pool.completed(spaces):
         keys, pavings, seconds = spaces[k].get()
         links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
-        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, paving, links))) for key, paving in zip(keys, pavings)]
+        # (a region's task reads no outside tree: none travels to a worker)
+        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, replace(paving, outside=Tree.empty(paving.grid))
+                                                                 if links else paving, links)))
+                           for key, paving in zip(keys, pavings)]
         timings["paving"] += seconds
     regions, sets, linked = [], [], {}
     for paving, task in region_tasks[0] + region_tasks[1]:
