@@ -547,12 +547,17 @@ def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
     mine, owner = s.black_leaves, s.leaf_anchors
     lo, hi = tree.bounds(mine)
     small = s.anchor_size[owner] <= SMALL_PIECE
-    g = (np.arange(DENSE) + 0.5) / DENSE
-    grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
-    dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
-    points = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
-    owners = np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
-    return points, owners
+    if small.any():
+        g = (np.arange(DENSE) + 0.5) / DENSE
+        grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+        dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
+        big = ~small
+        lo, hi, owners = lo[big], hi[big], np.concatenate([owner[big], np.repeat(owner[small], DENSE * DENSE)])
+    else:  # (most sets: no copies)
+        dense, owners = None, owner
+    lo += hi  # the centres, 0.5 * (lo + hi), in place
+    lo *= 0.5
+    return (lo if dense is None else np.concatenate([lo, dense])), owners
 
 
 def _images(model: AspectModel, s: ModeSet, points: np.ndarray):
@@ -572,7 +577,10 @@ def link_points(model: AspectModel, s: ModeSet, other: Grid) -> tuple[np.ndarray
     index = np.full(len(points), -1, np.int64)
     if len(points):
         images, ok = _images(model, s, points)
-        index[ok] = finest_indices(other, images[ok])
+        if ok.all():
+            index = finest_indices(other, images)
+        else:
+            index[ok] = finest_indices(other, images[ok])
     return owners, index
 
 
