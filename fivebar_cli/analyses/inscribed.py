@@ -149,7 +149,11 @@ class _Obstacles:
             reach[has] = np.minimum(reach[has], d)
         for which, near in self._pairs(centres, reach, metric):
             d = _cell_distance(metric, cx[which], cy[which], self.x0[near], self.x1[near], self.y0[near], self.y1[near])
-            np.minimum.at(out, which, d)
+            # each centre's pairs are one run (`_pairs`): its least distance by a segmented minimum
+            first = np.flatnonzero(np.r_[True, which[1:] != which[:-1]]) if len(which) else np.zeros(0, np.int64)
+            if len(first):
+                held = which[first]
+                out[held] = np.minimum(out[held], np.minimum.reduceat(d, first))
             at = np.flatnonzero(d == out[which])
             cell[which[at]] = near[at]
         return out, cell
