@@ -630,7 +630,7 @@ def _representative(model: AspectModel, working, assembly: int, ws: Tree, js: Tr
         joints = js.centres()[int(np.argmin(js.level))][None, :]
         pose, _ = model.dkp(joints, assembly)
         return (float(pose[0, 0]), float(pose[0, 1])), (float(joints[0, 0]), float(joints[0, 1]))
-    order = np.argsort(ws.level, kind="stable")
+    order = np.argsort(ws.level.astype(np.uint8), kind="stable")  # (levels in a byte: a radix sort, the same order)
     first = None
     for a, b in _doubling(len(order)):  # the largest cells first: the first one inside is near the start
         lo, hi = ws.bounds(order[a:b])
