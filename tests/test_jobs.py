@@ -6,11 +6,16 @@ and the 3-RPR's aspects, at small depths."""
 from __future__ import annotations
 
 import os
+from multiprocessing.reduction import ForkingPickler
 
+import numpy as np
 import pytest
 from cli_helpers import REPO, ok, one_line, run_cli
 
 from fivebar_cli.analyses.jobs import Workers, default_jobs, run_tasks, workers
+from fivebar_cli.paving.engine import Paving
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.tree import Tree
 
 CONFIGS = REPO / "configs"
 
@@ -109,6 +114,42 @@ def test_on_workers_map_starts_the_tasks_before_their_results_are_taken(tmp_path
             time.sleep(0.01)
         assert all(os.path.exists(p) for p in paths)
         assert list(results) == paths
+
+
+def _itself(x):
+    return x
+
+
+def _random_paving(dim: int, depth: int, seed: int) -> Paving:
+    """Random disjoint cells of a grid as inside, outside and undetermined parts (a few per level)."""
+    rng = np.random.default_rng(seed)
+    grid = Grid(((-1.0, 1.0),) * dim, depth, (False,) * dim)
+    n = 1 << depth
+    coords = np.unique(rng.integers(0, n, (300, dim)), axis=0)
+    rng.shuffle(coords)
+    inside, outside, und = np.array_split(coords, 3)
+    return Paving(grid, Tree.from_cells(grid, depth, inside), Tree.from_cells(grid, depth, outside),
+                  und, tuple(range(depth + 1)), Tree.from_cells(grid, depth, inside[:5]))
+
+
+@pytest.mark.parametrize("dim, depth", [(2, 26), (3, 17), (1, 40)])
+def test_trees_and_pavings_travel_compact_and_arrive_the_same(dim, depth):
+    """Between processes a tree's levels travel in a byte and a paving's undetermined cells in 32
+    bits when below 2^31 (1-D at depth 40: not): what arrives equals what left, in the same dtypes,
+    in another process."""
+    paving = _random_paving(dim, depth, depth)
+    tree = paving.inside
+    assert tree.level.max() == depth and tree.code.max() >= 1 << (dim * depth - 4)  # large codes
+    plain = len(ForkingPickler.dumps(tree.level)) + len(ForkingPickler.dumps(tree.code))
+    assert len(ForkingPickler.dumps(tree)) < 0.7 * plain
+    with Workers(2, 2) as pool:
+        back_tree, back = pool.map(_itself, [tree, paving])
+    assert back_tree == tree and back_tree.level.dtype == tree.level.dtype == np.int64
+    for name in ("inside", "outside", "band"):
+        assert getattr(back, name) == getattr(paving, name)
+    assert back.undetermined.dtype == paving.undetermined.dtype == np.int64
+    assert np.array_equal(back.undetermined, paving.undetermined)
+    assert back.per_level == paving.per_level and back.grid == paving.grid
 
 
 def test_worker_count():

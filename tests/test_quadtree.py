@@ -165,6 +165,16 @@ def test_bwg_single_cell_at_every_depth():
             assert Tree.from_bwg(tree.grid, tree.to_bwg()) == tree
 
 
+@pytest.mark.parametrize("dim, depth", [(2, 6), (3, 3)])
+def test_bwg_of_sparse_and_dense_sets(dim, depth):
+    """The encoder cuts the gaps between black runs into white blocks itself: sets with long gaps
+    (a few black cells) and many short ones (a few white cells), against the recursive encoder."""
+    rng = np.random.default_rng(22)
+    for density in (0.002, 0.02, 0.2, 0.8, 0.98, 0.998):
+        arr = rng.random((1 << depth,) * dim) < density
+        assert make_tree(arr, depth).to_bwg() == ref_encode(arr)
+
+
 @settings(max_examples=30, deadline=None)
 @given(grids(dim=3, max_depth=4))
 def test_bwg_round_trip_octree(case):

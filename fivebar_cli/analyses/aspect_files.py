@@ -9,15 +9,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis, signs_text
+from fivebar_cli.analyses.aspect_texts import aspect_properties, aspect_texts, signs_text
+from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis
 from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
 from fivebar_cli.analyses.jobs import Workers
 from fivebar_cli.io.files import read_csv_table, write_csv, write_text
-from fivebar_cli.io.geojson import feature_text, geojson_text
 from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
 from fivebar_cli.io.outputs import of_complete_runs, output_set
-from fivebar_cli.io.qtfile import format_qt, read_qt
+from fivebar_cli.io.qtfile import read_qt
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.paving.tree import Tree
 
@@ -57,21 +57,10 @@ def aspect_rows(analysis: AspectAnalysis) -> list[tuple]:
     ]
 
 
-def aspect_properties(m: Mechanism, a: Aspect, depth: int) -> dict:
-    """The properties of an aspect's GeoJSON feature (`area` equals `workspace_area`)."""
-    return {"name": m.name, "space": "workspace", "depth": depth, "aspect": a.number,
-            "working_mode": signs_text(a.working), "assembly_mode": signs_text(a.assembly), "area": a.workspace.area}
-
-
 def crossing_rows(analysis: AspectAnalysis) -> list[tuple]:
     modes = {a.number: signs_text(a.working) for a in analysis.aspects}
     return [(c.a, c.b, signs_text(c.assembly), c.singularity, modes[c.a], modes[c.b], c.band_cells)
             for c in analysis.crossings]
-
-
-def _qt_fields(m: Mechanism, a: Aspect, space: str) -> dict:
-    return {"name": m.name, "space": space, "region": f"aspect {a.number}", "colour": "inside",
-            "mechanism": m.describe(), "working_mode": signs_text(a.working), "assembly_mode": signs_text(a.assembly)}
 
 
 def aspect_set(folder: Path):
@@ -83,16 +72,19 @@ def aspect_set(folder: Path):
 
 def write_aspects(folder: Path, analysis: AspectAnalysis, jobs: int | None = 1) -> list[Path]:
     """Write the two CSV tables, every aspect tree and every aspect's workspace GeoJSON (inside
-    `aspect_set(folder)`); the texts of the aspects' files are made on `jobs` processes, and each
-    aspect's are written (and dropped) as they come."""
+    `aspect_set(folder)`); the texts of the aspects' files are those the analysis made in its
+    aspects' tasks on workers, or else they are made on `jobs` processes, and each aspect's are
+    written (and dropped) as they come."""
     m = analysis.mechanism
     paths = [
         write_csv(folder / ASPECTS_CSV, aspect_header(m), aspect_rows(analysis)),
         write_csv(folder / CROSSINGS_CSV, CROSSING_HEADER, crossing_rows(analysis)),
     ]
-    with Workers(jobs, len(analysis.aspects)) as pool:
-        texts = pool.map(_aspect_texts, [(m, a, analysis.depth) for a in analysis.aspects],
-                         cost=lambda task: len(task[1].workspace) + len(task[1].jointspace))
+    made = analysis.texts is not None
+    with Workers(1 if made else jobs, len(analysis.aspects)) as pool:
+        texts = analysis.texts if made else pool.map(
+            _aspect_texts, [(m, a, analysis.depth) for a in analysis.aspects],
+            cost=lambda task: len(task[1].workspace) + len(task[1].jointspace))
         for a, (workspace, jointspace, geojson) in zip(analysis.aspects, texts):
             paths.append(write_text(aspect_path(folder, a.number, "workspace"), workspace))
             paths.append(write_text(aspect_path(folder, a.number, "jointspace"), jointspace))
@@ -102,10 +94,7 @@ def write_aspects(folder: Path, analysis: AspectAnalysis, jobs: int | None = 1) 
 
 def _aspect_texts(task: tuple) -> tuple[str, str, str]:
     """One aspect's `.qt` texts (workspace, joint space) and workspace GeoJSON text."""
-    m, a, depth = task
-    return (format_qt(a.workspace, **_qt_fields(m, a, "workspace")),
-            format_qt(a.jointspace, **_qt_fields(m, a, "jointspace")),
-            geojson_text([feature_text(a.workspace, aspect_properties(m, a, depth))]))
+    return aspect_texts(*task)
 
 
 @dataclass(frozen=True)

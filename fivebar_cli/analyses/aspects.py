@@ -20,7 +20,8 @@ certificate for their count, for every kind whose model declares an `AspectModel
    except for components lying wholly inside the undetermined cells of a piece that already holds
    one (docs/formats.md, "What a certified aspect count means").
 5. Crossings (`crossings.py`): aspects joined across one serial singularity.
-6. The largest disc and axis-aligned square in each aspect's workspace cells (`inscribed.py`).
+6. The largest disc and axis-aligned square in each aspect's workspace cells (`inscribed.py`),
+   with, when they run on workers, the texts of the aspect's files (`aspect_texts.py`).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from fivebar_cli.analyses.aspect_texts import aspect_texts, signs_text
 from fivebar_cli.analyses.crossings import Band, Crossing, find_crossings, serial_bands
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
 from fivebar_cli.analyses.jobs import Workers
@@ -46,11 +48,6 @@ from fivebar_cli.paving.tree import Tree, finest_indices, union_find
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
 DENSE = 4  # samples per axis and leaf for small pieces
 DEFAULT_BUDGET = 1 << 21  # box evaluations local refinement may spend in one analysis (about a second)
-
-
-def signs_text(signs) -> str:
-    """(+1, -1) -> '+-'; a vanishing sign is '0'."""
-    return "".join({1: "+", -1: "-", 0: "0"}[int(np.sign(s))] for s in np.atleast_1d(signs))
 
 
 @dataclass
@@ -131,6 +128,9 @@ class AspectAnalysis:
     merged: int = 0  # components of the pavings' black cells proved to belong to another one
     refinement_evaluations: int = 0
     timings: dict = field(default_factory=dict)
+    # per aspect, its files' texts (`aspect_texts`), made in its task with its shapes when these
+    # ran on workers (`aspect_files.write_aspects` writes them); None: made when written
+    texts: list | None = None
 
     @property
     def certified(self) -> bool:
@@ -179,44 +179,61 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
     largest disc and square of each aspect's workspace (what `aspects.csv` reports). The spaces'
     pavings, the mode regions (each started once its space is paved) and the shapes are tasks run
     on `jobs` processes (`analyses.jobs.Workers`, one pool for them all); the certificate and the
-    numbering run here, between them."""
+    numbering run here, between them. On workers, each aspect's task makes its files' texts too
+    (`texts`): one round of tasks, not a second pool when the files are written."""
     model = m.aspect_model()
     if model is None:
         raise FivebarError(f"a {m.kind} has no working and assembly modes: no aspects to find")
     timings = {"paving": 0.0, "outer": 0.0}
     with Workers(jobs, region_count(m) + 2) as pool:
-        regions, sets = _regions(m, model, depth, pool, timings, advance)
+        regions, sets, linked = _regions(m, model, depth, pool, timings, advance)
         t0 = time.perf_counter()
-        count = _Count(model, sets, Budget(budget), depth)
+        count = _Count(model, sets, Budget(budget), depth, linked)
         timings["certificate"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         aspects, leaf_aspect = _number_aspects(model, regions, sets, count)
         bounds = (count.lower, count.upper, count.undecided, count.empty_undecided, count.merged, count.budget.spent)
         del sets, count  # what the certificate alone needed: dropped before the shapes' tasks
-        # the shapes' tasks start now on workers (the trees alone travel), the crossings meanwhile
-        found = pool.map(largest_shapes, [a.workspace for a in aspects], cost=len) if shapes else None
+        # the aspects' tasks start now on workers (the aspects alone travel), the crossings meanwhile
+        texts = shapes and pool.n > 1
+        found = pool.map(_aspect_task, [(m, a, depth, texts) for a in aspects],
+                         cost=lambda task: len(task[1].workspace) + texts * len(task[1].jointspace)) if shapes else None
         crossings = find_crossings(model, regions, aspects, leaf_aspect)
         timings["crossings"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         if shapes:
-            aspects = [replace(a, circle=circle, square=square) for a, (circle, square) in zip(aspects, found)]
+            found = list(found)
+            aspects = [replace(a, circle=circle, square=square) for a, ((circle, square), _) in zip(aspects, found)]
         timings["inscribed"] = time.perf_counter() - t0
     advance(1)
-    return AspectAnalysis(m, model, depth, regions, aspects, crossings, *bounds, timings)
+    return AspectAnalysis(m, model, depth, regions, aspects, crossings, *bounds, timings,
+                          [made for _, made in found] if texts else None)
+
+
+def _aspect_task(task: tuple) -> tuple[tuple[Disc | None, Square | None], tuple[str, str, str] | None]:
+    """One aspect's largest disc and square in its workspace cells, and with `texts` its files'
+    texts (`aspect_texts`; the circle and square are not in them)."""
+    m, aspect, depth, texts = task
+    return largest_shapes(aspect.workspace), aspect_texts(m, aspect, depth) if texts else None
 
 
 def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timings: dict, advance):
     """The mode regions and their mode sets: one paving pass per space for all its modes (their
     tests share work), then each mode region's data and mode sets, as tasks of similar sizes
-    started as soon as their space is paved (the other space's paving may still run)."""
+    started as soon as their space is paved (the other space's paving may still run). With
+    workers, the certificate's links (`link_pairs`) of the sets taken so far are found here while
+    the last regions' tasks run: (regions, sets, the links found, by (set, set of the other space))."""
     spaces = [pool.submit(_space_task, (m, space, depth)) for space in ("workspace", "jointspace")]
     region_tasks = [[], []]
     for k in pool.completed(spaces):
         keys, pavings, seconds = spaces[k].get()
         links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
-        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, paving, links))) for key, paving in zip(keys, pavings)]
+        # (a region's task reads no outside tree: none travels to a worker)
+        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, replace(paving, outside=Tree.empty(paving.grid))
+                                                                 if links else paving, links)))
+                           for key, paving in zip(keys, pavings)]
         timings["paving"] += seconds
-    regions, sets = [], []
+    regions, sets, linked = [], [], {}
     for paving, task in region_tasks[0] + region_tasks[1]:
         region, region_sets, seconds = task.get()
         region.paving = paving  # (not sent back: the caller has it)
@@ -224,9 +241,15 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
         region.test = _mode_test(model, region.space, region.working, region.assembly)
         regions.append(region)
         sets += region_sets
+        if pool.n > 1:  # (with the link samples the workers found)
+            for k in range(len(sets) - len(region_sets), len(sets)):
+                for j in _linked_to(sets, k):
+                    if j < k:
+                        linked[(k, j)] = link_pairs(sets[j], *sets[k].links)
+                        linked[(j, k)] = link_pairs(sets[k], *sets[j].links)
         timings["outer"] += seconds
         advance(1)
-    return regions, sets
+    return regions, sets, linked
 
 
 def _free_modes(model: AspectModel, region: Region) -> list[tuple[int, ...]]:
@@ -336,13 +359,13 @@ class _Count:
     outer component in that space.
     """
 
-    def __init__(self, model: AspectModel, sets: list[ModeSet], budget: Budget, depth: int):
+    def __init__(self, model: AspectModel, sets: list[ModeSet], budget: Budget, depth: int, linked: dict | None = None):
         self.model, self.sets, self.budget = model, sets, budget
         self.offset = np.cumsum([0] + [s.n_anchors for s in sets])
         total = int(self.offset[-1])
         self.edges_i, self.edges_j = [], []
         self._roots, self._roots_for = None, None  # the roots, and how many edges they hold
-        self._link()
+        self._link(linked or {})
         self._join()
         self.partner = self._partners()
         self.undecided = self.empty_undecided = 0
@@ -391,25 +414,21 @@ class _Count:
             self._roots_for = len(self.edges_i)
         return self._roots
 
-    def _others(self, s: ModeSet) -> list[int]:
-        return [k for k, t in enumerate(self.sets) if t.space != s.space and t.modes == s.modes]
-
-    def _link(self) -> None:
+    def _link(self, linked: dict) -> None:
+        """The links' edges, set by set: those found already (`linked`, by (set, other set)), or
+        from the set's link samples (`link_points`: found in the region's task when it ran in a
+        worker, else now)."""
         for k, s in enumerate(self.sets):
-            others = self._others(s)  # none when the aspects live in one space
+            others = _linked_to(self.sets, k)  # none when the aspects live in one space
             if not others:
                 continue
-            # (computed in the region's task when it ran in a worker: `link_points`)
-            owners, index = s.links if s.links is not None else link_points(self.model, s, self.sets[others[0]].grid)
+            links = s.links
             s.links = None
             for j in others:
-                t = self.sets[j]
-                leaf = t.region.tree.locate_finest(index)
-                hit = leaf >= 0
-                target = np.full(len(index), -1, np.int64)
-                target[hit] = t.anchor_of_leaf[leaf[hit]]
-                good = target >= 0
-                pairs = unique_pairs(owners[good], target[good])
+                pairs = linked.get((k, j))
+                if pairs is None:
+                    links = links if links is not None else link_points(self.model, s, self.sets[j].grid)
+                    pairs = link_pairs(self.sets[j], *links)
                 self.edges_i += (self.offset[k] + pairs[:, 0]).tolist()
                 self.edges_j += (self.offset[j] + pairs[:, 1]).tolist()
 
@@ -436,7 +455,7 @@ class _Count:
         self.partner_of: dict = {}
         for k, s in enumerate(self.sets):
             groups_here = roots[self.offset[k]:self.offset[k + 1]]
-            for j in self._others(s):
+            for j in _linked_to(self.sets, k):
                 t = self.sets[j]
                 missing = np.setdiff1d(groups_here, roots[self.offset[j]:self.offset[j + 1]])
                 if not len(missing):
@@ -503,6 +522,24 @@ class _Count:
         return clusters, len(groups) + (self.undecided - split_failed)
 
 
+def _linked_to(sets: list[ModeSet], k: int) -> list[int]:
+    """The mode sets a set's links go to: those of the same modes in the other space."""
+    s = sets[k]
+    return [j for j, t in enumerate(sets) if t.space != s.space and t.modes == s.modes]
+
+
+def link_pairs(t: ModeSet, owners: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """The links from a mode set's samples (`link_points`: their anchors `owners` and the Morton
+    indices of their images) into mode set t of the other space: the distinct pairs (anchor of
+    the samples' set, anchor of t) where an image lies in a black cell of t's anchor, (n, 2)."""
+    leaf = t.region.tree.locate_finest(index)
+    hit = leaf >= 0
+    target = np.full(len(index), -1, np.int64)
+    target[hit] = t.anchor_of_leaf[leaf[hit]]
+    good = target >= 0
+    return unique_pairs(owners[good], target[good])
+
+
 def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
     """Sample points of every anchor's black cells of a mode set (centres; a DENSE x DENSE grid in
     the leaves of small anchors) and the anchor each comes from."""
@@ -510,12 +547,17 @@ def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
     mine, owner = s.black_leaves, s.leaf_anchors
     lo, hi = tree.bounds(mine)
     small = s.anchor_size[owner] <= SMALL_PIECE
-    g = (np.arange(DENSE) + 0.5) / DENSE
-    grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
-    dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
-    points = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
-    owners = np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
-    return points, owners
+    if small.any():
+        g = (np.arange(DENSE) + 0.5) / DENSE
+        grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+        dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
+        big = ~small
+        lo, hi, owners = lo[big], hi[big], np.concatenate([owner[big], np.repeat(owner[small], DENSE * DENSE)])
+    else:  # (most sets: no copies)
+        dense, owners = None, owner
+    lo += hi  # the centres, 0.5 * (lo + hi), in place
+    lo *= 0.5
+    return (lo if dense is None else np.concatenate([lo, dense])), owners
 
 
 def _images(model: AspectModel, s: ModeSet, points: np.ndarray):
@@ -535,7 +577,10 @@ def link_points(model: AspectModel, s: ModeSet, other: Grid) -> tuple[np.ndarray
     index = np.full(len(points), -1, np.int64)
     if len(points):
         images, ok = _images(model, s, points)
-        index[ok] = finest_indices(other, images[ok])
+        if ok.all():
+            index = finest_indices(other, images)
+        else:
+            index[ok] = finest_indices(other, images[ok])
     return owners, index
 
 
@@ -585,7 +630,7 @@ def _representative(model: AspectModel, working, assembly: int, ws: Tree, js: Tr
         joints = js.centres()[int(np.argmin(js.level))][None, :]
         pose, _ = model.dkp(joints, assembly)
         return (float(pose[0, 0]), float(pose[0, 1])), (float(joints[0, 0]), float(joints[0, 1]))
-    order = np.argsort(ws.level, kind="stable")
+    order = np.argsort(ws.level.astype(np.uint8), kind="stable")  # (levels in a byte: a radix sort, the same order)
     first = None
     for a, b in _doubling(len(order)):  # the largest cells first: the first one inside is near the start
         lo, hi = ws.bounds(order[a:b])

@@ -43,6 +43,7 @@ MAX_ROUNDS = 60
 BIG_LEVEL = 6  # complement cells above this level are few: looked at for every centre
 BUCKET_LEVEL = 8  # the others are filed by the cells of this level they meet (at most 8: 16-bit keys)
 NEAR = 1e-6  # complement cells within this relative margin of the radius are checked exactly
+BOUNDS_CHUNK = 1 << 16  # complement cells whose bounds are made together
 
 
 @dataclass(frozen=True)
@@ -95,10 +96,17 @@ class _Obstacles:
     def __init__(self, tree: Tree):
         self.tree = tree
         self.cells = tree.complement()
-        grid, level = tree.grid, self.cells.level.astype(np.int64)
+        grid, level = tree.grid, self.cells.level
         coords = deinterleave(self.cells.code, level, 2)
-        lo, hi = cell_bounds(grid, coords, level)  # `Tree.bounds`, from the one deinterleave
-        self.x0, self.y0, self.x1, self.y1 = (np.ascontiguousarray(v) for v in (*lo.T, *hi.T))
+        # the cells' bounds (`Tree.bounds`, from the one deinterleave), BOUNDS_CHUNK cells at a
+        # time: the temporaries of a chunk, not of every cell (the shapes of the largest aspect
+        # were the peak memory of a whole analysis)
+        self.x0, self.y0, self.x1, self.y1 = (np.empty(len(level)) for _ in range(4))
+        for a in range(0, len(level), BOUNDS_CHUNK):
+            part = slice(a, a + BOUNDS_CHUNK)
+            lo, hi = cell_bounds(grid, coords[part], level[part])
+            self.x0[part], self.y0[part] = lo.T
+            self.x1[part], self.y1[part] = hi.T
         self.big = np.flatnonzero(level < BIG_LEVEL)
         self.root_lo, self.root_hi = grid.lo, grid.lo + grid.size
         # each small cell filed in every bucket (cell of level BUCKET_LEVEL) it meets, column by column:
@@ -107,6 +115,8 @@ class _Obstacles:
         self.bucket_width = grid.size / n
         fine = np.flatnonzero(level >= BUCKET_LEVEL)
         ij = coords[fine] >> (level[fine] - BUCKET_LEVEL)[:, None]
+        fine_bucket = (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
+        del ij
         coarse = np.flatnonzero((level >= BIG_LEVEL) & (level < BUCKET_LEVEL))
         span = 1 << (BUCKET_LEVEL - level[coarse])  # buckets a side
         count = span * span
@@ -114,9 +124,10 @@ class _Obstacles:
         side = np.repeat(span, count)
         coarse_ij = (np.repeat(coords[coarse] * span[:, None], count, axis=0)
                      + np.stack([within // side, within % side], axis=1))
+        del coords
         entry = np.concatenate([fine, np.repeat(coarse, count)])
-        ij = np.concatenate([ij, coarse_ij])
-        bucket = (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
+        bucket = np.concatenate([fine_bucket, (coarse_ij[:, 0] * n + coarse_ij[:, 1]).astype(np.uint16)])
+        del fine_bucket, coarse_ij
         by_bucket = np.argsort(bucket, kind="stable")  # (a radix sort: 16-bit keys)
         self.entries = entry[by_bucket]
         self.runs = np.concatenate([[0], np.cumsum(np.bincount(bucket, minlength=n * n))])  # bucket b: runs[b]:runs[b + 1]
@@ -149,7 +160,11 @@ class _Obstacles:
             reach[has] = np.minimum(reach[has], d)
         for which, near in self._pairs(centres, reach, metric):
             d = _cell_distance(metric, cx[which], cy[which], self.x0[near], self.x1[near], self.y0[near], self.y1[near])
-            np.minimum.at(out, which, d)
+            # each centre's pairs are one run (`_pairs`): its least distance by a segmented minimum
+            first = np.flatnonzero(np.r_[True, which[1:] != which[:-1]]) if len(which) else np.zeros(0, np.int64)
+            if len(first):
+                held = which[first]
+                out[held] = np.minimum(out[held], np.minimum.reduceat(d, first))
             at = np.flatnonzero(d == out[which])
             cell[which[at]] = near[at]
         return out, cell

@@ -8,7 +8,10 @@ whatever the order they finish in, so the outputs are the same bytes for any N; 
 its processes for several rounds and starts a task that needs another's result as soon as that
 one is done (the order the caller takes the results in stays fixed). A task is a
 module-level function and picklable arguments; workers are forked where the platform can (no
-re-import, the parent's data shared copy-on-write), spawned elsewhere. Workers ignore Ctrl-C and
+re-import, the parent's data shared copy-on-write), spawned elsewhere. Trees and pavings travel
+between the processes compact (`_tree_travels`, `_paving_travels`: levels in a byte, cell
+coordinates in 32 bits; the same arrays arrive): their bytes through the pipes are most of what
+the workers cost the parent. Workers ignore Ctrl-C and
 SIGHUP and die on SIGTERM: the parent alone reacts to signals, and when it stops (an interruption,
 an error) it terminates its pool.
 """
@@ -20,7 +23,13 @@ import multiprocessing
 import os
 import queue
 import signal
+from multiprocessing.reduction import ForkingPickler
 from typing import Callable, Iterable, Iterator, TypeVar
+
+import numpy as np
+
+from fivebar_cli.paving.engine import Paving
+from fivebar_cli.paving.tree import Tree
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -143,3 +152,29 @@ def _quiet_worker() -> None:
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # the parent's handler would raise inside a task
     if hasattr(signal, "SIGHUP"):
         signal.signal(signal.SIGHUP, signal.SIG_IGN)
+
+
+def _tree_travels(tree: Tree):
+    """How a tree is pickled between processes: its levels (at most 62) in a byte each."""
+    return _tree_arrives, (tree.grid, tree.level.astype(np.uint8), tree.code)
+
+
+def _tree_arrives(grid, level: np.ndarray, code: np.ndarray) -> Tree:
+    return Tree(grid, level, code, canonical=True)
+
+
+def _paving_travels(paving: Paving):
+    """How a paving is pickled between processes: its undetermined cells' coordinates (below
+    2^depth) in 32 bits when they fit."""
+    cells = paving.undetermined
+    small = cells.astype(np.int32) if paving.grid.depth < 31 else cells
+    return _paving_arrives, (paving.grid, paving.inside, paving.outside, small, cells.dtype.str,
+                             paving.per_level, paving.band)
+
+
+def _paving_arrives(grid, inside: Tree, outside: Tree, cells: np.ndarray, dtype: str, per_level, band) -> Paving:
+    return Paving(grid, inside, outside, cells.astype(dtype), per_level, band)
+
+
+ForkingPickler.register(Tree, _tree_travels)
+ForkingPickler.register(Paving, _paving_travels)

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.morton import trailing_zeros
+from fivebar_cli.paving.morton import floor_log2, trailing_zeros
 
 
 class BodyError(ValueError):
@@ -23,27 +23,53 @@ def encode(tree) -> str:
     complement's canonical leaves: the maximal cells without black, whose parents hold black); in
     Morton order, each leaf follows a G for every grey ancestor that starts where it starts (the
     levels above it at which its first depth-D index is aligned, the root excepted when it is not
-    0): no node is looked up, one merge of two sorted arrays."""
+    0): no node is looked up, nothing sorted. The white leaves are the gaps between the black runs
+    cut greedily into aligned blocks (as `Tree.complement` cuts them), block i of gap g placed
+    after the black leaves and white blocks before it."""
     grid = tree.grid
     dim, depth = grid.dim, grid.depth
     if len(tree) == 0:
         return "W"
     if tree.level[0] == 0:
         return "B"
-    white = tree.complement()
-    start = np.concatenate([tree.start, white.start])
-    order = np.argsort(start, kind="stable")  # a merge of two sorted runs
-    start = start[order]
-    black = order < len(tree)  # which leaves, in Morton order, are black
-    runs = np.concatenate([tree.level, white.level])[order]
-    del order, white
+    level = tree.level
+    start = tree.start
+    end = start + (np.int64(1) << (dim * (depth - level)))
+    # the black runs (leaves touching end to start) and the gaps before each run and after the last
+    first = np.ones(len(start), bool)
+    first[1:] = start[1:] != end[:-1]
+    run_first = np.flatnonzero(first)  # the first leaf of each run
+    last = np.r_[run_first[1:] - 1, len(start) - 1]
+    a = np.concatenate([[0], end[last]])  # gap g: [a, b), before run g (g = runs: after the last)
+    b = np.concatenate([start[run_first], [np.int64(1) << (dim * depth)]])
+    gap = np.arange(len(a))
+    blocks = []  # per round: (gap, start, level) of the next block of each gap still open
+    open_ = a < b
+    a, b, gap = a[open_], b[open_], gap[open_]
+    while a.size:
+        span = np.minimum(trailing_zeros(a, dim * depth) // dim, floor_log2(b - a) // dim)
+        span = np.minimum(span, depth)
+        blocks.append((gap, a, depth - span))
+        a = a + (np.int64(1) << (dim * span))
+        keep = a < b
+        a, b, gap = a[keep], b[keep], gap[keep]
+    white_gap, white_start, white_level = (np.concatenate(v) for v in zip(*blocks))
+    nth = np.concatenate([np.full(len(g), i, np.int64) for i, (g, _, _) in enumerate(blocks)])  # block i of its gap
+    per_gap = np.bincount(white_gap, minlength=len(run_first) + 1)
+    white_before = np.cumsum(per_gap) - per_gap  # white blocks in the gaps before gap g
+    black_before = np.r_[run_first, len(start)]  # black leaves before gap g
+    at_black = np.arange(len(start)) + np.cumsum(per_gap)[np.cumsum(first) - 1]
+    at_white = black_before[white_gap] + white_before[white_gap] + nth
     # a G per grey ancestor starting where the leaf starts (down from the highest level at which
     # its start is aligned), then the leaf's letter
-    runs -= np.maximum(depth - trailing_zeros(start, dim * depth) // dim, 0)
+    runs = np.empty(len(start) + len(white_start), np.int64)
+    runs[at_black] = level - np.maximum(depth - trailing_zeros(start, dim * depth) // dim, 0)
+    runs[at_white] = white_level - np.maximum(depth - trailing_zeros(white_start, dim * depth) // dim, 0)
     runs += 1
     leaf_at = np.cumsum(runs) - 1
     letters = np.full(int(leaf_at[-1]) + 1, ord("G"), np.uint8)
-    letters[leaf_at] = np.where(black, ord("B"), ord("W"))
+    letters[leaf_at[at_black]] = ord("B")
+    letters[leaf_at[at_white]] = ord("W")
     return letters.tobytes().decode("ascii")
 
 
