@@ -214,3 +214,27 @@ def cells_of_points(grid, points):
     inside = np.all((rel >= 0) & (rel <= 1), axis=1)
     n = 1 << grid.depth
     return np.clip(np.floor(np.where(inside[:, None], rel, 0) * n), 0, n - 1).astype(np.int64), inside
+
+
+# ---------------------------------------------------------------- numerics/annuli.py
+
+
+def reach_status(annuli, lo, hi, ranges, anchor_points, delta, eta):
+    """annuli.reach_status as it was before issue 22's sixth pass: `box_meets` (the library's) and
+    the anchors on every box neither inside both annuli nor out of reach."""
+    from fivebar_cli.numerics.annuli import box_meets
+
+    inside = np.ones(len(lo), dtype=bool)
+    outside = np.zeros(len(lo), dtype=bool)
+    for (dmin, dmax), (_, r, big_r) in zip(ranges, annuli):
+        inside &= (dmin - delta >= r * r) & (dmax + delta <= big_r * big_r) & (dmin - delta > 0)
+        outside |= (dmax + delta < r * r) | (dmin - delta > big_r * big_r)
+    maybe = ~outside & ~inside
+    if maybe.any():
+        idx = np.flatnonzero(maybe)
+        meets = box_meets(annuli, lo[idx], hi[idx], delta, eta)
+        for px, py in anchor_points:
+            meets |= ((lo[idx, 0] - eta <= px) & (px <= hi[idx, 0] + eta)
+                      & (lo[idx, 1] - eta <= py) & (py <= hi[idx, 1] + eta))
+        outside[idx[~meets]] = True
+    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)

@@ -12,7 +12,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from fivebar_cli.mechanisms.fivebar import modes
-from fivebar_cli.mechanisms.fivebar.boxtests import AngleTables, reach_status, workspace_anchors
+from fivebar_cli.mechanisms.fivebar.boxtests import (
+    DELTA_REL, ETA_REL, AngleTables, annuli, leg_distance2_ranges, reach_status, workspace_anchors,
+)
 from fivebar_cli.mechanisms.fivebar.model import FiveBar, assembles
 from fivebar_cli.numerics import ranges
 from fivebar_cli.paving.engine import box_pad
@@ -74,6 +76,22 @@ def check_joint(m, lo, hi, ends=None):
     assert same(modes.assembly_mode_joint_tests(m, assemblies)(lo, hi, open_, ends), ref.joint_tests(m, assemblies, lo, hi))
 
 
+def reach_margins(m):
+    scale = m.L0 + m.L1 + m.L2 + m.L3 + m.L4
+    return DELTA_REL * scale * scale, ETA_REL * scale
+
+
+def boundary_boxes(m, rng, n: int = 1500):
+    """Boxes of every size around points of the workspace's four circles and of their crossings
+    (V's vertices and anchors), where the reach test cannot decide from the distance ranges alone."""
+    points = [(cx + rad * np.cos(t), rad * np.sin(t)) for cx, r, big_r in annuli(m) for rad in (r, big_r)
+              for t in rng.uniform(-np.pi, np.pi, 40)] + workspace_anchors(m)
+    centre = np.array(points)[rng.integers(0, len(points), n)]
+    half = (m.L0 + m.L1 + m.L2 + m.L3 + m.L4) * np.ldexp(1.0, -rng.integers(0, 45, (n, 1))) * rng.uniform(0, 1, (n, 2))
+    shift = rng.uniform(-1, 1, (n, 2)) * half
+    return centre + shift - half, centre + shift + half
+
+
 def check_workspace(m, lo, hi, ends=None):
     workings = modes.WORKING_MODES
     anchors = workspace_anchors(m)
@@ -81,6 +99,8 @@ def check_workspace(m, lo, hi, ends=None):
     def reach(lo_, hi_, d):
         return reach_status(m, lo_, hi_, d, anchors)
 
+    frozen = ref.reach_status(annuli(m), lo, hi, leg_distance2_ranges(m, lo, hi), anchors, *reach_margins(m))
+    assert same(reach_status(m, lo, hi, leg_distance2_ranges(m, lo, hi), anchors), frozen)
     got = modes.workspace_modes_classifier(m, workings)(lo, hi)
     assert all(same(g, w) for g, w in zip(got, ref.workspace_classes(m, workings, lo, hi, reach), strict=True))
     open_ = np.ones((len(lo), 4), bool)
@@ -106,6 +126,7 @@ def test_workspace_classes_are_bit_identical(m, seed):
     check_workspace(m, lo, hi, ends)
     scale = m.L0 + m.L1 + m.L2 + m.L3 + m.L4
     check_workspace(m, *loose_boxes(scale, rng))
+    check_workspace(m, *boundary_boxes(m, rng))
 
 
 def test_cells_of_a_level_are_tables_when_they_cluster():
