@@ -184,3 +184,19 @@ def test_angle_wrapping_is_bit_identical(intervals):
         grid = m.spaces()["jointspace"].grid(14)
         points = np.column_stack([values, values[::-1]])
         assert all(same(g, w) for g, w in zip(grid.cells_of_points(points), ref.cells_of_points(grid, points), strict=True))
+
+
+def test_centred_corner_angles_are_bit_identical():
+    """direction_range's offsets of atan2 angles from the centre's, wrapped without fmod: the frozen
+    wrap's floats over all of [-pi, pi]^2, at its ends, signed zeros, and differences near +-2 pi."""
+    from fivebar_cli.numerics.ranges import _centred
+
+    rng = np.random.default_rng(6)
+    pi = np.pi
+    special = np.array([pi, -pi, 0.0, -0.0, np.nextafter(pi, 0), np.nextafter(-pi, 0), pi / 2, -pi / 2, 1e-300,
+                        -1e-300, 2e-16, np.nan])
+    a = np.concatenate([rng.uniform(-pi, pi, 20000), np.repeat(special, len(special)), np.full(500, pi), np.full(500, -pi)])
+    c = np.concatenate([rng.uniform(-pi, pi, 20000), np.tile(special, len(special)),
+                        -pi + rng.uniform(0, 1e-12, 500), pi - rng.uniform(0, 1e-12, 500)])
+    with np.errstate(invalid="ignore"):
+        assert same(_centred(a.copy(), c), ref.wrap_angle(a - c))

@@ -85,9 +85,15 @@ def direction_range(xlo, xhi, ylo, yhi) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _centred(angle: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """(angle - centre + pi) % 2 pi - pi, in place in `angle` (a temporary)."""
+    """(angle - centre + pi) % 2 pi - pi, in place in `angle` (a temporary), for angle and centre
+    in [-pi, pi] (atan2's): `wrap_angle`'s floats, its remainder taken without fmod (below)."""
     angle -= centre
-    return wrap_angle(angle, out=angle)
+    angle += np.pi  # in [-pi, 3 pi]: fmod(x, 2 pi) is x - 2 pi (exact) from 2 pi on, else x
+    high = angle >= TWO_PI
+    angle += (angle < 0) * TWO_PI  # (x + 0 turns -0 into +0: the same -pi below)
+    angle -= high * TWO_PI
+    angle -= np.pi
+    return angle
 
 
 def wrap_angle(angle, out=None) -> np.ndarray:
