@@ -30,14 +30,15 @@ def angle_inside(angle, lo, hi, tol: float = ANGLE_TOL) -> np.ndarray:
     return k <= hi
 
 
-def sinusoid_range(a, b, lo, hi, trig=None) -> tuple[np.ndarray, np.ndarray]:
+def sinusoid_range(a, b, lo, hi, trig=None, psi=None) -> tuple[np.ndarray, np.ndarray]:
     """Exact range of a cos t + b sin t for t in [lo, hi] (elementwise, any width).
 
-    `trig` = (cos lo, sin lo, cos hi, sin hi) when the caller has them already. The amplitude
-    hypot(a, b) is taken only where an extremum lies inside (few boxes when a, b are arrays).
+    `trig` = (cos lo, sin lo, cos hi, sin hi) and `psi` = arctan2(b, a) (where the maximum lies)
+    when the caller has them already. The amplitude hypot(a, b) is taken only where an extremum
+    lies inside (few boxes when a, b are arrays).
     """
     c_lo, s_lo, c_hi, s_hi = trig if trig is not None else (np.cos(lo), np.sin(lo), np.cos(hi), np.sin(hi))
-    psi = np.arctan2(b, a)
+    psi = np.arctan2(b, a) if psi is None else psi
     f_lo = a * c_lo + b * s_lo
     f_hi = a * c_hi + b * s_hi
     top = np.maximum(f_lo, f_hi)
