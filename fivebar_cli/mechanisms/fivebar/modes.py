@@ -154,12 +154,28 @@ def assembly_mode_joint_test(m, assembly: int):
 
 def assembly_mode_joint_tests(m, assemblies):
     """The tests of several assembly modes at once (a `paving.engine.MultiTest`), sharing the
-    coupler triangle's ranges."""
+    coupler triangle's ranges. Only a box free of parallel singularity (`strict`, which implies
+    assemblable) can be black: the triangle's angles are taken for those boxes only, and each
+    mode's signs for those of them still open for it."""
+    r, big = abs(m.L3 - m.L4), m.L3 + m.L4
+    delta = DELTA_REL * scale(m) ** 2
 
     def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
-        status, strict, u, v = joint_modes_classes(m, assemblies, lo, hi, ends)
-        black = strict[:, None] & (u != 0) & (v != 0)
-        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+        angles = AngleTables.of(lo, hi, ends)
+        dmin, dmax = crank_distance2_range(m, lo, hi, angles)
+        strict = _strict(dmin, dmax, r, big, delta)
+        out = np.repeat(np.where(assembly_status(m, dmin, dmax) == -1, -1, 0).astype(np.int8)[:, None],
+                        len(assemblies), axis=1)
+        rows = np.flatnonzero(strict)
+        if len(rows):
+            lo, hi = lo[rows], hi[rows]
+            tri = coupler_triangle(m, lo, hi, angles.rows(rows), (dmin[rows], dmax[rows]))
+            for k, sa in enumerate(assemblies):
+                mine = slice(None) if open_ is None else np.flatnonzero(open_[rows, k])
+                b, a, e = (tuple(x[mine] for x in pair) for pair in (tri.b, tri.a, tri.e))
+                u, v = serial_signs(sa, lo[mine], hi[mine], b, a, e)
+                out[rows[mine], k] = (u != 0) & (v != 0)
+        return out
 
     return test
 
@@ -230,11 +246,12 @@ class CouplerTriangle:
     b: tuple
 
 
-def coupler_triangle(m, lo, hi, angles: AngleTables) -> CouplerTriangle:
-    """The coupler triangle's exact ranges (exact lengths), widened by the safety margin."""
+def coupler_triangle(m, lo, hi, angles: AngleTables, d2=None) -> CouplerTriangle:
+    """The coupler triangle's exact ranges (exact lengths), widened by the safety margin (`d2`:
+    the range of |B1B2|^2, `crank_distance2_range`, when the caller has it)."""
     r, big = abs(m.L3 - m.L4), m.L3 + m.L4
     delta = DELTA_REL * scale(m) ** 2
-    dmin, dmax = crank_distance2_range(m, lo, hi, angles)
+    dmin, dmax = crank_distance2_range(m, lo, hi, angles) if d2 is None else d2
     d_lo, d_hi = _valid_lengths(dmin, dmax, r, big, delta)
     d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
     a = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
