@@ -103,6 +103,10 @@ def check_workspace(m, lo, hi, ends=None):
     def reach(lo_, hi_, d):
         return reach_status(m, lo_, hi_, d, anchors)
 
+    if ends is not None:  # the legs' distance ranges from the ends' tables: point_box_distance2's floats
+        got = leg_distance2_ranges(m, lo, hi, ends)
+        want = [ranges.point_box_distance2(cx, 0.0, lo, hi) for cx, _, _ in annuli(m)]
+        assert all(same(g, w) for g, w in zip(np.concatenate(got), np.concatenate(want), strict=True))
     frozen = ref.reach_status(annuli(m), lo, hi, leg_distance2_ranges(m, lo, hi), anchors, *reach_margins(m))
     assert same(reach_status(m, lo, hi, leg_distance2_ranges(m, lo, hi), anchors), frozen)
     got = modes.workspace_modes_classifier(m, workings)(lo, hi)

@@ -168,9 +168,28 @@ def workspace_anchors(m) -> list[tuple[float, float]]:
     return ring.anchors(annuli(m), ANCHOR_TOL_REL * scale(m) ** 2)
 
 
-def leg_distance2_ranges(m, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Exact ranges of |P - A1|^2 and |P - A2|^2 over boxes."""
-    return ring.distance2_ranges(annuli(m), lo, hi)
+def leg_distance2_ranges(m, lo: np.ndarray, hi: np.ndarray, ends=None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Exact ranges of |P - A1|^2 and |P - A2|^2 over boxes (`ring.distance2_ranges`'s floats).
+    `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand: a squared distance from a
+    point of y = 0 to a box is a part of its x interval plus a part of its y interval, each
+    computed per table entry (the y part once, the same for both legs) and gathered."""
+    if ends is None:
+        return ring.distance2_ranges(annuli(m), lo, hi)
+    x, y = ends
+    near_y, far_y = _distance2_parts(0.0, y)
+    out = []
+    for cx, _, _ in annuli(m):
+        near_x, far_x = _distance2_parts(cx, x)
+        out.append((near_x + near_y, far_x + far_y))
+    return out
+
+
+def _distance2_parts(c: float, e: AxisEnds) -> tuple[np.ndarray, np.ndarray]:
+    """Per box, the squares of the nearest and farthest offsets from c of its interval along one
+    axis (`ranges.point_box_distance2`'s terms)."""
+    near = np.clip(c, e.low, e.high) - c
+    far = np.maximum(np.abs(e.low - c), np.abs(e.high - c))
+    return e.per_box((near * near, far * far))
 
 
 def reach_status(m, lo: np.ndarray, hi: np.ndarray, ranges, anchors) -> np.ndarray:

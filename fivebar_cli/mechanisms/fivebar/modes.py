@@ -55,7 +55,7 @@ def working_mode_workspace_tests(m, workings):
     classify = workspace_modes_classifier(m, workings)
 
     def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
-        status, strict, d = classify.reach(lo, hi)
+        status, strict, d = classify.reach(lo, hi, ends)
         out = np.repeat(np.where(status == -1, -1, 0).astype(np.int8)[:, None], len(workings), axis=1)
         rows = np.flatnonzero(strict)  # (strict implies reachable: status 1)
         if len(rows):
@@ -86,14 +86,14 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
 def workspace_modes_classifier(m, workings):
     """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
     shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once. Its parts:
-    `reach(lo, hi)` -> (status, strict, the legs' squared-distance ranges) and
+    `reach(lo, hi, ends=None)` -> (status, strict, the legs' squared-distance ranges) and
     `signs(lo, hi, ranges)` -> the signs."""
     (c1, r1, big1), (c2, r2, big2) = annuli(m)
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
 
-    def reach(lo: np.ndarray, hi: np.ndarray):
-        d1, d2 = leg_distance2_ranges(m, lo, hi)
+    def reach(lo: np.ndarray, hi: np.ndarray, ends=None):
+        d1, d2 = leg_distance2_ranges(m, lo, hi, ends)
         status = reach_status(m, lo, hi, (d1, d2), anchors)
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
         return status, strict, (d1, d2)
