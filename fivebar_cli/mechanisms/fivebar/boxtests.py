@@ -56,8 +56,7 @@ class AngleTables:
     def rows(self, rows: np.ndarray) -> "AngleTables":
         """The tables of the boxes `rows` (indices) only: the same tables, their indices'
         rows (or the rows of per-box ends)."""
-        ends = tuple(AxisEnds(e.low, e.high, e.index[rows]) if e.index is not None else AxisEnds(e.low[rows], e.high[rows])
-                     for e in self.ends)
+        ends = tuple(e.rows(rows) for e in self.ends)
         trig = tuple(t if e.index is not None else tuple(x[rows] for x in t) for e, t in zip(self.ends, self.trig))
         return AngleTables(ends, trig)
 

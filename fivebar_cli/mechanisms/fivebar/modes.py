@@ -20,6 +20,7 @@ from fivebar_cli.mechanisms.fivebar.boxtests import (
 from fivebar_cli.mechanisms.fivebar.kinematics import cranks, dkp, ikp, mode_values, scale
 from fivebar_cli.numerics.ranges import direction_range, sin_sign, sinusoid_range, triangle_angle_range
 from fivebar_cli.numerics.verdict import verdict
+from fivebar_cli.paving.grid import AxisEnds
 
 WORKING_MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
 ASSEMBLY_MODES = (1, -1)
@@ -59,7 +60,8 @@ def working_mode_workspace_tests(m, workings):
         out = np.repeat(np.where(status == -1, -1, 0).astype(np.int8)[:, None], len(workings), axis=1)
         rows = np.flatnonzero(strict)  # (strict implies reachable: status 1)
         if len(rows):
-            signs = classify.signs(lo[rows], hi[rows], [(dmin[rows], dmax[rows]) for dmin, dmax in d])
+            ends = AxisEnds.of_boxes(lo, hi) if ends is None else ends
+            signs = classify.signs(tuple(e.rows(rows) for e in ends), [(dmin[rows], dmax[rows]) for dmin, dmax in d])
             out[rows] = signs != 0
         return out
 
@@ -87,7 +89,7 @@ def workspace_modes_classifier(m, workings):
     """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
     shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once. Its parts:
     `reach(lo, hi, ends=None)` -> (status, strict, the legs' squared-distance ranges) and
-    `signs(lo, hi, ranges)` -> the signs."""
+    `signs(ends, ranges)` -> the signs (`ends`: the boxes' ends per axis, `grid.AxisEnds`)."""
     (c1, r1, big1), (c2, r2, big2) = annuli(m)
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
@@ -98,10 +100,10 @@ def workspace_modes_classifier(m, workings):
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
         return status, strict, (d1, d2)
 
-    def signs(lo: np.ndarray, hi: np.ndarray, d) -> np.ndarray:
-        leg1 = _leg_angle_ranges(m, lo, hi, d[0], c1, r1, big1, m.L3, m.L1, delta)
-        leg2 = _leg_angle_ranges(m, lo, hi, d[1], c2, r2, big2, m.L4, m.L2, delta)
-        out = np.empty((len(lo), len(workings)), np.int8)
+    def signs(ends, d) -> np.ndarray:
+        leg1 = _leg_angle_ranges(m, ends, d[0], c1, r1, big1, m.L3, m.L1, delta)
+        leg2 = _leg_angle_ranges(m, ends, d[1], c2, r2, big2, m.L4, m.L2, delta)
+        out = np.empty((len(d[0][0]), len(workings)), np.int8)
         for k, (su, sv) in enumerate(workings):
             theta, theta4 = leg_branch(*leg1, su), leg_branch(*leg2, sv)
             out[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
@@ -109,16 +111,17 @@ def workspace_modes_classifier(m, workings):
 
     def classify(lo: np.ndarray, hi: np.ndarray):
         status, strict, d = reach(lo, hi)
-        return status, strict, signs(lo, hi, d)
+        return status, strict, signs(AxisEnds.of_boxes(lo, hi), d)
 
     classify.reach, classify.signs = reach, signs
     return classify
 
 
-def _leg_angle_ranges(m, lo, hi, d2range, cx, inner, outer, coupler, crank, delta):
-    """Ranges over boxes of alpha_i (the direction of P - A_i) and gamma_i (the angle at P of the
-    triangle A_i B_i P)."""
-    alpha = direction_range(lo[:, 0] - cx, hi[:, 0] - cx, lo[:, 1], hi[:, 1])
+def _leg_angle_ranges(m, ends, d2range, cx, inner, outer, coupler, crank, delta):
+    """Ranges over boxes (their `ends` per axis) of alpha_i (the direction of P - A_i) and gamma_i
+    (the angle at P of the triangle A_i B_i P)."""
+    x, y = ends
+    alpha = direction_range(*x.per_box((x.low - cx, x.high - cx)), y.per_box(y.low), y.per_box(y.high))
     m_lo, m_hi = _valid_lengths(*d2range, inner, outer, delta)
     return alpha, triangle_angle_range(m_lo, m_hi, coupler, crank)
 
