@@ -118,7 +118,7 @@ class AxisEnds:
             return table
         if isinstance(table, tuple):
             return tuple(self.per_box(t) for t in table)
-        return table[self.index]
+        return np.take(table, self.index, axis=0)  # (table[self.index], faster)
 
 
 def boxes_of(ends: tuple[AxisEnds, ...]) -> tuple[np.ndarray, np.ndarray]:
