@@ -30,12 +30,13 @@ def angle_inside(angle, lo, hi, tol: float = ANGLE_TOL) -> np.ndarray:
     return k <= hi
 
 
-def sinusoid_range(a, b, lo, hi, trig=None, psi=None) -> tuple[np.ndarray, np.ndarray]:
+def sinusoid_range(a, b, lo, hi, trig=None, psi=None, tol: float = ANGLE_TOL) -> tuple[np.ndarray, np.ndarray]:
     """Exact range of a cos t + b sin t for t in [lo, hi] (elementwise, any width).
 
     `trig` = (cos lo, sin lo, cos hi, sin hi) and `psi` = arctan2(b, a) (where the maximum lies)
     when the caller has them already. The amplitude hypot(a, b) is taken only where an extremum
-    lies inside (few boxes when a, b are arrays).
+    lies inside (few boxes when a, b are arrays). `tol`: `angle_inside`'s tolerance (a caller
+    with `trig` may pass lo - tol, hi + tol, widened once for several sinusoids, and 0).
     """
     c_lo, s_lo, c_hi, s_hi = trig if trig is not None else (np.cos(lo), np.sin(lo), np.cos(hi), np.sin(hi))
     psi = np.arctan2(b, a) if psi is None else psi
@@ -43,7 +44,7 @@ def sinusoid_range(a, b, lo, hi, trig=None, psi=None) -> tuple[np.ndarray, np.nd
     f_hi = a * c_hi + b * s_hi
     top = np.maximum(f_lo, f_hi)
     bottom = np.minimum(f_lo, f_hi)
-    up, down = angle_inside(psi, lo, hi), angle_inside(psi + np.pi, lo, hi)
+    up, down = angle_inside(psi, lo, hi, tol), angle_inside(psi + np.pi, lo, hi, tol)
     if np.ndim(a) == 0 and np.ndim(b) == 0:
         amp = np.hypot(a, b)
         return np.where(down, -amp, bottom), np.where(up, amp, top)

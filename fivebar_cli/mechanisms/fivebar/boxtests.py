@@ -16,7 +16,7 @@ import numpy as np
 
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics import annuli as ring
-from fivebar_cli.numerics.ranges import angle_inside, circle_intersections, sinusoid_range
+from fivebar_cli.numerics.ranges import ANGLE_TOL, angle_inside, circle_intersections, sinusoid_range
 from fivebar_cli.numerics.verdict import verdict
 from fivebar_cli.paving.grid import AxisEnds
 
@@ -77,19 +77,26 @@ def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, angles: AngleTables
     k0 = L0 * L0 + L1 * L1 + L2 * L2
     angles = angles if angles is not None else AngleTables.of(lo, hi)
     t1, t2 = angles.box_trig
-    fmin = np.full(len(lo), np.inf)
-    fmax = np.full(len(lo), -np.inf)
+    fmin = fmax = None
     # an edge th_i = const is a sinusoid a cos t + b sin t in the other angle t, whose coefficients
-    # and phase atan2(b, a) depend on the edge's angle alone: the phases come per table entry
-    edges = ((0, k0, -2 * L0 * L1, 2 * L0 * L2, -2 * L1 * L2, lo[:, 1], hi[:, 1], t2),  # th1 = const
-             (1, k0, 2 * L0 * L2, -2 * L0 * L1, -2 * L1 * L2, lo[:, 0], hi[:, 0], t1))  # th2 = const
-    for axis, k, kc, a0, a1, t_lo, t_hi, t_trig in edges:
-        own, table = angles.box_trig[axis], angles.trig[axis]
+    # and phase atan2(b, a) depend on the edge's angle alone: the phases come per table entry; the
+    # other angle's intervals, widened by angle_inside's tolerance, per table entry too
+    edges = ((0, k0, -2 * L0 * L1, 2 * L0 * L2, -2 * L1 * L2, t2),  # th1 = const
+             (1, k0, 2 * L0 * L2, -2 * L0 * L1, -2 * L1 * L2, t1))  # th2 = const
+    for axis, k, kc, a0, a1, t_trig in edges:
+        own, table, other = angles.box_trig[axis], angles.trig[axis], angles.ends[1 - axis]
+        t_lo, t_hi = other.per_box((other.low - ANGLE_TOL, other.high + ANGLE_TOL))
         for cos_, sin_, cos_table, sin_table in ((own[0], own[1], table[0], table[1]), (own[2], own[3], table[2], table[3])):
             base = k + kc * cos_
             phase = angles.along_table(axis, np.arctan2(a1 * sin_table, a0 + a1 * cos_table))
-            bot, top = sinusoid_range(a0 + a1 * cos_, a1 * sin_, t_lo, t_hi, t_trig, phase)
-            fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
+            bot, top = sinusoid_range(a0 + a1 * cos_, a1 * sin_, t_lo, t_hi, t_trig, phase, tol=0.0)
+            bot += base
+            top += base
+            if fmin is None:  # (min(inf, x) is x: the first edge's range as it is)
+                fmin, fmax = bot, top
+            else:
+                np.minimum(fmin, bot, out=fmin)
+                np.maximum(fmax, top, out=fmax)
     holds = [{}, {}]  # per axis: angle -> whether each table entry's interval holds it
     for th1, th2, value in _crank_critical_points(m):
         in1, in2 = _holds(angles, holds, 0, th1), _holds(angles, holds, 1, th2)
