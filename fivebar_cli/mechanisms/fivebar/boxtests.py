@@ -53,13 +53,6 @@ class AngleTables:
         e = self.ends[axis]
         return e.per_box(fn(e.low, e.high, self.trig[axis]))
 
-    def rows(self, rows: np.ndarray) -> "AngleTables":
-        """The tables of the boxes `rows` (indices) only: the same tables, their indices'
-        rows (or the rows of per-box ends)."""
-        ends = tuple(e.rows(rows) for e in self.ends)
-        trig = tuple(t if e.index is not None else tuple(x[rows] for x in t) for e, t in zip(self.ends, self.trig))
-        return AngleTables(ends, trig)
-
     def along_table(self, axis: int, table):
         """Values over one axis's table entries (an array or a tuple of arrays), per box."""
         return self.ends[axis].per_box(table)

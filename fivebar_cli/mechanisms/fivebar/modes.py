@@ -157,28 +157,14 @@ def assembly_mode_joint_test(m, assembly: int):
 
 def assembly_mode_joint_tests(m, assemblies):
     """The tests of several assembly modes at once (a `paving.engine.MultiTest`), sharing the
-    coupler triangle's ranges. Only a box free of parallel singularity (`strict`, which implies
-    assemblable) can be black: the triangle's angles are taken for those boxes only, and each
-    mode's signs for those of them still open for it."""
-    r, big = abs(m.L3 - m.L4), m.L3 + m.L4
-    delta = DELTA_REL * scale(m) ** 2
+    coupler triangle's ranges. (The triangle's angles and the signs are taken for every box, not
+    only for those free of parallel singularity, the only ones that can be black: at deep levels
+    86% of them, and gathering them costs what it saves.)"""
 
     def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
-        angles = AngleTables.of(lo, hi, ends)
-        dmin, dmax = crank_distance2_range(m, lo, hi, angles)
-        strict = _strict(dmin, dmax, r, big, delta)
-        out = np.repeat(np.where(assembly_status(m, dmin, dmax) == -1, -1, 0).astype(np.int8)[:, None],
-                        len(assemblies), axis=1)
-        rows = np.flatnonzero(strict)
-        if len(rows):
-            lo, hi = lo[rows], hi[rows]
-            tri = coupler_triangle(m, lo, hi, angles.rows(rows), (dmin[rows], dmax[rows]))
-            for k, sa in enumerate(assemblies):
-                mine = slice(None) if open_ is None else np.flatnonzero(open_[rows, k])
-                b, a, e = (tuple(x[mine] for x in pair) for pair in (tri.b, tri.a, tri.e))
-                u, v = serial_signs(sa, lo[mine], hi[mine], b, a, e)
-                out[rows[mine], k] = (u != 0) & (v != 0)
-        return out
+        status, strict, u, v = joint_modes_classes(m, assemblies, lo, hi, ends)
+        black = strict[:, None] & (u != 0) & (v != 0)
+        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
 
     return test
 
@@ -249,12 +235,11 @@ class CouplerTriangle:
     b: tuple
 
 
-def coupler_triangle(m, lo, hi, angles: AngleTables, d2=None) -> CouplerTriangle:
-    """The coupler triangle's exact ranges (exact lengths), widened by the safety margin (`d2`:
-    the range of |B1B2|^2, `crank_distance2_range`, when the caller has it)."""
+def coupler_triangle(m, lo, hi, angles: AngleTables) -> CouplerTriangle:
+    """The coupler triangle's exact ranges (exact lengths), widened by the safety margin."""
     r, big = abs(m.L3 - m.L4), m.L3 + m.L4
     delta = DELTA_REL * scale(m) ** 2
-    dmin, dmax = crank_distance2_range(m, lo, hi, angles) if d2 is None else d2
+    dmin, dmax = crank_distance2_range(m, lo, hi, angles)
     d_lo, d_hi = _valid_lengths(dmin, dmax, r, big, delta)
     d_lo = np.maximum(d_lo, np.sqrt(delta))  # beta is undefined at B1 = B2; `strict` excludes it
     a = triangle_angle_range(d_lo, d_hi, m.L3, m.L4)
@@ -283,11 +268,13 @@ def _crank_direction_range(m, angles: AngleTables):
     """Range of the direction of B2 - B1 over boxes of (th1, th2), from the exact ranges of its
     components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1 (each a sum of ranges of
     one angle: computed per table entry)."""
-    c1_lo, c1_hi, s1_lo, s1_hi = angles.along(0, _cos_sin_range)
-    c2_lo, c2_hi, s2_lo, s2_hi = angles.along(1, _cos_sin_range)
-    x_lo, x_hi = m.L0 + m.L2 * c2_lo - m.L1 * c1_hi, m.L0 + m.L2 * c2_hi - m.L1 * c1_lo
-    y_lo, y_hi = m.L2 * s2_lo - m.L1 * s1_hi, m.L2 * s2_hi - m.L1 * s1_lo
-    return direction_range(x_lo, x_hi, y_lo, y_hi)
+    x, y = angles.ends
+    c1_lo, c1_hi, s1_lo, s1_hi = _cos_sin_range(x.low, x.high, angles.trig[0])
+    c2_lo, c2_hi, s2_lo, s2_hi = _cos_sin_range(y.low, y.high, angles.trig[1])
+    # each term per table entry, then gathered: (L0 + L2 cos th2) - L1 cos th1, as written per box
+    th2_part = y.per_box((m.L0 + m.L2 * c2_lo, m.L0 + m.L2 * c2_hi, m.L2 * s2_lo, m.L2 * s2_hi))
+    th1_part = x.per_box((m.L1 * c1_hi, m.L1 * c1_lo, m.L1 * s1_hi, m.L1 * s1_lo))
+    return direction_range(*(a - b for a, b in zip(th2_part, th1_part)))
 
 
 def _cos_sin_range(lo, hi, trig):
