@@ -242,13 +242,14 @@ def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None,
         still = status == UNDETERMINED
         if level == grid.depth or not still.any():
             if level == grid.depth:
-                undetermined = [coords[still[:, c]] for c in range(count)]
+                undetermined = [np.compress(still[:, c], coords, axis=0) for c in range(count)]
             del coords, codes, open_, status, still, answer  # the last level's boxes: free them before the trees
             break
         any_open = _any_per_row(still)
-        coords = children(coords[any_open])
+        # (np.compress: rows of 2-D arrays at a third of boolean indexing's cost, the same rows)
+        coords = children(np.compress(any_open, coords, axis=0))
         codes = child_codes(codes[any_open], grid.dim)
-        open_ = np.repeat(still[any_open], 1 << grid.dim, axis=0)
+        open_ = np.repeat(np.compress(any_open, still, axis=0), 1 << grid.dim, axis=0)
         level += 1
     out = []
     for c in range(count):

@@ -163,8 +163,9 @@ def assembly_mode_joint_tests(m, assemblies):
 
     def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
         status, strict, u, v = joint_modes_classes(m, assemblies, lo, hi, ends)
-        black = strict[:, None] & (u != 0) & (v != 0)
-        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+        out = (strict[:, None] & (u != 0) & (v != 0)).view(np.int8)  # black: 1, else 0
+        out[status == -1] = -1
+        return out
 
     return test
 
