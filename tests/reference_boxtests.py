@@ -1,8 +1,8 @@
 """The five-bar's mode box tests as they computed before issue 22's fourth pass (main at 3d4d870), kept
 frozen: the faster code must give the same floats, hence the same verdicts, bit for bit
 (`test_boxtest_identity.py`). One box per row, every range computed per box; the helpers this pass
-left alone are the library's (circle intersections, triangle angles, point-to-box distances, the
-workspace's reach test).
+left alone are the library's (circle intersections, point-to-box distances); the workspace's reach
+test and the triangle angles are kept below as they were before the sixth pass.
 
 Per box of (th1, th2): the exact range of |B1B2|^2 (edges and interior critical points), the coupler
 triangle's angles, the direction of B2 - B1 and the signs of B11, B22 per assembly mode; per box of
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.numerics.ranges import circle_intersections, point_box_distance2, triangle_angle_range
+from fivebar_cli.numerics.ranges import circle_intersections, point_box_distance2
 
 TWO_PI = 2.0 * np.pi
 ANGLE_TOL = 1e-12
@@ -238,3 +238,22 @@ def reach_status(annuli, lo, hi, ranges, anchor_points, delta, eta):
                       & (lo[idx, 1] - eta <= py) & (py <= hi[idx, 1] + eta))
         outside[idx[~meets]] = True
     return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+
+
+def triangle_angle_range(side_lo, side_hi, adjacent, opposite):
+    """ranges.triangle_angle_range as it was before issue 22's sixth pass (NaN ends replaced, then clipped)."""
+    c = adjacent * adjacent - opposite * opposite
+
+    def cosine(s):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (s * s + c) / (2.0 * adjacent * s)
+
+    ends = [cosine(side_lo), cosine(side_hi)]
+    cmin, cmax = np.minimum(*ends), np.maximum(*ends)
+    if c > 0:
+        star = np.sqrt(c)
+        inside = (side_lo <= star) & (star <= side_hi)
+        cmin = np.where(inside, np.minimum(cmin, cosine(star)), cmin)
+    cmin = np.where(np.isnan(cmin), -1.0, cmin)
+    cmax = np.where(np.isnan(cmax), 1.0, cmax)
+    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))

@@ -175,6 +175,11 @@ def test_range_functions_are_bit_identical(intervals):
         assert all(same(g, w) for g, w in zip(ranges.sinusoid_range(a, b, lo, hi), ref.sinusoid_range(a, b, lo, hi)))
         for a, b in ((1.0, 0.0), (0.0, 1.0), (-2.0, 0.5)):
             assert all(same(g, w) for g, w in zip(ranges.sinusoid_range(a, b, lo, hi), ref.sinusoid_range(a, b, lo, hi)))
+        for adjacent, opposite in ((5.0, 8.0), (8.0, 5.0), (3.0, 3.0), (1e-3, 7.0)):  # c < 0, > 0, 0
+            got = ranges.triangle_angle_range(np.abs(lo), np.abs(hi), adjacent, opposite)
+            assert all(same(g, w) for g, w in zip(got, ref.triangle_angle_range(np.abs(lo), np.abs(hi), adjacent, opposite)))
+            got = ranges.triangle_angle_range(lo, hi, adjacent, opposite)  # (negative, zero, NaN, inf sides too)
+            assert all(same(g, w) for g, w in zip(got, ref.triangle_angle_range(lo, hi, adjacent, opposite)))
         n = len(lo) // 2
         x0, x1, y0, y1 = lo[:n], hi[:n], lo[n:2 * n], hi[n:2 * n]
         got, want = ranges.direction_range(x0, x1, y0, y1), ref.direction_range(x0, x1, y0, y1)

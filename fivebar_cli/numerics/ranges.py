@@ -130,9 +130,10 @@ def triangle_angle_range(side_lo, side_hi, adjacent: float, opposite: float):
         star = np.sqrt(c)
         inside = (side_lo <= star) & (star <= side_hi)
         cmin = np.where(inside, np.minimum(cmin, cosine(star)), cmin)
-    cmin = np.where(np.isnan(cmin), -1.0, cmin)
-    cmax = np.where(np.isnan(cmax), 1.0, cmax)
-    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
+    # clipped to [-1, 1], a NaN (no triangle) as the widest end: fmax / fmin skip NaNs
+    cmin = np.minimum(np.fmax(cmin, -1.0), 1.0)
+    cmax = np.maximum(np.fmin(cmax, 1.0), -1.0)
+    return np.arccos(cmax), np.arccos(cmin)
 
 
 def sin_sign(lo, hi, margin: float = ANGLE_MARGIN) -> np.ndarray:
