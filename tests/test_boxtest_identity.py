@@ -213,3 +213,7 @@ def test_centred_corner_angles_are_bit_identical():
                         -pi + rng.uniform(0, 1e-12, 500), pi - rng.uniform(0, 1e-12, 500)])
     with np.errstate(invalid="ignore"):
         assert same(_centred(a.copy(), c), ref.wrap_angle(a - c))
+    near = c[:20000] + rng.uniform(-1, 1, 20000) * rng.choice([1e-9, 1e-3, 1.0, 3.14], 20000)
+    near = np.clip(near, -pi, pi)  # offsets within +-pi only: no remainder corrections needed
+    assert same(_centred(near.copy(), c[:20000]), ref.wrap_angle(near - c[:20000]))
+    assert _centred(np.zeros(0), np.zeros(0)).shape == (0,)

@@ -91,9 +91,10 @@ def _centred(angle: np.ndarray, centre: np.ndarray) -> np.ndarray:
     in [-pi, pi] (atan2's): `wrap_angle`'s floats, its remainder taken without fmod (below)."""
     angle -= centre
     angle += np.pi  # in [-pi, 3 pi]: fmod(x, 2 pi) is x - 2 pi (exact) from 2 pi on, else x
-    high = angle >= TWO_PI
-    angle += (angle < 0) * TWO_PI  # (x + 0 turns -0 into +0: the same -pi below)
-    angle -= high * TWO_PI
+    if angle.size and not (angle.min() >= 0 and angle.max() < TWO_PI):  # (often none: no box
+        high = angle >= TWO_PI  # across the branch cut; two reductions cost less than the corrections)
+        angle += (angle < 0) * TWO_PI  # (x + 0 turns -0 into +0: the same -pi below)
+        angle -= high * TWO_PI
     angle -= np.pi
     return angle
 
