@@ -1,8 +1,8 @@
 """The five-bar's mode box tests as they computed before issue 22's fourth pass (main at 3d4d870), kept
 frozen: the faster code must give the same floats, hence the same verdicts, bit for bit
 (`test_boxtest_identity.py`). One box per row, every range computed per box; the helpers this pass
-left alone are the library's (circle intersections, triangle angles, point-to-box distances, the
-workspace's reach test).
+left alone are the library's (circle intersections, point-to-box distances); the workspace's reach
+test and the triangle angles are kept below as they were before the sixth pass.
 
 Per box of (th1, th2): the exact range of |B1B2|^2 (edges and interior critical points), the coupler
 triangle's angles, the direction of B2 - B1 and the signs of B11, B22 per assembly mode; per box of
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.numerics.ranges import circle_intersections, point_box_distance2, triangle_angle_range
+from fivebar_cli.numerics.ranges import circle_intersections, point_box_distance2
 
 TWO_PI = 2.0 * np.pi
 ANGLE_TOL = 1e-12
@@ -214,3 +214,46 @@ def cells_of_points(grid, points):
     inside = np.all((rel >= 0) & (rel <= 1), axis=1)
     n = 1 << grid.depth
     return np.clip(np.floor(np.where(inside[:, None], rel, 0) * n), 0, n - 1).astype(np.int64), inside
+
+
+# ---------------------------------------------------------------- numerics/annuli.py
+
+
+def reach_status(annuli, lo, hi, ranges, anchor_points, delta, eta):
+    """annuli.reach_status as it was before issue 22's sixth pass: `box_meets` (the library's) and
+    the anchors on every box neither inside both annuli nor out of reach."""
+    from fivebar_cli.numerics.annuli import box_meets
+
+    inside = np.ones(len(lo), dtype=bool)
+    outside = np.zeros(len(lo), dtype=bool)
+    for (dmin, dmax), (_, r, big_r) in zip(ranges, annuli):
+        inside &= (dmin - delta >= r * r) & (dmax + delta <= big_r * big_r) & (dmin - delta > 0)
+        outside |= (dmax + delta < r * r) | (dmin - delta > big_r * big_r)
+    maybe = ~outside & ~inside
+    if maybe.any():
+        idx = np.flatnonzero(maybe)
+        meets = box_meets(annuli, lo[idx], hi[idx], delta, eta)
+        for px, py in anchor_points:
+            meets |= ((lo[idx, 0] - eta <= px) & (px <= hi[idx, 0] + eta)
+                      & (lo[idx, 1] - eta <= py) & (py <= hi[idx, 1] + eta))
+        outside[idx[~meets]] = True
+    return np.where(inside, 1, np.where(outside, -1, 0)).astype(np.int8)
+
+
+def triangle_angle_range(side_lo, side_hi, adjacent, opposite):
+    """ranges.triangle_angle_range as it was before issue 22's sixth pass (NaN ends replaced, then clipped)."""
+    c = adjacent * adjacent - opposite * opposite
+
+    def cosine(s):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return (s * s + c) / (2.0 * adjacent * s)
+
+    ends = [cosine(side_lo), cosine(side_hi)]
+    cmin, cmax = np.minimum(*ends), np.maximum(*ends)
+    if c > 0:
+        star = np.sqrt(c)
+        inside = (side_lo <= star) & (star <= side_hi)
+        cmin = np.where(inside, np.minimum(cmin, cosine(star)), cmin)
+    cmin = np.where(np.isnan(cmin), -1.0, cmin)
+    cmax = np.where(np.isnan(cmax), 1.0, cmax)
+    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))

@@ -12,7 +12,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from fivebar_cli.mechanisms.fivebar import modes
-from fivebar_cli.mechanisms.fivebar.boxtests import AngleTables, reach_status, workspace_anchors
+from fivebar_cli.mechanisms.fivebar.boxtests import (
+    DELTA_REL, ETA_REL, AngleTables, annuli, leg_distance2_ranges, reach_status, workspace_anchors,
+)
 from fivebar_cli.mechanisms.fivebar.model import FiveBar, assembles
 from fivebar_cli.numerics import ranges
 from fivebar_cli.paving.engine import box_pad
@@ -71,7 +73,27 @@ def check_joint(m, lo, hi, ends=None):
     ranges_got = (tri.dmin, tri.dmax, *tri.d, *tri.a, *tri.e, *tri.b)
     assert all(same(g, w) for g, w in zip(ranges_got, want[4], strict=True))
     open_ = np.ones((len(lo), 2), bool)
-    assert same(modes.assembly_mode_joint_tests(m, assemblies)(lo, hi, open_, ends), ref.joint_tests(m, assemblies, lo, hi))
+    want = ref.joint_tests(m, assemblies, lo, hi)
+    assert same(modes.assembly_mode_joint_tests(m, assemblies)(lo, hi, open_, ends), want)
+    open_ = np.random.default_rng(len(lo)).random((len(lo), 2)) < 0.6  # a column is read where open only
+    got = modes.assembly_mode_joint_tests(m, assemblies)(lo, hi, open_, ends)
+    assert same(got[open_], want[open_])
+
+
+def reach_margins(m):
+    scale = m.L0 + m.L1 + m.L2 + m.L3 + m.L4
+    return DELTA_REL * scale * scale, ETA_REL * scale
+
+
+def boundary_boxes(m, rng, n: int = 1500):
+    """Boxes of every size around points of the workspace's four circles and of their crossings
+    (V's vertices and anchors), where the reach test cannot decide from the distance ranges alone."""
+    points = [(cx + rad * np.cos(t), rad * np.sin(t)) for cx, r, big_r in annuli(m) for rad in (r, big_r)
+              for t in rng.uniform(-np.pi, np.pi, 40)] + workspace_anchors(m)
+    centre = np.array(points)[rng.integers(0, len(points), n)]
+    half = (m.L0 + m.L1 + m.L2 + m.L3 + m.L4) * np.ldexp(1.0, -rng.integers(0, 45, (n, 1))) * rng.uniform(0, 1, (n, 2))
+    shift = rng.uniform(-1, 1, (n, 2)) * half
+    return centre + shift - half, centre + shift + half
 
 
 def check_workspace(m, lo, hi, ends=None):
@@ -81,6 +103,12 @@ def check_workspace(m, lo, hi, ends=None):
     def reach(lo_, hi_, d):
         return reach_status(m, lo_, hi_, d, anchors)
 
+    if ends is not None:  # the legs' distance ranges from the ends' tables: point_box_distance2's floats
+        got = leg_distance2_ranges(m, lo, hi, ends)
+        want = [ranges.point_box_distance2(cx, 0.0, lo, hi) for cx, _, _ in annuli(m)]
+        assert all(same(g, w) for g, w in zip(np.concatenate(got), np.concatenate(want), strict=True))
+    frozen = ref.reach_status(annuli(m), lo, hi, leg_distance2_ranges(m, lo, hi), anchors, *reach_margins(m))
+    assert same(reach_status(m, lo, hi, leg_distance2_ranges(m, lo, hi), anchors), frozen)
     got = modes.workspace_modes_classifier(m, workings)(lo, hi)
     assert all(same(g, w) for g, w in zip(got, ref.workspace_classes(m, workings, lo, hi, reach), strict=True))
     open_ = np.ones((len(lo), 4), bool)
@@ -106,6 +134,7 @@ def test_workspace_classes_are_bit_identical(m, seed):
     check_workspace(m, lo, hi, ends)
     scale = m.L0 + m.L1 + m.L2 + m.L3 + m.L4
     check_workspace(m, *loose_boxes(scale, rng))
+    check_workspace(m, *boundary_boxes(m, rng))
 
 
 def test_cells_of_a_level_are_tables_when_they_cluster():
@@ -146,6 +175,11 @@ def test_range_functions_are_bit_identical(intervals):
         assert all(same(g, w) for g, w in zip(ranges.sinusoid_range(a, b, lo, hi), ref.sinusoid_range(a, b, lo, hi)))
         for a, b in ((1.0, 0.0), (0.0, 1.0), (-2.0, 0.5)):
             assert all(same(g, w) for g, w in zip(ranges.sinusoid_range(a, b, lo, hi), ref.sinusoid_range(a, b, lo, hi)))
+        for adjacent, opposite in ((5.0, 8.0), (8.0, 5.0), (3.0, 3.0), (1e-3, 7.0)):  # c < 0, > 0, 0
+            got = ranges.triangle_angle_range(np.abs(lo), np.abs(hi), adjacent, opposite)
+            assert all(same(g, w) for g, w in zip(got, ref.triangle_angle_range(np.abs(lo), np.abs(hi), adjacent, opposite)))
+            got = ranges.triangle_angle_range(lo, hi, adjacent, opposite)  # (negative, zero, NaN, inf sides too)
+            assert all(same(g, w) for g, w in zip(got, ref.triangle_angle_range(lo, hi, adjacent, opposite)))
         n = len(lo) // 2
         x0, x1, y0, y1 = lo[:n], hi[:n], lo[n:2 * n], hi[n:2 * n]
         got, want = ranges.direction_range(x0, x1, y0, y1), ref.direction_range(x0, x1, y0, y1)
@@ -163,3 +197,23 @@ def test_angle_wrapping_is_bit_identical(intervals):
         grid = m.spaces()["jointspace"].grid(14)
         points = np.column_stack([values, values[::-1]])
         assert all(same(g, w) for g, w in zip(grid.cells_of_points(points), ref.cells_of_points(grid, points), strict=True))
+
+
+def test_centred_corner_angles_are_bit_identical():
+    """direction_range's offsets of atan2 angles from the centre's, wrapped without fmod: the frozen
+    wrap's floats over all of [-pi, pi]^2, at its ends, signed zeros, and differences near +-2 pi."""
+    from fivebar_cli.numerics.ranges import _centred
+
+    rng = np.random.default_rng(6)
+    pi = np.pi
+    special = np.array([pi, -pi, 0.0, -0.0, np.nextafter(pi, 0), np.nextafter(-pi, 0), pi / 2, -pi / 2, 1e-300,
+                        -1e-300, 2e-16, np.nan])
+    a = np.concatenate([rng.uniform(-pi, pi, 20000), np.repeat(special, len(special)), np.full(500, pi), np.full(500, -pi)])
+    c = np.concatenate([rng.uniform(-pi, pi, 20000), np.tile(special, len(special)),
+                        -pi + rng.uniform(0, 1e-12, 500), pi - rng.uniform(0, 1e-12, 500)])
+    with np.errstate(invalid="ignore"):
+        assert same(_centred(a.copy(), c), ref.wrap_angle(a - c))
+    near = c[:20000] + rng.uniform(-1, 1, 20000) * rng.choice([1e-9, 1e-3, 1.0, 3.14], 20000)
+    near = np.clip(near, -pi, pi)  # offsets within +-pi only: no remainder corrections needed
+    assert same(_centred(near.copy(), c[:20000]), ref.wrap_angle(near - c[:20000]))
+    assert _centred(np.zeros(0), np.zeros(0)).shape == (0,)

@@ -450,3 +450,35 @@ def test_any_per_row_is_numpys_any():
             assert np.array_equal(_any_per_row(mask), mask.any(axis=1))
             view = (rng.random((257, 2 * k)) < p)[:, ::2]  # not contiguous
             assert np.array_equal(_any_per_row(view), view.any(axis=1))
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_descent_trees_equal_the_general_canonical_form(dim):
+    """The leaves a descent builds level by level (`engine._tree`: complete sibling groups merged
+    from the deepest level up) equal Tree's canonicalisation of the same cells, on random descents
+    where each open cell is decided (full, often: whole sibling groups), left or split; and cells
+    given in any order fall back to Tree's."""
+    from fivebar_cli.paving.engine import _tree, children
+    from fivebar_cli.paving.morton import interleave
+
+    rng = np.random.default_rng(dim)
+    grid = Grid(((0.0, 1.0),) * dim, 6, (False,) * dim)
+    for trial in range(30):
+        p_full = rng.choice([0.2, 0.6, 0.95])
+        coords, parts = np.zeros((1, dim), np.int64), []
+        for level in range(grid.depth + 1):
+            fate = rng.random(len(coords))
+            full = fate < p_full * (level > 0)
+            codes = interleave(coords, level)
+            if full.any():
+                parts.append((level, codes[full]))
+            split = fate > 0.5 + 0.4 * p_full
+            coords = children(coords[split & ~full])
+            if not len(coords):
+                break
+        built = _tree(grid, parts)
+        level = np.concatenate([np.full(len(c), lev) for lev, c in parts]) if parts else np.zeros(0)
+        code = np.concatenate([c for _, c in parts]) if parts else np.zeros(0)
+        assert built == Tree(grid, level, code)
+        shuffled = [(lev, rng.permutation(c)) for lev, c in parts]  # not a descent's order: Tree's way
+        assert _tree(grid, shuffled) == built

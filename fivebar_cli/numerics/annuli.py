@@ -49,21 +49,25 @@ def anchors(annuli, tol: float) -> list[tuple[float, float]]:
 def reach_status(annuli, lo: np.ndarray, hi: np.ndarray, ranges, anchor_points, delta: float,
                  eta: float) -> np.ndarray:
     """1 (every point of the box in V, none at a centre) / -1 (no point in V) / 0, from the
-    distance ranges of `distance2_ranges`."""
+    distance ranges of `distance2_ranges` (two annuli, as `box_meets`)."""
     inside = np.ones(len(lo), dtype=bool)
     outside = np.zeros(len(lo), dtype=bool)
+    in_one = np.zeros(len(lo), dtype=bool)
     for (dmin, dmax), (_, r, big_r) in zip(ranges, annuli):
-        inside &= (dmin - delta >= r * r) & (dmax + delta <= big_r * big_r) & (dmin - delta > 0)
+        inside_this = (dmin - delta >= r * r) & (dmax + delta <= big_r * big_r) & (dmin - delta > 0)
+        inside &= inside_this
+        in_one |= inside_this
         outside |= (dmax + delta < r * r) | (dmin - delta > big_r * big_r)
-    maybe = ~outside & ~inside
-    if maybe.any():
-        idx = np.flatnonzero(maybe)
-        meets = box_meets(annuli, lo[idx], hi[idx], delta, eta)
+    # a box within one annulus and not out of reach of the other meets V: its (connected) boundary
+    # or, when the other ring lies inside the box, that ring's leftmost point (an anchor) meets both
+    # rings; `box_meets` decides the others (the boxes crossing both rings, near V's vertices)
+    idx = np.flatnonzero(~outside & ~in_one)
+    if len(idx):
+        lo, hi = lo[idx], hi[idx]
+        meets = box_meets(annuli, lo, hi, delta, eta)
+        x0, x1, y0, y1 = lo[:, 0] - eta, hi[:, 0] + eta, lo[:, 1] - eta, hi[:, 1] + eta
         for px, py in anchor_points:
-            meets |= (
-                (lo[idx, 0] - eta <= px) & (px <= hi[idx, 0] + eta)
-                & (lo[idx, 1] - eta <= py) & (py <= hi[idx, 1] + eta)
-            )
+            meets |= (x0 <= px) & (px <= x1) & (y0 <= py) & (py <= y1)
         outside[idx[~meets]] = True
     return verdict(inside, outside)
 

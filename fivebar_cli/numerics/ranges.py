@@ -30,19 +30,21 @@ def angle_inside(angle, lo, hi, tol: float = ANGLE_TOL) -> np.ndarray:
     return k <= hi
 
 
-def sinusoid_range(a, b, lo, hi, trig=None) -> tuple[np.ndarray, np.ndarray]:
+def sinusoid_range(a, b, lo, hi, trig=None, psi=None, tol: float = ANGLE_TOL) -> tuple[np.ndarray, np.ndarray]:
     """Exact range of a cos t + b sin t for t in [lo, hi] (elementwise, any width).
 
-    `trig` = (cos lo, sin lo, cos hi, sin hi) when the caller has them already. The amplitude
-    hypot(a, b) is taken only where an extremum lies inside (few boxes when a, b are arrays).
+    `trig` = (cos lo, sin lo, cos hi, sin hi) and `psi` = arctan2(b, a) (where the maximum lies)
+    when the caller has them already. The amplitude hypot(a, b) is taken only where an extremum
+    lies inside (few boxes when a, b are arrays). `tol`: `angle_inside`'s tolerance (a caller
+    with `trig` may pass lo - tol, hi + tol, widened once for several sinusoids, and 0).
     """
     c_lo, s_lo, c_hi, s_hi = trig if trig is not None else (np.cos(lo), np.sin(lo), np.cos(hi), np.sin(hi))
-    psi = np.arctan2(b, a)
+    psi = np.arctan2(b, a) if psi is None else psi
     f_lo = a * c_lo + b * s_lo
     f_hi = a * c_hi + b * s_hi
     top = np.maximum(f_lo, f_hi)
     bottom = np.minimum(f_lo, f_hi)
-    up, down = angle_inside(psi, lo, hi), angle_inside(psi + np.pi, lo, hi)
+    up, down = angle_inside(psi, lo, hi, tol), angle_inside(psi + np.pi, lo, hi, tol)
     if np.ndim(a) == 0 and np.ndim(b) == 0:
         amp = np.hypot(a, b)
         return np.where(down, -amp, bottom), np.where(up, amp, top)
@@ -85,9 +87,16 @@ def direction_range(xlo, xhi, ylo, yhi) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _centred(angle: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """(angle - centre + pi) % 2 pi - pi, in place in `angle` (a temporary)."""
+    """(angle - centre + pi) % 2 pi - pi, in place in `angle` (a temporary), for angle and centre
+    in [-pi, pi] (atan2's): `wrap_angle`'s floats, its remainder taken without fmod (below)."""
     angle -= centre
-    return wrap_angle(angle, out=angle)
+    angle += np.pi  # in [-pi, 3 pi]: fmod(x, 2 pi) is x - 2 pi (exact) from 2 pi on, else x
+    if angle.size and not (angle.min() >= 0 and angle.max() < TWO_PI):  # (often none: no box
+        high = angle >= TWO_PI  # across the branch cut; two reductions cost less than the corrections)
+        angle += (angle < 0) * TWO_PI  # (x + 0 turns -0 into +0: the same -pi below)
+        angle -= high * TWO_PI
+    angle -= np.pi
+    return angle
 
 
 def wrap_angle(angle, out=None) -> np.ndarray:
@@ -122,9 +131,10 @@ def triangle_angle_range(side_lo, side_hi, adjacent: float, opposite: float):
         star = np.sqrt(c)
         inside = (side_lo <= star) & (star <= side_hi)
         cmin = np.where(inside, np.minimum(cmin, cosine(star)), cmin)
-    cmin = np.where(np.isnan(cmin), -1.0, cmin)
-    cmax = np.where(np.isnan(cmax), 1.0, cmax)
-    return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
+    # clipped to [-1, 1], a NaN (no triangle) as the widest end: fmax / fmin skip NaNs
+    cmin = np.minimum(np.fmax(cmin, -1.0), 1.0)
+    cmax = np.maximum(np.fmin(cmax, 1.0), -1.0)
+    return np.arccos(cmax), np.arccos(cmin)
 
 
 def sin_sign(lo, hi, margin: float = ANGLE_MARGIN) -> np.ndarray:

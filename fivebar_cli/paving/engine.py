@@ -23,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 from fivebar_cli.paving.grid import AxisEnds, Grid, boxes_of
-from fivebar_cli.paving.morton import interleave
+from fivebar_cli.paving.morton import finest_key, interleave
 from fivebar_cli.paving.tree import Tree
 
 BoxTest = Callable[[np.ndarray, np.ndarray], np.ndarray]
@@ -242,13 +242,14 @@ def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None,
         still = status == UNDETERMINED
         if level == grid.depth or not still.any():
             if level == grid.depth:
-                undetermined = [coords[still[:, c]] for c in range(count)]
+                undetermined = [np.compress(still[:, c], coords, axis=0) for c in range(count)]
             del coords, codes, open_, status, still, answer  # the last level's boxes: free them before the trees
             break
         any_open = _any_per_row(still)
-        coords = children(coords[any_open])
+        # (np.compress: rows of 2-D arrays at a third of boolean indexing's cost, the same rows)
+        coords = children(np.compress(any_open, coords, axis=0))
         codes = child_codes(codes[any_open], grid.dim)
-        open_ = np.repeat(still[any_open], 1 << grid.dim, axis=0)
+        open_ = np.repeat(np.compress(any_open, still, axis=0), 1 << grid.dim, axis=0)
         level += 1
     out = []
     for c in range(count):
@@ -272,6 +273,45 @@ def _tree(grid: Grid, parts) -> Tree:
     """The tree of the cells found, given as (level, Morton codes) parts."""
     if not parts:
         return Tree.empty(grid)
-    level = np.concatenate([np.full(len(code), lev, np.int64) for lev, code in parts])
-    code = np.concatenate([code for _, code in parts])
-    return Tree(grid, level, code)
+    levels = [lev for lev, _ in parts]
+    if (all(np.ndim(lev) == 0 for lev in levels) and len(set(levels)) == len(levels)
+            and all(np.all(code[1:] > code[:-1]) for _, code in parts)):  # a descent's: one sorted part a level
+        return Tree(grid, *_canonical_leaves(grid, parts), canonical=True)
+    # saved trees' leaves (`refine`), cells in any order (`deepen`): canonicalised by Tree
+    level = np.concatenate([np.broadcast_to(np.asarray(lev, np.int64), len(code)) for lev, code in parts])
+    return Tree(grid, level, np.concatenate([code for _, code in parts]))
+
+
+def _canonical_leaves(grid: Grid, parts) -> tuple[np.ndarray, np.ndarray]:
+    """The canonical leaves (`paving.tree`) of the cells a descent decided, given as one part
+    (level, sorted Morton codes) per level: from the deepest level up, every complete group of 2^dim
+    sibling cells becomes its parent, a cell of the level above (which the descent split, so
+    disjoint from that level's own cells); then the leaves in Morton preorder. The same leaves as
+    Tree's general canonicalisation, without its sorts of every cell by finest index."""
+    dim, group = grid.dim, 1 << grid.dim
+    found = dict(parts)
+    levels, codes = [], []
+    merged = np.zeros(0, np.int64)
+    for level in range(max(found), -1, -1):
+        here = found.get(level)
+        if here is None:
+            here = merged
+        elif len(merged):
+            here = np.sort(np.concatenate([here, merged]), kind="stable")  # (two sorted runs: merged)
+        if level and len(here) >= group:
+            first = np.flatnonzero((here[:1 - group] & (group - 1)) == 0)  # a child 0 with room for its siblings
+            first = first[here[first + group - 1] == here[first] + group - 1]  # ... and all of them found
+            merged = here[first] >> dim
+            if len(first):
+                member = np.zeros(len(here), bool)
+                for k in range(group):
+                    member[first + k] = True
+                here = here[~member]
+        else:
+            merged = np.zeros(0, np.int64)
+        if len(here):
+            levels.append(np.full(len(here), level, np.int64))
+            codes.append(here)
+    level, code = np.concatenate(levels), np.concatenate(codes)
+    order = np.argsort(finest_key(code, level, dim, grid.depth), kind="stable")  # (sorted runs: merged)
+    return level[order], code[order]

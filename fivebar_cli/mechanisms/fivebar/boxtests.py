@@ -16,7 +16,7 @@ import numpy as np
 
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics import annuli as ring
-from fivebar_cli.numerics.ranges import angle_inside, circle_intersections, sinusoid_range
+from fivebar_cli.numerics.ranges import ANGLE_TOL, angle_inside, circle_intersections, sinusoid_range
 from fivebar_cli.numerics.verdict import verdict
 from fivebar_cli.paving.grid import AxisEnds
 
@@ -53,6 +53,10 @@ class AngleTables:
         e = self.ends[axis]
         return e.per_box(fn(e.low, e.high, self.trig[axis]))
 
+    def along_table(self, axis: int, table):
+        """Values over one axis's table entries (an array or a tuple of arrays), per box."""
+        return self.ends[axis].per_box(table)
+
 
 def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, angles: AngleTables | None = None):
     """Exact range of |B1B2|^2 over boxes [th1] x [th2] (`angles`: their tables, if at hand).
@@ -64,30 +68,43 @@ def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, angles: AngleTables
     """
     L0, L1, L2 = m.L0, m.L1, m.L2
     k0 = L0 * L0 + L1 * L1 + L2 * L2
-    u0, v0, u1, v1 = lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]
     angles = angles if angles is not None else AngleTables.of(lo, hi)
     t1, t2 = angles.box_trig
-    fmin = np.full(len(lo), np.inf)
-    fmax = np.full(len(lo), -np.inf)
-    for cu, su in ((t1[0], t1[1]), (t1[2], t1[3])):  # edges th1 = const: sinusoid in th2
-        base = k0 - 2 * L0 * L1 * cu
-        bot, top = sinusoid_range(2 * L0 * L2 - 2 * L1 * L2 * cu, -2 * L1 * L2 * su, v0, v1, t2)
-        fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
-    for cv, sv in ((t2[0], t2[1]), (t2[2], t2[3])):  # edges th2 = const: sinusoid in th1
-        base = k0 + 2 * L0 * L2 * cv
-        bot, top = sinusoid_range(-2 * L0 * L1 - 2 * L1 * L2 * cv, -2 * L1 * L2 * sv, u0, u1, t1)
-        fmin, fmax = np.minimum(fmin, base + bot), np.maximum(fmax, base + top)
-    holds = [{}, {}]  # per axis: angle -> whether each box's interval holds it (computed per table entry)
+    fmin = fmax = None
+    # an edge th_i = const is a sinusoid a cos t + b sin t in the other angle t, whose coefficients
+    # and phase atan2(b, a) depend on the edge's angle alone: the phases come per table entry; the
+    # other angle's intervals, widened by angle_inside's tolerance, per table entry too
+    edges = ((0, k0, -2 * L0 * L1, 2 * L0 * L2, -2 * L1 * L2, t2),  # th1 = const
+             (1, k0, 2 * L0 * L2, -2 * L0 * L1, -2 * L1 * L2, t1))  # th2 = const
+    for axis, k, kc, a0, a1, t_trig in edges:
+        own, table, other = angles.box_trig[axis], angles.trig[axis], angles.ends[1 - axis]
+        t_lo, t_hi = other.per_box((other.low - ANGLE_TOL, other.high + ANGLE_TOL))
+        for cos_, sin_, cos_table, sin_table in ((own[0], own[1], table[0], table[1]), (own[2], own[3], table[2], table[3])):
+            base = k + kc * cos_
+            phase = angles.along_table(axis, np.arctan2(a1 * sin_table, a0 + a1 * cos_table))
+            bot, top = sinusoid_range(a0 + a1 * cos_, a1 * sin_, t_lo, t_hi, t_trig, phase, tol=0.0)
+            bot += base
+            top += base
+            if fmin is None:  # (min(inf, x) is x: the first edge's range as it is)
+                fmin, fmax = bot, top
+            else:
+                np.minimum(fmin, bot, out=fmin)
+                np.maximum(fmax, top, out=fmax)
+    holds = [{}, {}]  # per axis: angle -> whether each table entry's interval holds it
     for th1, th2, value in _crank_critical_points(m):
-        inside = _holds(angles, holds, 0, th1) & _holds(angles, holds, 1, th2)
-        np.minimum(fmin, value, out=fmin, where=inside)
-        np.maximum(fmax, value, out=fmax, where=inside)
+        in1, in2 = _holds(angles, holds, 0, th1), _holds(angles, holds, 1, th2)
+        if in1.any() and in2.any():  # (deep levels: rarely; the boxes that hold it updated alone)
+            rows = np.flatnonzero(angles.along_table(0, in1) & angles.along_table(1, in2))
+            fmin[rows] = np.minimum(fmin[rows], value)
+            fmax[rows] = np.maximum(fmax[rows], value)
     return fmin, fmax
 
 
 def _holds(angles: AngleTables, memo: list[dict], axis: int, angle: float) -> np.ndarray:
+    """Whether each table entry's interval of `axis` holds `angle` (memoised per angle)."""
     if angle not in memo[axis]:
-        memo[axis][angle] = angles.along(axis, lambda lo, hi, _: angle_inside(angle, lo, hi))
+        e = angles.ends[axis]
+        memo[axis][angle] = angle_inside(angle, e.low, e.high)
     return memo[axis][angle]
 
 
@@ -150,9 +167,28 @@ def workspace_anchors(m) -> list[tuple[float, float]]:
     return ring.anchors(annuli(m), ANCHOR_TOL_REL * scale(m) ** 2)
 
 
-def leg_distance2_ranges(m, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Exact ranges of |P - A1|^2 and |P - A2|^2 over boxes."""
-    return ring.distance2_ranges(annuli(m), lo, hi)
+def leg_distance2_ranges(m, lo: np.ndarray, hi: np.ndarray, ends=None) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Exact ranges of |P - A1|^2 and |P - A2|^2 over boxes (`ring.distance2_ranges`'s floats).
+    `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand: a squared distance from a
+    point of y = 0 to a box is a part of its x interval plus a part of its y interval, each
+    computed per table entry (the y part once, the same for both legs) and gathered."""
+    if ends is None:
+        return ring.distance2_ranges(annuli(m), lo, hi)
+    x, y = ends
+    near_y, far_y = _distance2_parts(0.0, y)
+    out = []
+    for cx, _, _ in annuli(m):
+        near_x, far_x = _distance2_parts(cx, x)
+        out.append((near_x + near_y, far_x + far_y))
+    return out
+
+
+def _distance2_parts(c: float, e: AxisEnds) -> tuple[np.ndarray, np.ndarray]:
+    """Per box, the squares of the nearest and farthest offsets from c of its interval along one
+    axis (`ranges.point_box_distance2`'s terms)."""
+    near = np.clip(c, e.low, e.high) - c
+    far = np.maximum(np.abs(e.low - c), np.abs(e.high - c))
+    return e.per_box((near * near, far * far))
 
 
 def reach_status(m, lo: np.ndarray, hi: np.ndarray, ranges, anchors) -> np.ndarray:

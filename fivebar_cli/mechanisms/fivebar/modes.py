@@ -20,6 +20,7 @@ from fivebar_cli.mechanisms.fivebar.boxtests import (
 from fivebar_cli.mechanisms.fivebar.kinematics import cranks, dkp, ikp, mode_values, scale
 from fivebar_cli.numerics.ranges import direction_range, sin_sign, sinusoid_range, triangle_angle_range
 from fivebar_cli.numerics.verdict import verdict
+from fivebar_cli.paving.grid import AxisEnds
 
 WORKING_MODES = ((1, 1), (1, -1), (-1, 1), (-1, -1))
 ASSEMBLY_MODES = (1, -1)
@@ -55,11 +56,12 @@ def working_mode_workspace_tests(m, workings):
     classify = workspace_modes_classifier(m, workings)
 
     def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
-        status, strict, d = classify.reach(lo, hi)
+        status, strict, d = classify.reach(lo, hi, ends)
         out = np.repeat(np.where(status == -1, -1, 0).astype(np.int8)[:, None], len(workings), axis=1)
         rows = np.flatnonzero(strict)  # (strict implies reachable: status 1)
         if len(rows):
-            signs = classify.signs(lo[rows], hi[rows], [(dmin[rows], dmax[rows]) for dmin, dmax in d])
+            ends = AxisEnds.of_boxes(lo, hi) if ends is None else ends
+            signs = classify.signs(tuple(e.rows(rows) for e in ends), [(dmin[rows], dmax[rows]) for dmin, dmax in d])
             out[rows] = signs != 0
         return out
 
@@ -86,22 +88,22 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
 def workspace_modes_classifier(m, workings):
     """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
     shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once. Its parts:
-    `reach(lo, hi)` -> (status, strict, the legs' squared-distance ranges) and
-    `signs(lo, hi, ranges)` -> the signs."""
+    `reach(lo, hi, ends=None)` -> (status, strict, the legs' squared-distance ranges) and
+    `signs(ends, ranges)` -> the signs (`ends`: the boxes' ends per axis, `grid.AxisEnds`)."""
     (c1, r1, big1), (c2, r2, big2) = annuli(m)
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
 
-    def reach(lo: np.ndarray, hi: np.ndarray):
-        d1, d2 = leg_distance2_ranges(m, lo, hi)
+    def reach(lo: np.ndarray, hi: np.ndarray, ends=None):
+        d1, d2 = leg_distance2_ranges(m, lo, hi, ends)
         status = reach_status(m, lo, hi, (d1, d2), anchors)
         strict = _strict(*d1, r1, big1, delta) & _strict(*d2, r2, big2, delta)
         return status, strict, (d1, d2)
 
-    def signs(lo: np.ndarray, hi: np.ndarray, d) -> np.ndarray:
-        leg1 = _leg_angle_ranges(m, lo, hi, d[0], c1, r1, big1, m.L3, m.L1, delta)
-        leg2 = _leg_angle_ranges(m, lo, hi, d[1], c2, r2, big2, m.L4, m.L2, delta)
-        out = np.empty((len(lo), len(workings)), np.int8)
+    def signs(ends, d) -> np.ndarray:
+        leg1 = _leg_angle_ranges(m, ends, d[0], c1, r1, big1, m.L3, m.L1, delta)
+        leg2 = _leg_angle_ranges(m, ends, d[1], c2, r2, big2, m.L4, m.L2, delta)
+        out = np.empty((len(d[0][0]), len(workings)), np.int8)
         for k, (su, sv) in enumerate(workings):
             theta, theta4 = leg_branch(*leg1, su), leg_branch(*leg2, sv)
             out[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
@@ -109,16 +111,17 @@ def workspace_modes_classifier(m, workings):
 
     def classify(lo: np.ndarray, hi: np.ndarray):
         status, strict, d = reach(lo, hi)
-        return status, strict, signs(lo, hi, d)
+        return status, strict, signs(AxisEnds.of_boxes(lo, hi), d)
 
     classify.reach, classify.signs = reach, signs
     return classify
 
 
-def _leg_angle_ranges(m, lo, hi, d2range, cx, inner, outer, coupler, crank, delta):
-    """Ranges over boxes of alpha_i (the direction of P - A_i) and gamma_i (the angle at P of the
-    triangle A_i B_i P)."""
-    alpha = direction_range(lo[:, 0] - cx, hi[:, 0] - cx, lo[:, 1], hi[:, 1])
+def _leg_angle_ranges(m, ends, d2range, cx, inner, outer, coupler, crank, delta):
+    """Ranges over boxes (their `ends` per axis) of alpha_i (the direction of P - A_i) and gamma_i
+    (the angle at P of the triangle A_i B_i P)."""
+    x, y = ends
+    alpha = direction_range(*x.per_box((x.low - cx, x.high - cx)), y.per_box(y.low), y.per_box(y.high))
     m_lo, m_hi = _valid_lengths(*d2range, inner, outer, delta)
     return alpha, triangle_angle_range(m_lo, m_hi, coupler, crank)
 
@@ -154,12 +157,15 @@ def assembly_mode_joint_test(m, assembly: int):
 
 def assembly_mode_joint_tests(m, assemblies):
     """The tests of several assembly modes at once (a `paving.engine.MultiTest`), sharing the
-    coupler triangle's ranges."""
+    coupler triangle's ranges. (The triangle's angles and the signs are taken for every box, not
+    only for those free of parallel singularity, the only ones that can be black: at deep levels
+    86% of them, and gathering them costs what it saves.)"""
 
     def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
         status, strict, u, v = joint_modes_classes(m, assemblies, lo, hi, ends)
-        black = strict[:, None] & (u != 0) & (v != 0)
-        return np.where(status[:, None] == -1, -1, np.where(black, 1, 0)).astype(np.int8)
+        out = (strict[:, None] & (u != 0) & (v != 0)).view(np.int8)  # black: 1, else 0
+        out[status == -1] = -1
+        return out
 
     return test
 
@@ -263,11 +269,13 @@ def _crank_direction_range(m, angles: AngleTables):
     """Range of the direction of B2 - B1 over boxes of (th1, th2), from the exact ranges of its
     components L0 + L2 cos th2 - L1 cos th1 and L2 sin th2 - L1 sin th1 (each a sum of ranges of
     one angle: computed per table entry)."""
-    c1_lo, c1_hi, s1_lo, s1_hi = angles.along(0, _cos_sin_range)
-    c2_lo, c2_hi, s2_lo, s2_hi = angles.along(1, _cos_sin_range)
-    x_lo, x_hi = m.L0 + m.L2 * c2_lo - m.L1 * c1_hi, m.L0 + m.L2 * c2_hi - m.L1 * c1_lo
-    y_lo, y_hi = m.L2 * s2_lo - m.L1 * s1_hi, m.L2 * s2_hi - m.L1 * s1_lo
-    return direction_range(x_lo, x_hi, y_lo, y_hi)
+    x, y = angles.ends
+    c1_lo, c1_hi, s1_lo, s1_hi = _cos_sin_range(x.low, x.high, angles.trig[0])
+    c2_lo, c2_hi, s2_lo, s2_hi = _cos_sin_range(y.low, y.high, angles.trig[1])
+    # each term per table entry, then gathered: (L0 + L2 cos th2) - L1 cos th1, as written per box
+    th2_part = y.per_box((m.L0 + m.L2 * c2_lo, m.L0 + m.L2 * c2_hi, m.L2 * s2_lo, m.L2 * s2_hi))
+    th1_part = x.per_box((m.L1 * c1_hi, m.L1 * c1_lo, m.L1 * s1_hi, m.L1 * s1_lo))
+    return direction_range(*(a - b for a, b in zip(th2_part, th1_part)))
 
 
 def _cos_sin_range(lo, hi, trig):
