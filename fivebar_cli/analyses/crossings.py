@@ -33,8 +33,9 @@ class Crossing:
 class Band:
     """The undetermined cells of a joint-space region crossed by one serial singularity only (the
     working sign `changing` vanishes, the others are certified), as face-connected components:
-    `size[c]` cells in component c; (`label`, `leaf`): the components and the region's black
-    leaves they touch (distinct pairs)."""
+    `size[c]` leaves of the band's quadtree in component c (its cells, a complete 2 x 2 group of
+    siblings counted once: the `band_cells` of docs/formats.md); (`label`, `leaf`): the components
+    and the region's black leaves they touch (distinct pairs)."""
 
     changing: int
     size: np.ndarray
