@@ -92,11 +92,12 @@ class Region:
             return np.asarray(self.model.assembly_signs(self.working, points), np.int8).reshape(-1, 1)
         return np.asarray(self.model.working_signs(self.assembly, points), np.int8)
 
-    def signs(self, lo: np.ndarray, hi: np.ndarray):
-        """Per box: (may hold a valid point, free signs constant over its valid points or 0)."""
+    def signs(self, lo: np.ndarray, hi: np.ndarray, ends=None):
+        """Per box: (may hold a valid point, free signs constant over its valid points or 0);
+        `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand."""
         if self.space == "workspace":
-            return self.model.workspace_signs(self.working, lo, hi)
-        return self.model.jointspace_signs(self.assembly, lo, hi)
+            return self.model.workspace_signs(self.working, lo, hi, ends=ends)
+        return self.model.jointspace_signs(self.assembly, lo, hi, ends=ends)
 
 
 @dataclass(frozen=True)
@@ -315,10 +316,11 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     band_signs = None
     if space == "jointspace":  # one classification for the free signs and the serial bands
         region.und_possible, region.und_signs, strict = on_cells(
-            lambda lo, hi: model.jointspace_band_signs(assembly, lo, hi), paving.grid, paving.undetermined)
+            lambda lo, hi, ends: model.jointspace_band_signs(assembly, lo, hi, ends=ends), paving.grid,
+            paving.undetermined, ends=True)
         band_signs = strict, region.und_signs
     else:
-        region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined)
+        region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined, ends=True)
     region.und_pairs = _undetermined_pairs(paving)
     region.bands = serial_bands(model, region, band_signs)
     return region

@@ -98,10 +98,19 @@ def chunked(fn, *arrays: np.ndarray):
     return np.concatenate(parts)
 
 
-def on_cells(fn, grid: Grid, coords: np.ndarray):
+def on_cells(fn, grid: Grid, coords: np.ndarray, ends: bool = False):
     """fn(lo, hi) of the depth-D cells `coords` (their boxes, not padded), CHUNK cells at a time
-    (`chunked`: neither the boxes of every cell nor fn's temporaries are held at once)."""
-    return chunked(lambda c: fn(*grid.boxes(grid.depth, c)), coords)
+    (`chunked`: neither the boxes of every cell nor fn's temporaries are held at once); with
+    `ends`, fn(lo, hi, ends=...) is also given the boxes' ends as tables (`grid.AxisEnds`), so what
+    depends on one axis's interval alone is computed per distinct end, as the paving's tests do."""
+    if not ends:
+        return chunked(lambda c: fn(*grid.boxes(grid.depth, c)), coords)
+
+    def one(c: np.ndarray):
+        tables = grid.axis_ends(grid.depth, c)
+        return fn(*boxes_of(tables), ends=tables)
+
+    return chunked(one, coords)
 
 
 def _classify_many(grid: Grid, level: int, coords: np.ndarray, open_: np.ndarray, tests: MultiTest) -> np.ndarray:
