@@ -103,7 +103,13 @@ def _coordinates_text(tree: Tree, geometry) -> tuple[str, str]:
     when it has one part. Each lattice value's float text is made once (repr, as json writes it)."""
     import shapely
 
-    _, coords, (ring_offsets, polygon_offsets, _) = shapely.to_ragged_array([geometry])
+    # shapely.to_ragged_array's coordinates and offsets, built from its parts (it would import
+    # numpy.ma, for np.unique of the one geometry type: 8 ms of a run)
+    polygons = shapely.get_parts(geometry)
+    rings, polygon_of_ring = shapely.get_rings(polygons, return_index=True)
+    coords, ring_of_point = shapely.get_coordinates(rings, return_index=True)
+    ring_offsets = np.r_[0, np.cumsum(np.bincount(ring_of_point, minlength=len(rings)))]
+    polygon_offsets = np.r_[0, np.cumsum(np.bincount(polygon_of_ring, minlength=len(polygons)))]
     if not len(polygon_offsets) > 1:
         return "MultiPolygon", "[]"
     lattice = coords.astype(np.int64)

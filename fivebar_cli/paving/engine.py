@@ -22,6 +22,7 @@ from typing import Callable
 
 import numpy as np
 
+from fivebar_cli.paving.arrays import unique
 from fivebar_cli.paving.grid import AxisEnds, Grid, boxes_of
 from fivebar_cli.paving.morton import finest_key, interleave
 from fivebar_cli.paving.tree import Tree
@@ -212,7 +213,7 @@ def undetermined_cells(inside: Tree, outside: Tree, band: Tree | None = None) ->
     # expand merged gap leaves back to depth-D cells
     coords = gaps.coords
     cells = [coords[gaps.level == grid.depth]]
-    for s in np.unique(span[span > 0]):
+    for s in unique(span[span > 0]):
         block = coords[span == s]
         for _ in range(int(s)):
             block = children(block)
