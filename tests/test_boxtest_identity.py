@@ -109,8 +109,10 @@ def check_workspace(m, lo, hi, ends=None):
         assert all(same(g, w) for g, w in zip(np.concatenate(got), np.concatenate(want), strict=True))
     frozen = ref.reach_status(annuli(m), lo, hi, leg_distance2_ranges(m, lo, hi), anchors, *reach_margins(m))
     assert same(reach_status(m, lo, hi, leg_distance2_ranges(m, lo, hi), anchors), frozen)
-    got = modes.workspace_modes_classifier(m, workings)(lo, hi)
-    assert all(same(g, w) for g, w in zip(got, ref.workspace_classes(m, workings, lo, hi, reach), strict=True))
+    want = ref.workspace_classes(m, workings, lo, hi, reach)
+    for tables in (None, ends) if ends is not None else (None,):  # (the regions' classifier takes the tables too)
+        got = modes.workspace_modes_classifier(m, workings)(lo, hi, tables)
+        assert all(same(g, w) for g, w in zip(got, want, strict=True))
     open_ = np.ones((len(lo), 4), bool)
     assert same(modes.working_mode_workspace_tests(m, workings)(lo, hi, open_, ends),
                 ref.workspace_tests(m, workings, lo, hi, reach))

@@ -227,3 +227,19 @@ def test_traced_rings_are_the_polygonizers_bytes(seed, density, periodic, root):
     tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < density))
     properties = {"name": "m\u00e9\"1", "depth": 6, "area": tree.area}
     assert feature_text(tree, properties) == _reference_text(_polygonized(tree), properties)
+
+
+def test_ragged_arrays_are_shapelys():
+    """The writer's coordinates and offsets of a lattice MultiPolygon (`_ragged`, built from the
+    geometry's parts) are those of shapely.to_ragged_array: random unions of squares, holes and
+    islands included, and the empty set."""
+    from fivebar_cli.io.geojson import _lattice_geometry, _ragged
+
+    rng = np.random.default_rng(7)
+    trees = [Tree.empty(GRID), tree_of([(x, y) for x in range(1, 7) for y in range(1, 7) if not (2 < x < 5 and 2 < y < 5)])]
+    trees += [tree_of(np.argwhere(rng.random((8, 8)) < density)) for density in (0.3, 0.5, 0.7) for _ in range(4)]
+    for tree in trees:
+        geometry = _lattice_geometry(tree)
+        _, coords, (rings, polygons, _) = shapely.to_ragged_array([geometry])
+        got = _ragged(geometry)
+        assert all(np.array_equal(g, w) for g, w in zip(got, (coords, rings, polygons), strict=True))

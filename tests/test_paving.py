@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 from conftest import M1, M2, tree_to_bool
 from fivebar_cli.analyses import spaces
 from fivebar_cli.paving.engine import box_pad, pave, refine, undetermined_cells
-from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.grid import Grid, boxes_of
 from fivebar_cli.paving.tree import Tree
 
 
@@ -309,6 +309,15 @@ def test_chunked_box_functions_equal_one_call():
     grid = Grid(((-1.0, 3.0), (0.0, 2.0)), 9, (False, False))
     cells = rng.integers(0, 1 << 9, (2 * CHUNK + 5, 2))
     assert all(np.array_equal(w, p) for w, p in zip(fn(*grid.boxes(9, cells)), on_cells(fn, grid, cells)))
+    seen = []  # with ends=True, fn is also handed the same boxes' ends as tables, chunk by chunk
+
+    def with_ends(a, b, ends):
+        seen.append(len(a))
+        assert all(np.array_equal(x, y) for x, y in zip(boxes_of(ends), (a, b)))
+        return fn(a, b)
+
+    assert all(np.array_equal(w, p) for w, p in zip(fn(*grid.boxes(9, cells)), on_cells(with_ends, grid, cells, ends=True)))
+    assert seen == [CHUNK, CHUNK, 5]
 
 
 @settings(max_examples=60, deadline=None)

@@ -40,7 +40,7 @@ from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pair
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, on_cells, pave_many
-from fivebar_cli.paving.arrays import unique_pairs
+from fivebar_cli.paving.arrays import unique, unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import finest_order
 from fivebar_cli.paving.tree import Tree, finest_indices, union_find
@@ -92,11 +92,12 @@ class Region:
             return np.asarray(self.model.assembly_signs(self.working, points), np.int8).reshape(-1, 1)
         return np.asarray(self.model.working_signs(self.assembly, points), np.int8)
 
-    def signs(self, lo: np.ndarray, hi: np.ndarray):
-        """Per box: (may hold a valid point, free signs constant over its valid points or 0)."""
+    def signs(self, lo: np.ndarray, hi: np.ndarray, ends=None):
+        """Per box: (may hold a valid point, free signs constant over its valid points or 0);
+        `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand."""
         if self.space == "workspace":
-            return self.model.workspace_signs(self.working, lo, hi)
-        return self.model.jointspace_signs(self.assembly, lo, hi)
+            return self.model.workspace_signs(self.working, lo, hi, ends=ends)
+        return self.model.jointspace_signs(self.assembly, lo, hi, ends=ends)
 
 
 @dataclass(frozen=True)
@@ -315,10 +316,11 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     band_signs = None
     if space == "jointspace":  # one classification for the free signs and the serial bands
         region.und_possible, region.und_signs, strict = on_cells(
-            lambda lo, hi: model.jointspace_band_signs(assembly, lo, hi), paving.grid, paving.undetermined)
+            lambda lo, hi, ends: model.jointspace_band_signs(assembly, lo, hi, ends=ends), paving.grid,
+            paving.undetermined, ends=True)
         band_signs = strict, region.und_signs
     else:
-        region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined)
+        region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined, ends=True)
     region.und_pairs = _undetermined_pairs(paving)
     region.bands = serial_bands(model, region, band_signs)
     return region
@@ -375,7 +377,7 @@ class _Count:
             local_roots = self.roots[self.offset[k]:self.offset[k + 1]]
             for o in range(s.n_outer):
                 anchors = s.anchors_in(o)
-                held = np.unique(local_roots[anchors])
+                held = unique(local_roots[anchors])
                 if len(held) > 1:
                     self.split_ok[(k, o)] = (not self.strangers(k, o, held)
                                              and self._separate(s, o, anchors, local_roots, limit))
@@ -383,7 +385,7 @@ class _Count:
                 elif len(held) == 0 and (k, o) not in self.partner_of and not s.vanish(o, budget, limit):
                     self.undecided += 1
                     self.empty_undecided += 1
-        self.merged = total - len(np.unique(self.roots)) if total else 0
+        self.merged = total - len(unique(self.roots)) if total else 0
         self.lower, self.upper = self._bounds()
 
     def strangers(self, k: int, o: int, held) -> set:
@@ -396,7 +398,7 @@ class _Count:
         """Separate the groups of anchors sharing an outer component: each group but the biggest
         isolated locally, or else the whole outer component split by refinement."""
         groups = roots[anchors]
-        size = {g: s.anchor_size[anchors[groups == g]].sum() for g in np.unique(groups)}
+        size = {g: s.anchor_size[anchors[groups == g]].sum() for g in unique(groups)}
         biggest = max(size, key=lambda g: (size[g], -g))
         if all(s.isolate(o, anchors[groups == g], roots, self.budget) for g in size if g != biggest):
             return True
@@ -439,7 +441,7 @@ class _Count:
                 anchors = s.anchors_in(o)
                 while self.budget.left > 0:
                     roots = self.roots[self.offset[k]:self.offset[k + 1]]
-                    if len(np.unique(roots[anchors])) < 2:
+                    if len(unique(roots[anchors])) < 2:
                         break
                     new = [(a, b) for a, b in s.join(o, roots, self.budget) if roots[a] != roots[b]]
                     if not new:
@@ -457,7 +459,7 @@ class _Count:
             groups_here = roots[self.offset[k]:self.offset[k + 1]]
             for j in _linked_to(self.sets, k):
                 t = self.sets[j]
-                missing = np.setdiff1d(groups_here, roots[self.offset[j]:self.offset[j + 1]])
+                missing = unique(groups_here[~np.isin(groups_here, roots[self.offset[j]:self.offset[j + 1]])])
                 if not len(missing):
                     continue
                 points, owners = link_samples(s)
@@ -483,7 +485,7 @@ class _Count:
         roots = self.roots
         for k, s in enumerate(self.sets):
             local = np.flatnonzero(roots[self.offset[k]:self.offset[k + 1]] == g)
-            out[s.space] |= {(k, int(o)) for o in np.unique(s.anchor_outer[local])}
+            out[s.space] |= {(k, int(o)) for o in unique(s.anchor_outer[local])}
             for (gg, j), outers in self.partner.items():
                 if gg == g and j == k:
                     out[s.space] |= {(k, o) for o in outers}
@@ -492,7 +494,7 @@ class _Count:
     def owners(self, k: int, o: int) -> set:
         s = self.sets[k]
         roots = self.roots[self.offset[k]:self.offset[k + 1]]
-        return set(np.unique(roots[s.anchors_in(o)]).tolist()) | self.partner_of.get((k, o), set())
+        return set(unique(roots[s.anchors_in(o)]).tolist()) | self.partner_of.get((k, o), set())
 
     def certified(self, g: int) -> bool:
         outers = self.group_outers(g)
@@ -508,7 +510,7 @@ class _Count:
         """Groups sharing an outer component may be one aspect: the lower bound counts clusters
         of groups joined by shared outer components, the upper bound counts groups, plus the
         undecided outer components without an anchor."""
-        groups = np.unique(self.roots)
+        groups = unique(self.roots)
         index = {int(g): i for i, g in enumerate(groups)}
         ei, ej = [], []
         for k, s in enumerate(self.sets):
@@ -517,7 +519,7 @@ class _Count:
                 if len(held) > 1 and not self.split_ok.get((k, o), False):
                     ei += [index[held[0]]] * (len(held) - 1)
                     ej += [index[h] for h in held[1:]]
-        clusters = len(np.unique(union_find(len(groups), np.array(ei, np.int64), np.array(ej, np.int64))))
+        clusters = len(unique(union_find(len(groups), np.array(ei, np.int64), np.array(ej, np.int64))))
         split_failed = sum(1 for v in self.split_ok.values() if not v)
         return clusters, len(groups) + (self.undecided - split_failed)
 
@@ -593,7 +595,7 @@ def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSe
     for k, s in enumerate(sets):
         local = roots[count.offset[k]:count.offset[k + 1]]
         mine = s.black_leaves  # with their anchors `s.leaf_anchors` (a byte or two each)
-        for g in np.unique(local).tolist():  # (a few groups)
+        for g in unique(local).tolist():  # (a few groups)
             part = mine[np.isin(s.leaf_anchors, np.flatnonzero(local == g))]
             region, idx = leaves.setdefault(g, {}).get(s.space, (s.region, np.zeros(0, np.int64)))
             leaves[g][s.space] = (region, np.concatenate([idx, part]))

@@ -50,7 +50,8 @@ def serial_bands(model: AspectModel, region, band_signs=None) -> list[Band]:
     if region.space != "jointspace" or not len(region.paving.undetermined):
         return []
     grid, cells = region.paving.grid, region.paving.undetermined
-    strict, signs = band_signs or on_cells(lambda lo, hi: model.serial_band_signs(region.assembly, lo, hi), grid, cells)
+    strict, signs = band_signs or on_cells(
+        lambda lo, hi, ends: model.serial_band_signs(region.assembly, lo, hi, ends=ends), grid, cells, ends=True)
     bands = []
     for changing in range(len(model.serial_names)):  # the one sign that changes across the band
         others = np.delete(signs, changing, axis=1)

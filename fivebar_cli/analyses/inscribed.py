@@ -35,6 +35,7 @@ import math
 
 import numpy as np
 
+from fivebar_cli.paving.arrays import unique
 from fivebar_cli.paving.morton import deinterleave
 from fivebar_cli.paving.tree import Tree, cell_bounds
 
@@ -205,7 +206,7 @@ class _Obstacles:
         per_centre = np.bincount(owner, length, minlength=len(centres)).astype(np.int64)
         chunk = np.cumsum(per_centre) // most
         run_chunk = chunk[owner]
-        for c in np.unique(chunk).tolist():
+        for c in unique(chunk).tolist():
             runs = run_chunk == c
             lengths = length[runs]
             total = int(lengths.sum())
@@ -232,7 +233,7 @@ class _Obstacles:
                               + [self.big])
         cx, cy = centre
         d = _cell_distance(metric, cx, cy, self.x0[cell], self.x1[cell], self.y0[cell], self.y1[cell])
-        return np.unique(cell[d <= radius])  # (a cell may sit in several buckets)
+        return unique(cell[d <= radius])  # (a cell may sit in several buckets)
 
 
 def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:

@@ -30,7 +30,7 @@ import numpy as np
 from fivebar_cli.paving.engine import Paving, deepen
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
 from fivebar_cli.paving.morton import deinterleave, finest_key, finest_order, interleave
-from fivebar_cli.paving.arrays import dense_rank, index_type, label_type, rows_equal
+from fivebar_cli.paving.arrays import dense_rank, index_type, label_type, rows_equal, unique
 from fivebar_cli.paving.tree import Tree, root_labels, union_find_blocks
 
 # (extra levels, window radius in cells) to join anchors; None: the whole outer component
@@ -222,7 +222,7 @@ class ModeSet:
         """
         anchors = self.anchors_in(o)
         groups = roots[anchors]
-        sizes = {g: self.anchor_size[anchors[groups == g]].sum() for g in np.unique(groups)}
+        sizes = {g: self.anchor_size[anchors[groups == g]].sum() for g in unique(groups)}
         biggest = max(sizes, key=lambda g: (sizes[g], -g))
         small = anchors[groups != biggest]
         cells = self.outer_cells(o)
@@ -287,11 +287,11 @@ class ModeSet:
             both = _concat(local, CellSet(local.grid, outside.level, outside.code, outside.black, outside.leaf))
             labels, _ = components(both)
             in_group = (both.leaf >= 0) & np.isin(anchor_of_leaf[np.maximum(both.leaf, 0)], group)
-            part = np.isin(labels, np.unique(labels[in_group]))
+            part = np.isin(labels, unique(labels[in_group]))
             if part[len(local.level):].any():
                 continue  # the group's part reaches the ring: try a larger window
             held = both.leaf[part & (both.leaf >= 0)]
-            if len(np.setdiff1d(np.unique(roots[anchor_of_leaf[held]]), np.unique(roots[group]))) == 0:
+            if np.isin(roots[anchor_of_leaf[held]], roots[group]).all():  # (every root held is the group's)
                 return True
         return False
 
@@ -312,7 +312,7 @@ class ModeSet:
             part_of_old = outer[_position(cells, old.level, old.code)]
             separated = True
             for k in range(count):
-                held = np.unique(anchor_roots[part_of_old == k])
+                held = unique(anchor_roots[part_of_old == k])
                 if len(held) > 1:
                     separated = False
                 elif len(held) == 0 and np.any(cells.black[outer == k]):
@@ -344,7 +344,7 @@ class ModeSet:
         anchored = np.zeros(n_parts, bool)
         anchored[parts[_position(deeper, old.level, old.code)]] = True
         island_cells = np.flatnonzero(deeper.black)[~joined[labels]]
-        found = len(np.unique(parts[island_cells][~anchored[parts[island_cells]]]))
+        found = len(unique(parts[island_cells][~anchored[parts[island_cells]]]))
         opened = int(np.any(anchored[parts[island_cells]]))
         with_black = np.zeros(n_parts, bool)
         with_black[parts[deeper.black]] = True
@@ -480,7 +480,7 @@ def _near(grid: Grid, a_lo, a_hi, b_lo, b_hi, radius: int) -> np.ndarray:
     n = max(n, 1)
     shape = (n,) * grid.dim
     blocks = list(_enumerate(a_lo, a_hi, k, n, pad=1, periodic=grid.periodic))
-    marked = np.unique(np.concatenate([np.ravel_multi_index(idx, shape) for idx in blocks]))
+    marked = unique(np.concatenate([np.ravel_multi_index(idx, shape) for idx in blocks]))
     # only the boxes b that reach into the marked blocks' bounding range along every axis can
     # overlap one of them (a window is small: most boxes b leave here, by a few comparisons)
     candidate = np.ones(len(b_lo), bool)

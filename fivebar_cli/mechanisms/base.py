@@ -313,20 +313,25 @@ class AspectModel(Protocol):
     def mode_values(self, joints: np.ndarray, poses: np.ndarray) -> np.ndarray:
         """(n, w + 1): the diagonal of B, then det A, at configurations (joints, poses)."""
 
-    def workspace_signs(self, working: tuple[int, ...], lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    # The four classifiers below take the boxes (lo, hi) and, when the caller has them, their ends
+    # as tables (`ends`: `grid.AxisEnds` per axis, as the paving's multi-tests do): a model may
+    # compute what depends on one axis's interval alone per table entry, or ignore them.
+
+    def workspace_signs(self, working: tuple[int, ...], lo: np.ndarray, hi: np.ndarray,
+                        ends=None) -> tuple[np.ndarray, np.ndarray]:
         """Per workspace box, in a working mode: (may hold a reachable point, sign of det A over the
         box's reachable points as an (n, 1) array, 0 where it is not constant). A box where this
         sign is certified is certified outside the aspects of the other sign (the outer sets)."""
 
-    def jointspace_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def jointspace_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray, ends=None) -> tuple[np.ndarray, np.ndarray]:
         """Per joint-space box, in an assembly mode: (may hold an assemblable point, working signs
         over its assemblable points, (n, w), 0 where not constant)."""
 
-    def serial_band_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def serial_band_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray, ends=None) -> tuple[np.ndarray, np.ndarray]:
         """Per joint-space box: (certified free of parallel singularity, working signs with 0 where
         not constant), to find the cells crossed by one serial singularity only."""
 
-    def jointspace_band_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, ...]:
+    def jointspace_band_signs(self, assembly: int, lo: np.ndarray, hi: np.ndarray, ends=None) -> tuple[np.ndarray, ...]:
         """`jointspace_signs` and `serial_band_signs` of the same boxes (their working signs are the
         same), from one classification: (may hold an assemblable point, working signs, certified
         free of parallel singularity). The aspects classify a region's undetermined cells once."""

@@ -22,6 +22,7 @@ from typing import Callable
 
 import numpy as np
 
+from fivebar_cli.paving.arrays import unique
 from fivebar_cli.paving.grid import AxisEnds, Grid, boxes_of
 from fivebar_cli.paving.morton import finest_key, interleave
 from fivebar_cli.paving.tree import Tree
@@ -98,10 +99,19 @@ def chunked(fn, *arrays: np.ndarray):
     return np.concatenate(parts)
 
 
-def on_cells(fn, grid: Grid, coords: np.ndarray):
+def on_cells(fn, grid: Grid, coords: np.ndarray, ends: bool = False):
     """fn(lo, hi) of the depth-D cells `coords` (their boxes, not padded), CHUNK cells at a time
-    (`chunked`: neither the boxes of every cell nor fn's temporaries are held at once)."""
-    return chunked(lambda c: fn(*grid.boxes(grid.depth, c)), coords)
+    (`chunked`: neither the boxes of every cell nor fn's temporaries are held at once); with
+    `ends`, fn(lo, hi, ends=...) is also given the boxes' ends as tables (`grid.AxisEnds`), so what
+    depends on one axis's interval alone is computed per distinct end, as the paving's tests do."""
+    if not ends:
+        return chunked(lambda c: fn(*grid.boxes(grid.depth, c)), coords)
+
+    def one(c: np.ndarray):
+        tables = grid.axis_ends(grid.depth, c)
+        return fn(*boxes_of(tables), ends=tables)
+
+    return chunked(one, coords)
 
 
 def _classify_many(grid: Grid, level: int, coords: np.ndarray, open_: np.ndarray, tests: MultiTest) -> np.ndarray:
@@ -203,7 +213,7 @@ def undetermined_cells(inside: Tree, outside: Tree, band: Tree | None = None) ->
     # expand merged gap leaves back to depth-D cells
     coords = gaps.coords
     cells = [coords[gaps.level == grid.depth]]
-    for s in np.unique(span[span > 0]):
+    for s in unique(span[span > 0]):
         block = coords[span == s]
         for _ in range(int(s)):
             block = children(block)

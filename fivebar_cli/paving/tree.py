@@ -322,7 +322,7 @@ class Tree:
         coords, lev = self.coords, self.level
         covered, at = np.zeros((1, 1), dtype=bool), 0  # leaves at most `level` deep: whole pixels,
         finer = []                                       # painted coarse to fine, one upsampling a level
-        for leaf_level in np.unique(lev):
+        for leaf_level in unique(lev):
             sel = coords[lev == leaf_level]
             if leaf_level > level:
                 finer.append((leaf_level - level, sel))

@@ -203,9 +203,9 @@ class ConstrainedModes(modes.FiveBarModes):
         base = self.base.parallel_free_test(assembly)
         return lambda lo, hi: restricted(base(lo, hi), lambda k: jointspace_status(self.m, assembly, lo[k], hi[k]))
 
-    def serial_band_signs(self, assembly, lo, hi):
+    def serial_band_signs(self, assembly, lo, hi, ends=None):
         """Band cells must also be within every constraint (a crossing is a motion)."""
-        strict, signs = self.base.serial_band_signs(assembly, lo, hi)
+        strict, signs = self.base.serial_band_signs(assembly, lo, hi, ends=ends)
         return self._within(assembly, lo, hi, strict), signs
 
     def _within(self, assembly, lo, hi, strict):
@@ -215,18 +215,18 @@ class ConstrainedModes(modes.FiveBarModes):
             ok[ok] = jointspace_status(self.m, assembly, lo[ok], hi[ok]) == 1
         return ok
 
-    def workspace_signs(self, working, lo, hi):
-        possible, sign = self.base.workspace_signs(working, lo, hi)
+    def workspace_signs(self, working, lo, hi, ends=None):
+        possible, sign = self.base.workspace_signs(working, lo, hi, ends=ends)
         return _possible(possible, lambda k: workspace_status(self.m, working, lo[k], hi[k])), sign
 
-    def jointspace_signs(self, assembly, lo, hi):
-        possible, signs = self.base.jointspace_signs(assembly, lo, hi)
+    def jointspace_signs(self, assembly, lo, hi, ends=None):
+        possible, signs = self.base.jointspace_signs(assembly, lo, hi, ends=ends)
         return _possible(possible, lambda k: jointspace_status(self.m, assembly, lo[k], hi[k])), signs
 
-    def jointspace_band_signs(self, assembly, lo, hi):
+    def jointspace_band_signs(self, assembly, lo, hi, ends=None):
         """As `jointspace_signs` and `serial_band_signs`, with the constraints evaluated once on the
         boxes either needs (`_possible`, `_within`)."""
-        possible, signs, strict = self.base.jointspace_band_signs(assembly, lo, hi)
+        possible, signs, strict = self.base.jointspace_band_signs(assembly, lo, hi, ends=ends)
         status = np.zeros(len(lo), np.int8)
         needed = possible | strict
         if needed.any():

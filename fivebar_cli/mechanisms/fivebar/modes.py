@@ -78,8 +78,8 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
     """
     classify = workspace_modes_classifier(m, (working,))
 
-    def one(lo: np.ndarray, hi: np.ndarray):
-        status, strict, signs = classify(lo, hi)
+    def one(lo: np.ndarray, hi: np.ndarray, ends=None):
+        status, strict, signs = classify(lo, hi, ends)
         return status, strict, signs[:, 0]
 
     return one
@@ -89,7 +89,8 @@ def workspace_modes_classifier(m, workings):
     """`workspace_mode_classifier` of several working modes at once: the sign of det A per mode,
     shape (n, len(workings)); the ranges of alpha_i and gamma_i are computed once. Its parts:
     `reach(lo, hi, ends=None)` -> (status, strict, the legs' squared-distance ranges) and
-    `signs(ends, ranges)` -> the signs (`ends`: the boxes' ends per axis, `grid.AxisEnds`)."""
+    `signs(ends, ranges)` -> the signs (`ends`: the boxes' ends per axis, `grid.AxisEnds`); the
+    whole, `classify(lo, hi, ends=None)`, takes the ends as tables when the caller has them."""
     (c1, r1, big1), (c2, r2, big2) = annuli(m)
     delta = DELTA_REL * scale(m) ** 2
     anchors = workspace_anchors(m)
@@ -109,9 +110,9 @@ def workspace_modes_classifier(m, workings):
             out[:, k] = sin_sign(theta4[0] - theta[1], theta4[1] - theta[0])
         return out
 
-    def classify(lo: np.ndarray, hi: np.ndarray):
-        status, strict, d = reach(lo, hi)
-        return status, strict, signs(AxisEnds.of_boxes(lo, hi), d)
+    def classify(lo: np.ndarray, hi: np.ndarray, ends=None):
+        status, strict, d = reach(lo, hi, ends)
+        return status, strict, signs(AxisEnds.of_boxes(lo, hi) if ends is None else ends, d)
 
     classify.reach, classify.signs = reach, signs
     return classify
@@ -191,14 +192,14 @@ def parallel_free_joint_test(m):
     return test
 
 
-def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray):
+def joint_mode_classes(m, assembly: int, lo: np.ndarray, hi: np.ndarray, ends=None):
     """Per box: (assembly status 1/-1/0, certified free of parallel singularity, sign B11, sign B22).
 
     A sign is 0 where it is not constant on the box; the signs are meaningful where the box is
     free of parallel singularities. `aspects.py` uses the pieces to find the boxes that only a
-    serial singularity crosses.
+    serial singularity crosses. `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand.
     """
-    status, strict, u, v = joint_modes_classes(m, (assembly,), lo, hi)
+    status, strict, u, v = joint_modes_classes(m, (assembly,), lo, hi, ends)
     return status, strict, u[:, 0], v[:, 0]
 
 
@@ -344,20 +345,20 @@ class FiveBarModes:
     def mode_values(self, joints, poses):
         return np.column_stack(mode_values(self.m, joints[:, 0], joints[:, 1], poses))
 
-    def serial_band_signs(self, assembly, lo, hi):
-        _, strict, u, v = self._joint_classes(self.m, assembly, lo, hi)
+    def serial_band_signs(self, assembly, lo, hi, ends=None):
+        _, strict, u, v = self._joint_classes(self.m, assembly, lo, hi, ends=ends)
         return strict, np.column_stack([u, v])
 
-    def workspace_signs(self, working, lo, hi):
-        status, _, sign = self._workspace_classifier(self.m, working)(lo, hi)
+    def workspace_signs(self, working, lo, hi, ends=None):
+        status, _, sign = self._workspace_classifier(self.m, working)(lo, hi, ends)
         return status != -1, sign[:, None]
 
-    def jointspace_signs(self, assembly, lo, hi):
-        status, _, u, v = self._joint_classes(self.m, assembly, lo, hi)
+    def jointspace_signs(self, assembly, lo, hi, ends=None):
+        status, _, u, v = self._joint_classes(self.m, assembly, lo, hi, ends=ends)
         return status != -1, np.column_stack([u, v])
 
-    def jointspace_band_signs(self, assembly, lo, hi):
+    def jointspace_band_signs(self, assembly, lo, hi, ends=None):
         """`jointspace_signs` and `serial_band_signs` of the same boxes from one classification:
         (may hold an assemblable point, working signs, certified free of parallel singularity)."""
-        status, strict, u, v = self._joint_classes(self.m, assembly, lo, hi)
+        status, strict, u, v = self._joint_classes(self.m, assembly, lo, hi, ends=ends)
         return status != -1, np.column_stack([u, v]), strict

@@ -33,7 +33,7 @@ def workspace_mode_classifier(m, working: tuple[int, int]):
     L, sign of det A over the box and every L where the configuration exists, 0 if not constant)."""
     classify = workspace_modes_classifier(m, (working,))
 
-    def one(lo, hi):
+    def one(lo, hi, ends=None):  # (the interval lengths' ranges are per box: `ends` unused)
         status, strict, signs = classify(lo, hi)
         return status, strict, signs[:, 0]
 
@@ -84,11 +84,11 @@ def working_mode_workspace_tests(m, workings):
     return test
 
 
-def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False):
+def joint_mode_classes(m, assembly: int, lo, hi, with_band: bool = False, ends=None):
     """Per box: (status 1/-1/0, free of parallel singularity for every L, sign B11, sign B22 over
     the box and every L where it assembles, 0 where not constant); with `with_band` also whether
-    no point assembles robustly."""
-    status, strict, u, v, *band = joint_modes_classes(m, (assembly,), lo, hi, with_band)
+    no point assembles robustly. `ends`: the boxes' ends as tables (`grid.AxisEnds`), if at hand."""
+    status, strict, u, v, *band = joint_modes_classes(m, (assembly,), lo, hi, with_band, ends)
     return (status, strict, u[:, 0], v[:, 0], *band)
 
 

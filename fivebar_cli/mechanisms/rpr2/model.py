@@ -146,21 +146,21 @@ class Rpr2Modes:
     def mode_values(self, joints, poses):
         return np.column_stack(kinematics.mode_values(self.m, joints[:, 0], joints[:, 1], poses))
 
-    def workspace_signs(self, working, lo, hi):
+    def workspace_signs(self, working, lo, hi, ends=None):  # (`ends`: unused by these tests of boxes)
         status = boxtests.workspace_test(self.m)(lo, hi)
         _, eta = boxtests.margins(self.m)
         side = verdict(lo[:, 1] - eta > 0, hi[:, 1] + eta < 0)
         return status != -1, side[:, None]
 
-    def jointspace_signs(self, assembly, lo, hi):
+    def jointspace_signs(self, assembly, lo, hi, ends=None):
         _, outside = boxtests._triangle(self.m, lo, hi, strict=False)
         return ~outside, boxtests.leg_signs(self.m, lo, hi)
 
-    def serial_band_signs(self, assembly, lo, hi):
+    def serial_band_signs(self, assembly, lo, hi, ends=None):
         inside, _ = boxtests._triangle(self.m, lo, hi, strict=True)
         return inside, boxtests.leg_signs(self.m, lo, hi)
 
-    def jointspace_band_signs(self, assembly, lo, hi):
+    def jointspace_band_signs(self, assembly, lo, hi, ends=None):
         _, outside = boxtests._triangle(self.m, lo, hi, strict=False)
         inside, _ = boxtests._triangle(self.m, lo, hi, strict=True)
         return ~outside, boxtests.leg_signs(self.m, lo, hi), inside  # the leg signs once
