@@ -60,16 +60,23 @@ def _cut_alpha_beta(x1, y1, r1, x2, y2, r2):
     straight singularity circle): the distances a1, a2 from each centre to the foot of the common
     chord use (d - r)(d + r), and the half-chord is taken on the side of the smaller circle. Two
     nearly coincident circles of nearly equal radii (d much smaller than r) would cancel there
-    instead: r1^2 - r2^2 is then taken as (r1 - r2)(r1 + r2) (`_foot`).
+    instead: r1^2 - r2^2 is then taken as (r1 - r2)(r1 + r2) (`_coincident_foot`).
     """
     dx, dy = x2 - x1, y2 - y1
     d = np.hypot(dx, dy)
     scale = np.maximum(np.maximum(r1, r2), d)
     tol = _CUT_TOL * scale
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        ok = (d > _SAME_TOL * scale) & (d <= r1 + r2 + tol) & (d >= np.abs(r1 - r2) - tol)
-        a1 = _foot(d, r1, r2)
-        a2 = _foot(d, r2, r1)
+        sum_r = r1 + r2
+        ok = (d > _SAME_TOL * scale) & (d <= sum_r + tol) & (d >= np.abs(r1 - r2) - tol)
+        a1 = ((d - r2) * (d + r2) + r1 * r1) / (2.0 * d)
+        a2 = ((d - r1) * (d + r1) + r2 * r2) / (2.0 * d)
+        close = d < 1e-2 * sum_r  # the pairs `_coincident_foot` may regroup (few): those alone
+        if np.any(close):
+            a1, a2 = np.array(a1), np.array(a2)  # (writable, also from 0-d inputs)
+            dc, r1c, r2c = (np.broadcast_to(v, close.shape)[close] for v in (d, r1, r2))
+            a1[close] = _coincident_foot(dc, r1c, r2c, a1[close])
+            a2[close] = _coincident_foot(dc, r2c, r1c, a2[close])
         h2 = np.where(r1 <= r2, (r1 - a1) * (r1 + a1), (r2 - a2) * (r2 + a2))
         h = np.sqrt(np.maximum(h2, 0.0))
         h = np.where(h < _SNAP * np.minimum(r1, r2), 0.0, h)  # rounding noise near tangency: one point
@@ -78,17 +85,15 @@ def _cut_alpha_beta(x1, y1, r1, x2, y2, r2):
     return alpha, beta, ok
 
 
-def _foot(d, r1, r2):
-    """Distance from centre 1 to the foot of the common chord, (d^2 - r2^2 + r1^2) / (2 d), in the
-    grouping whose rounding is smaller: (d - r2)(d + r2) + r1^2 (d near r2), or d^2 + (r1 - r2)(r1 + r2)
-    where that one is a million times better conditioned (nearly coincident circles, where the
-    first loses digits as r^2 / d^2: a cut 1e-5 rad off for d = 1e-12 r); every other cut keeps
-    the first grouping's bits."""
-    far = (d - r2) * (d + r2) + r1 * r1
+def _coincident_foot(d, r1, r2, foot):
+    """`foot`, the distance from centre 1 to the foot of the common chord, (d^2 - r2^2 + r1^2) / (2 d)
+    grouped as (d - r2)(d + r2) + r1^2, regrouped as d^2 + (r1 - r2)(r1 + r2) where that grouping's
+    rounding is a million times smaller: nearly coincident circles of nearly equal radii, where the
+    first loses digits as r^2 / d^2 (a cut 1e-5 rad off for d = 1e-12 r); every other cut keeps its
+    bits. Only circles with d < 1e-3 (r1 + r2) can be regrouped (the caller's cheap test)."""
     size = np.abs(d - r2) * (d + r2) + r1 * r1  # the first grouping's rounding, in units of eps
-    near = d * d + (r1 - r2) * (r1 + r2)
     better = d * d + np.abs(r1 - r2) * (r1 + r2) < 1e-6 * size
-    return np.where(better, near, far) / (2.0 * d)
+    return np.where(better, (d * d + (r1 - r2) * (r1 + r2)) / (2.0 * d), foot)
 
 
 # ---------------------------------------------------------------- elementary arcs
