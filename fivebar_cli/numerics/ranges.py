@@ -149,11 +149,16 @@ def sin_sign(lo, hi, margin: float = ANGLE_MARGIN) -> np.ndarray:
 
 def point_box_distance2(cx: float, cy: float, lo: np.ndarray, hi: np.ndarray):
     """Exact range of the squared distance from (cx, cy) to the points of each box (2-D)."""
-    nx = np.clip(cx, lo[:, 0], hi[:, 0]) - cx
-    ny = np.clip(cy, lo[:, 1], hi[:, 1]) - cy
-    fx = np.maximum(np.abs(lo[:, 0] - cx), np.abs(hi[:, 0] - cx))
-    fy = np.maximum(np.abs(lo[:, 1] - cy), np.abs(hi[:, 1] - cy))
-    return nx * nx + ny * ny, fx * fx + fy * fy
+    (near_x, far_x), (near_y, far_y) = axis_distance2(cx, lo[:, 0], hi[:, 0]), axis_distance2(cy, lo[:, 1], hi[:, 1])
+    return near_x + near_y, far_x + far_y
+
+
+def axis_distance2(c: float, lo: np.ndarray, hi: np.ndarray):
+    """The squares of the nearest and farthest offsets from c of the intervals [lo, hi] (one axis's
+    part of a squared distance from a point to boxes)."""
+    near = np.clip(c, lo, hi) - c
+    far = np.maximum(np.abs(lo - c), np.abs(hi - c))
+    return near * near, far * far
 
 
 def circle_intersections(c1, r1: float, c2, r2: float) -> list[tuple[float, float]]:

@@ -16,7 +16,7 @@ import numpy as np
 
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics import annuli as ring
-from fivebar_cli.numerics.ranges import ANGLE_TOL, angle_inside, circle_intersections, sinusoid_range
+from fivebar_cli.numerics.ranges import ANGLE_TOL, angle_inside, axis_distance2, circle_intersections, sinusoid_range
 from fivebar_cli.numerics.verdict import verdict
 from fivebar_cli.paving.grid import AxisEnds
 
@@ -53,10 +53,6 @@ class AngleTables:
         e = self.ends[axis]
         return e.per_box(fn(e.low, e.high, self.trig[axis]))
 
-    def along_table(self, axis: int, table):
-        """Values over one axis's table entries (an array or a tuple of arrays), per box."""
-        return self.ends[axis].per_box(table)
-
 
 def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, angles: AngleTables | None = None):
     """Exact range of |B1B2|^2 over boxes [th1] x [th2] (`angles`: their tables, if at hand).
@@ -81,7 +77,7 @@ def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, angles: AngleTables
         t_lo, t_hi = other.per_box((other.low - ANGLE_TOL, other.high + ANGLE_TOL))
         for cos_, sin_, cos_table, sin_table in ((own[0], own[1], table[0], table[1]), (own[2], own[3], table[2], table[3])):
             base = k + kc * cos_
-            phase = angles.along_table(axis, np.arctan2(a1 * sin_table, a0 + a1 * cos_table))
+            phase = angles.ends[axis].per_box(np.arctan2(a1 * sin_table, a0 + a1 * cos_table))
             bot, top = sinusoid_range(a0 + a1 * cos_, a1 * sin_, t_lo, t_hi, t_trig, phase, tol=0.0)
             bot += base
             top += base
@@ -94,7 +90,7 @@ def crank_distance2_range(m, lo: np.ndarray, hi: np.ndarray, angles: AngleTables
     for th1, th2, value in _crank_critical_points(m):
         in1, in2 = _holds(angles, holds, 0, th1), _holds(angles, holds, 1, th2)
         if in1.any() and in2.any():  # (deep levels: rarely; the boxes that hold it updated alone)
-            rows = np.flatnonzero(angles.along_table(0, in1) & angles.along_table(1, in2))
+            rows = np.flatnonzero(angles.ends[0].per_box(in1) & angles.ends[1].per_box(in2))
             fmin[rows] = np.minimum(fmin[rows], value)
             fmax[rows] = np.maximum(fmax[rows], value)
     return fmin, fmax
@@ -175,20 +171,12 @@ def leg_distance2_ranges(m, lo: np.ndarray, hi: np.ndarray, ends=None) -> list[t
     if ends is None:
         return ring.distance2_ranges(annuli(m), lo, hi)
     x, y = ends
-    near_y, far_y = _distance2_parts(0.0, y)
+    near_y, far_y = y.per_box(axis_distance2(0.0, y.low, y.high))
     out = []
     for cx, _, _ in annuli(m):
-        near_x, far_x = _distance2_parts(cx, x)
+        near_x, far_x = x.per_box(axis_distance2(cx, x.low, x.high))
         out.append((near_x + near_y, far_x + far_y))
     return out
-
-
-def _distance2_parts(c: float, e: AxisEnds) -> tuple[np.ndarray, np.ndarray]:
-    """Per box, the squares of the nearest and farthest offsets from c of its interval along one
-    axis (`ranges.point_box_distance2`'s terms)."""
-    near = np.clip(c, e.low, e.high) - c
-    far = np.maximum(np.abs(e.low - c), np.abs(e.high - c))
-    return e.per_box((near * near, far * far))
 
 
 def reach_status(m, lo: np.ndarray, hi: np.ndarray, ranges, anchors) -> np.ndarray:
