@@ -225,10 +225,10 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
     workers, the certificate's links (`link_pairs`) of the sets taken so far are found here while
     the last regions' tasks run: (regions, sets, the links found, by (set, set of the other space))."""
     spaces = [pool.submit(_space_task, (m, space, depth)) for space in ("workspace", "jointspace")]
+    links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
     region_tasks = [[], []]
     for k in pool.completed(spaces):
         keys, pavings, seconds = spaces[k].get()
-        links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
         # (a region's task reads no outside tree: none travels to a worker)
         region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, replace(paving, outside=Tree.empty(paving.grid))
                                                                  if links else paving, links)))
@@ -242,7 +242,7 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
         region.test = _mode_test(model, region.space, region.working, region.assembly)
         regions.append(region)
         sets += region_sets
-        if pool.n > 1:  # (with the link samples the workers found)
+        if links:  # (with the link samples the workers found)
             for k in range(len(sets) - len(region_sets), len(sets)):
                 for j in _linked_to(sets, k):
                     if j < k:
