@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.morton import floor_log2, trailing_zeros
+from fivebar_cli.paving.morton import aligned_blocks, trailing_zeros
 
 
 class BodyError(ValueError):
@@ -45,14 +45,10 @@ def encode(tree) -> str:
     gap = np.arange(len(a))
     blocks = []  # per round: (gap, start, level) of the next block of each gap still open
     open_ = a < b
-    a, b, gap = a[open_], b[open_], gap[open_]
-    while a.size:
-        span = np.minimum(trailing_zeros(a, dim * depth) // dim, floor_log2(b - a) // dim)
-        span = np.minimum(span, depth)
-        blocks.append((gap, a, depth - span))
-        a = a + (np.int64(1) << (dim * span))
-        keep = a < b
-        a, b, gap = a[keep], b[keep], gap[keep]
+    gap = gap[open_]
+    for start_here, span, more in aligned_blocks(a[open_], b[open_], dim, depth):
+        blocks.append((gap, start_here, depth - span))
+        gap = gap[more]
     white_gap, white_start, white_level = (np.concatenate(v) for v in zip(*blocks))
     nth = np.concatenate([np.full(len(g), i, np.int64) for i, (g, _, _) in enumerate(blocks)])  # block i of its gap
     per_gap = np.bincount(white_gap, minlength=len(run_first) + 1)

@@ -85,6 +85,21 @@ def trailing_zeros(x: np.ndarray, cap: int) -> np.ndarray:
     return np.where(x == 0, cap, floor_log2(np.where(x == 0, 1, low)))
 
 
+def aligned_blocks(a: np.ndarray, b: np.ndarray, dim: int, depth: int):
+    """The greedy cut of non-empty intervals [a, b) of depth-D indices into aligned blocks (cells):
+    from the left, the largest block that starts at the current position and fits. Round after
+    round, yields (starts, spans, more): the next block of every interval not yet cut whole (its
+    level is depth - span) and which of them have more blocks after it (a caller keeping values
+    per interval filters them with `more`)."""
+    while a.size:
+        span = np.minimum(trailing_zeros(a, dim * depth) // dim, floor_log2(b - a) // dim)
+        span = np.minimum(span, depth)
+        after = a + (np.int64(1) << (dim * span))
+        more = after < b
+        yield a, span, more
+        a, b = after[more], b[more]
+
+
 def axis_mask(dim: int, axis: int) -> int:
     """The bits of a Morton code that belong to one axis (every dim-th bit from bit `axis`)."""
     return sum(1 << b for b in range(axis, 63, dim))

@@ -15,7 +15,7 @@ import numpy as np
 from fivebar_cli.paving.arrays import index_type, unique
 from fivebar_cli.paving.codec import BodyError, decode, encode
 from fivebar_cli.paving.grid import Grid
-from fivebar_cli.paving.morton import axis_mask, deinterleave, finest_key, finest_order, floor_log2, interleave, trailing_zeros
+from fivebar_cli.paving.morton import aligned_blocks, axis_mask, deinterleave, finest_key, finest_order, interleave
 
 __all__ = ["Tree", "BodyError", "cell_bounds", "finest_indices", "union_find", "union_find_blocks", "root_labels"]
 
@@ -424,15 +424,9 @@ def _blocks(grid: Grid, start: np.ndarray, end: np.ndarray) -> tuple[np.ndarray,
     """
     dim, depth = grid.dim, grid.depth
     levels, codes = [], []
-    a, b = start.astype(np.int64), end.astype(np.int64)
-    while a.size:
-        span = np.minimum(trailing_zeros(a, dim * depth) // dim, floor_log2(b - a) // dim)
-        span = np.minimum(span, depth)
+    for a, span, _ in aligned_blocks(start.astype(np.int64), end.astype(np.int64), dim, depth):
         levels.append(depth - span)
         codes.append(a >> (dim * span))
-        a = a + (np.int64(1) << (dim * span))
-        keep = a < b
-        a, b = a[keep], b[keep]
     if not levels:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     level, code = np.concatenate(levels), np.concatenate(codes)
