@@ -342,21 +342,3 @@ def spec_file(tmp_path_factory):
     path = tmp_path_factory.mktemp("spec") / "t.yaml"
     path.write_text(ATLAS_SPEC)
     return path
-
-
-# ---------------------------------------------------------------- the order the files run in
-
-# The slowest files first, slowest first (a file's seconds on one worker, of a whole run under
-# xdist, 2 workers): xdist hands whole files out (--dist loadfile) in the order of collection, so a
-# long file handed out last would keep one worker busy while the other idles. The other files keep
-# their order after these. A file missing here only runs later; one renamed is simply not found.
-SLOW_FIRST = ("test_examples.py", "test_interrupts.py", "test_aspect_certificate.py", "test_golden.py",
-              "test_readme.py", "test_atlas_dask.py", "test_aspects.py", "test_interval.py", "test_atlas.py",
-              "test_pose_aspects.py", "test_locate_path.py", "test_fuzz_readers.py", "test_api_studies.py",
-              "test_api.py", "test_names.py", "test_rrr3_constraints.py", "test_view.py", "test_mode_tests.py",
-              "test_tolerance.py", "test_constrained_analyses.py")
-
-
-def pytest_collection_modifyitems(items):
-    rank = {name: i for i, name in enumerate(SLOW_FIRST)}
-    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: each file's tests keep their order
