@@ -148,10 +148,10 @@ def count(L, n: int = 1024) -> int:
     """The number of generalized aspects seen on n x n grids of both spaces."""
     L = tuple(float(v) for v in L)
     t = (np.arange(n) + 0.5) / n * 2 * np.pi - np.pi
-    th1, th2 = np.meshgrid(t, t, indexing="ij")
+    th1, th2 = t[:, None], t[None, :]  # the grid by broadcasting: what depends on one axis is computed on n values
     reach = L[1] + L[3]
     s = (np.arange(n) + 0.5) / n * 2 * reach - reach
-    x, y = np.meshgrid(s, s, indexing="ij")
+    x, y = s[:, None], s[None, :]
     joint, joints, poses = {}, JointGeometry(L, th1, th2), WorkGeometry(L, x, y)
     for am in ASSEMBLY:
         ok, u, v, p = joints.modes(am)
@@ -178,20 +178,21 @@ def linked_groups(jl, p, wl, back, reach: float, n: int) -> int:
     `wl` merged where a kept centre maps into a labelled cell of the other space (`back`: the joint
     label each kept workspace centre maps to, 0 for none); those with centres in both spaces and at
     least MIN_PIXELS (scaled) of them."""
-    nj = int(jl.max())
+    nj, nw = int(jl.max()), int(wl.max())
     kept = jl > 0  # joint -> workspace
-    ix = np.floor((p[kept][:, 0] + reach) / (2 * reach) * n).astype(np.int64)
-    iy = np.floor((p[kept][:, 1] + reach) / (2 * reach) * n).astype(np.int64)
+    joint_kept, work_kept, p_kept = jl[kept], wl[wl > 0], p[kept]
+    ix = np.floor((p_kept[:, 0] + reach) / (2 * reach) * n).astype(np.int64)
+    iy = np.floor((p_kept[:, 1] + reach) / (2 * reach) * n).astype(np.int64)
     inside = (ix >= 0) & (ix < n) & (iy >= 0) & (iy < n)
     target = np.zeros(len(ix), np.int64)
     target[inside] = wl[ix[inside], iy[inside]]
     hit = target > 0
-    pairs = [np.stack([jl[kept][hit], nj + target[hit]], 1)]
+    pairs = [np.stack([joint_kept[hit], nj + target[hit]], 1)]
     hit = back > 0
-    pairs.append(np.stack([back[hit], nj + wl[wl > 0][hit]], 1))
-    groups = _merge(np.arange(nj + int(wl.max()) + 1), nj + int(wl.max()), np.concatenate(pairs))
-    size_j = np.bincount(groups[jl[jl > 0]], minlength=len(groups))
-    size_w = np.bincount(groups[nj + wl[wl > 0]], minlength=len(groups))
+    pairs.append(np.stack([back[hit], nj + work_kept[hit]], 1))
+    groups = _merge(np.arange(nj + nw + 1), nj + nw, np.concatenate(pairs))
+    size_j = np.bincount(groups[joint_kept], minlength=len(groups))
+    size_w = np.bincount(groups[nj + work_kept], minlength=len(groups))
     big = (size_j > 0) & (size_w > 0) & (size_j + size_w >= MIN_PIXELS * (n / 512) ** 2)
     return int(np.count_nonzero(big))
 

@@ -17,7 +17,7 @@ import numpy as np
 from scipy import ndimage
 
 from reference_aspects import _merge
-from rpr3_reference import det_j, legs
+from rpr3_reference import arms, det_j, legs
 
 TWENTY_SIX = np.ones((3, 3, 3), bool)
 MIN_CELLS = 8  # at n = 64; scaled with n^3
@@ -47,9 +47,12 @@ def count(base, platform, rho_min, rho_max, root, periodic: bool, n: int = 64) -
     """Aspects seen on an n^3 grid of the root box ((xlo, xhi), (ylo, yhi), (phi1, phi2))."""
     axes = [lo + (np.arange(n) + 0.5) / n * (hi - lo) for lo, hi in root]
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), -1).reshape(-1, 3)
-    lengths = legs(base, platform, grid)
+    # the arms turn with phi alone: computed on the n angles (the last axis), repeated over (x, y)
+    turned = arms(platform, np.stack([np.zeros(n), np.zeros(n), axes[2]], -1))
+    q = np.broadcast_to(turned, (n * n, *turned.shape)).reshape(-1, *turned.shape[1:])
+    lengths = legs(base, platform, grid, q)
     ok = np.all((lengths > np.asarray(rho_min)) & (lengths < np.asarray(rho_max)), axis=1)
-    d = det_j(base, platform, grid)
+    d = det_j(base, platform, grid, q)
     scale = float(np.max(np.abs(d))) or 1.0
     total = 0
     for sign in (1, -1):

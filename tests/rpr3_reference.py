@@ -39,14 +39,14 @@ def leg_vectors(base, platform, poses, q=None) -> np.ndarray:
     return poses[:, None, :2] + (arms(platform, poses) if q is None else q) - np.asarray(base, float)[None]
 
 
-def legs(base, platform, poses) -> np.ndarray:
-    """Leg lengths (m, 3)."""
-    return np.linalg.norm(leg_vectors(base, platform, poses), axis=-1)
+def legs(base, platform, poses, q=None) -> np.ndarray:
+    """Leg lengths (m, 3) (`q`: the arms, when already known)."""
+    return np.linalg.norm(leg_vectors(base, platform, poses, q), axis=-1)
 
 
-def det_j(base, platform, poses) -> np.ndarray:
-    """det J (m,) with rows (e_x, e_y, q_x e_y - q_y e_x)."""
-    q = arms(platform, poses)
+def det_j(base, platform, poses, q=None) -> np.ndarray:
+    """det J (m,) with rows (e_x, e_y, q_x e_y - q_y e_x) (`q`: the arms, when already known)."""
+    q = arms(platform, poses) if q is None else q
     e = leg_vectors(base, platform, poses, q)
     rows = np.concatenate([e, (q[..., 0] * e[..., 1] - q[..., 1] * e[..., 0])[..., None]], -1)
     return np.linalg.det(rows)
