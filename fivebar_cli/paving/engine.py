@@ -17,6 +17,8 @@ from the exact dyadic cells of the root box by a few ulps, so every box is widen
 
 from __future__ import annotations
 
+import ctypes
+import sys
 from dataclasses import dataclass
 from typing import Callable
 
@@ -35,6 +37,27 @@ MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray, tuple[AxisEnds, ...]],
 INSIDE, OUTSIDE, UNDETERMINED, BAND = 1, -1, 0, 2
 CHUNK = 1 << 16
 MAX_REFINE_CELLS = 1 << 26
+HEAP_MMAP_THRESHOLD = 32 << 20  # glibc malloc: blocks of this size and more mapped apart (its dynamic maximum)
+HEAP_TRIM_THRESHOLD = 64 << 20  # ... and free memory at the heap's top returned beyond this
+
+
+def keep_heap() -> None:
+    """Let glibc's malloc keep the memory the box tests' temporaries free, instead of returning it
+    to the system at every call and faulting it in again (a chunk's arrays, half a MiB each, are
+    above its default thresholds: a tenth of a depth-12 analysis's CPU went to page faults). Both
+    thresholds are set: setting one turns off malloc's own adjustment of the other (setting the trim
+    threshold alone maps every such array apart: slower). Peak memory is not raised (max RSS of a
+    depth-16 analysis 392 -> 385 MiB). Nothing elsewhere than on Linux."""
+    if sys.platform == "linux":
+        try:
+            libc = ctypes.CDLL(None)
+            libc.mallopt(-3, HEAP_MMAP_THRESHOLD)  # M_MMAP_THRESHOLD
+            libc.mallopt(-1, HEAP_TRIM_THRESHOLD)  # M_TRIM_THRESHOLD
+        except (AttributeError, OSError):  # (no mallopt: not glibc's malloc)
+            pass
+
+
+keep_heap()
 
 
 @dataclass(frozen=True)
