@@ -97,9 +97,8 @@ def children(coords: np.ndarray) -> np.ndarray:
     dim = coords.shape[1]
     k = np.arange(1 << dim)
     offsets = (k[:, None] >> np.arange(dim)[None, :]) & 1
-    out = np.empty((len(coords), 1 << dim, dim), coords.dtype)
-    np.multiply(coords[:, None, :], 2, out=out)
-    out += offsets
+    out = np.repeat(coords * 2, 1 << dim, axis=0).reshape(len(coords), 1 << dim, dim)  # (a broadcast
+    out += offsets  # multiply into the children's array costs twice as much)
     return out.reshape(-1, dim)
 
 
