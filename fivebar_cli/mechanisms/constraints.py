@@ -13,12 +13,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
 from fivebar_cli.io import schema
-from fivebar_cli.numerics.obstacles import Disc, Polygon, polygon_problem
+
+if TYPE_CHECKING:  # (the obstacles' module is imported where a file has obstacles: not by every analysis)
+    from fivebar_cli.numerics.obstacles import Disc, Polygon
 
 MAX_OBSTACLES = 64
 MAX_VERTICES = 64
@@ -83,7 +85,7 @@ class Constraints:
         `obstacle1=disc:4.5,0.0,1.0`, `obstacle2=polygon:10.0,-2.0,12.0,-2.0,...`, `clearance=0.5`."""
         out = [f" {lim.name}=[{lim.lo!r},{lim.hi!r}]" for lim in self.limits]
         for k, o in enumerate(self.obstacles, start=1):
-            numbers = (*o.centre, o.radius) if isinstance(o, Disc) else [v for p in o.vertices for v in p]
+            numbers = (*o.centre, o.radius) if o.kind == "disc" else [v for p in o.vertices for v in p]
             out.append(f" obstacle{k}={o.kind}:" + ",".join(repr(float(v)) for v in numbers))
         if self.clearance:
             out.append(f" clearance={self.clearance!r}")
@@ -182,6 +184,8 @@ def _point(value, source: str, field: str) -> tuple[float, float]:
 
 
 def _obstacle(item, source: str, field: str) -> Disc | Polygon:
+    from fivebar_cli.numerics.obstacles import Disc, Polygon, polygon_problem
+
     if not isinstance(item, dict) or len(item) != 1 or next(iter(item)) not in ("disc", "polygon"):
         shown = f"the keys {', '.join(map(str, item))}" if isinstance(item, dict) else schema.kind_of(item)
         raise schema.ConfigError(source, field, f"expected one of 'disc: {{centre: [x, y], radius: r}}' or "
@@ -245,7 +249,7 @@ def obstacle_marks(c: Constraints) -> list[dict]:
     """The obstacles (with their clearance) as figures and `fivebar view` draw them on a workspace."""
     out = []
     for k, o in enumerate(c.obstacles, start=1):
-        shape = ({"kind": "disc", "centre": list(o.centre), "radius": o.radius} if isinstance(o, Disc)
+        shape = ({"kind": "disc", "centre": list(o.centre), "radius": o.radius} if o.kind == "disc"
                  else {"kind": "polygon", "points": [list(p) for p in o.vertices]})
         out.append({**shape, "clearance": c.clearance, "label": f"obstacle {k}"})
     return out

@@ -17,6 +17,8 @@ from the exact dyadic cells of the root box by a few ulps, so every box is widen
 
 from __future__ import annotations
 
+import ctypes
+import sys
 from dataclasses import dataclass
 from typing import Callable
 
@@ -35,6 +37,27 @@ MultiTest = Callable[[np.ndarray, np.ndarray, np.ndarray, tuple[AxisEnds, ...]],
 INSIDE, OUTSIDE, UNDETERMINED, BAND = 1, -1, 0, 2
 CHUNK = 1 << 16
 MAX_REFINE_CELLS = 1 << 26
+HEAP_MMAP_THRESHOLD = 32 << 20  # glibc malloc: blocks of this size and more mapped apart (its dynamic maximum)
+HEAP_TRIM_THRESHOLD = 64 << 20  # ... and free memory at the heap's top returned beyond this
+
+
+def keep_heap() -> None:
+    """Let glibc's malloc keep the memory the box tests' temporaries free, instead of returning it
+    to the system at every call and faulting it in again (a chunk's arrays, half a MiB each, are
+    above its default thresholds: a tenth of a depth-12 analysis's CPU went to page faults). Both
+    thresholds are set: setting one turns off malloc's own adjustment of the other (setting the trim
+    threshold alone maps every such array apart: slower). Peak memory is not raised (max RSS of a
+    depth-16 analysis 392 -> 385 MiB). Nothing elsewhere than on Linux."""
+    if sys.platform == "linux":
+        try:
+            libc = ctypes.CDLL(None)
+            libc.mallopt(-3, HEAP_MMAP_THRESHOLD)  # M_MMAP_THRESHOLD
+            libc.mallopt(-1, HEAP_TRIM_THRESHOLD)  # M_TRIM_THRESHOLD
+        except (AttributeError, OSError):  # (no mallopt: not glibc's malloc)
+            pass
+
+
+keep_heap()
 
 
 @dataclass(frozen=True)
@@ -74,16 +97,14 @@ def children(coords: np.ndarray) -> np.ndarray:
     dim = coords.shape[1]
     k = np.arange(1 << dim)
     offsets = (k[:, None] >> np.arange(dim)[None, :]) & 1
-    out = np.empty((len(coords), 1 << dim, dim), coords.dtype)
-    np.multiply(coords[:, None, :], 2, out=out)
-    out += offsets
+    out = np.repeat(coords * 2, 1 << dim, axis=0).reshape(len(coords), 1 << dim, dim)  # (a broadcast
+    out += offsets  # multiply into the children's array costs twice as much)
     return out.reshape(-1, dim)
 
 
 def child_codes(codes: np.ndarray, dim: int) -> np.ndarray:
     """The Morton codes of the children of cells of Morton codes `codes`, in `children`'s order."""
-    out = np.empty((len(codes), 1 << dim), codes.dtype)
-    np.left_shift(codes[:, None], dim, out=out)
+    out = np.repeat(codes << dim, 1 << dim).reshape(len(codes), 1 << dim)  # (as `children`)
     out |= np.arange(1 << dim, dtype=codes.dtype)
     return out.reshape(-1)
 

@@ -16,10 +16,12 @@ import numpy as np
 from fivebar_cli.errors import param
 from fivebar_cli.io import schema
 from fivebar_cli.mechanisms.base import Axis, Mechanism, Space, describe_fields
-from fivebar_cli.mechanisms.fivebar import boxtests, constrained, constraints, paper, robust
+from fivebar_cli.mechanisms.fivebar import boxtests, constraints
 from fivebar_cli.mechanisms.fivebar.constraints import NO_CONSTRAINTS, Constraints
 from fivebar_cli.mechanisms.fivebar.modes import FiveBarModes
-from fivebar_cli.mechanisms.fivebar.robust_modes import RobustFiveBarModes
+
+# the tests of interval lengths (robust, robust_modes), of limits and obstacles (constrained) and
+# the paper's procedure (paper) are imported where a five-bar needs them: not by every analysis
 
 LENGTHS = ("L0", "L1", "L2", "L3", "L4")
 
@@ -142,6 +144,8 @@ class FiveBar(Mechanism):
             m = replace(m, constraints=limits)
             problem = constraints.base_problem(limits, (m.L0, 0.0))
             if problem is None and check_empty:
+                from fivebar_cli.mechanisms.fivebar import constrained
+
                 problem = constrained.empty_problem(m)
             if problem is not None:
                 raise schema.ConfigError(source, *problem)
@@ -199,11 +203,17 @@ class FiveBar(Mechanism):
             if procedure != "exact":
                 raise schema.ConfigError(self.name, param("procedure"), "the paper's procedure has no joint limits or "
                                          "obstacles (use " + param("procedure", "exact") + ")")
+            from fivebar_cli.mechanisms.fivebar import constrained
+
             return constrained.space_test(self, space, self.unconstrained().box_test(space))
         if self.is_interval:
             if procedure != "exact":
                 raise schema.ConfigError(self.name, param("procedure"), "the paper's procedure has no interval version")
+            from fivebar_cli.mechanisms.fivebar import robust
+
             return {"jointspace": robust.joint_space_test, "workspace": robust.workspace_test}[space](self)
+        from fivebar_cli.mechanisms.fivebar import paper
+
         tests = {
             ("jointspace", "exact"): boxtests.joint_space_test,
             ("workspace", "exact"): boxtests.workspace_test,
@@ -222,14 +232,25 @@ class FiveBar(Mechanism):
 
     def printed_k_percent(self, space: str, depth: int) -> int | None:
         """The paper's Table 1, for M1 and M2 (recognised by their lengths)."""
+        from fivebar_cli.mechanisms.fivebar import paper
+
         return None if self.constraints else paper.printed_percent(self, space, depth)
 
     def aspect_model(self) -> FiveBarModes:
         """Working and assembly modes; with interval lengths the aspects are robust (their cells
         are non-singular with their modes for every length vector), matched through the nominal
         kinematics."""
-        base = RobustFiveBarModes(self) if self.is_interval else FiveBarModes(self)
-        return constrained.ConstrainedModes(self, base) if self.constraints else base
+        if self.is_interval:
+            from fivebar_cli.mechanisms.fivebar.robust_modes import RobustFiveBarModes
+
+            base = RobustFiveBarModes(self)
+        else:
+            base = FiveBarModes(self)
+        if not self.constraints:
+            return base
+        from fivebar_cli.mechanisms.fivebar import constrained
+
+        return constrained.ConstrainedModes(self, base)
 
     def violated_constraints(self, joints, poses) -> list[list[str]]:
         """Per configuration (joint values and poses, (n, 2) each), the constraints it violates."""
