@@ -259,7 +259,10 @@ def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     # which leaves may hold the optimum depends on their level alone (widths are powers of two
     # apart, far from the factor 4 sqrt 2 of the test): one leaf a level decides, only those kept
     # get their bounds
-    levels, first = np.unique(tree.level, return_index=True)
+    first = np.zeros(int(tree.level.max()) + 1, np.int64)
+    first[tree.level[::-1]] = np.arange(len(tree) - 1, -1, -1)  # (the last write wins: each level's first leaf)
+    levels = np.flatnonzero(np.bincount(tree.level))
+    first = first[levels]
     lo, hi = tree.bounds(first)
     width = hi - lo
     inner = 0.5 * width.min(axis=1)  # f >= this at a leaf's centre (the leaf is in the set)
