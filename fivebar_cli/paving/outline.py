@@ -205,23 +205,21 @@ def boundary_rings(tree: Tree):
 
 def _cycles(succ: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The cycles of a permutation: each element's cycle (named by its smallest element) and its
-    position along the cycle from there, by pointer doubling (no loop over elements)."""
+    position along the cycle from there, by pointer doubling (no loop over elements): over windows
+    of 2^k steps ahead, the least element and how many steps ahead it first comes."""
     n = len(succ)
-    low, jump = np.minimum(np.arange(n), succ), succ[succ]
-    while True:  # low: the minimum over 2^k steps; once no window lowers it, it is the cycle's minimum
-        new_low = np.minimum(low, low[jump])
+    low = np.minimum(np.arange(n), succ)
+    ahead = (succ < np.arange(n)).astype(np.int64)  # steps to the window's least element
+    jump, span = succ[succ], 2
+    while True:  # once no window lowers its minimum, that is the cycle's minimum
+        next_low = low[jump]
+        new_low = np.minimum(low, next_low)
         if np.array_equal(new_low, low):
             break
-        low, jump = new_low, jump[jump]
-    # distance to the cycle's last element (the root's predecessor), on the cycle cut there
-    last = succ == low
-    nxt = np.where(last, np.arange(n), succ)
-    dist = (~last).astype(np.int64)
-    while not np.array_equal(nxt[nxt], nxt):
-        dist = dist + dist[nxt]
-        nxt = nxt[nxt]
+        ahead = np.where(low <= next_low, ahead, ahead[jump] + span)
+        low, jump, span = new_low, jump[jump], 2 * span
     length = np.bincount(low, minlength=n)[low]
-    return low, length - 1 - dist
+    return low, (length - ahead) % length
 
 
 def _split_at_repeats(points, ring, pinch, ring_leaf, m):
