@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+import functools
 import math
 
 import numpy as np
@@ -115,9 +116,7 @@ class _Obstacles:
         n = 1 << BUCKET_LEVEL
         self.bucket_width = grid.size / n
         fine = np.flatnonzero(level >= BUCKET_LEVEL)
-        ij = coords[fine] >> (level[fine] - BUCKET_LEVEL)[:, None]
-        fine_bucket = (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
-        del ij
+        fine_bucket = _bucket_of_code()[self.cells.code[fine] >> (2 * (level[fine] - BUCKET_LEVEL))]
         coarse = np.flatnonzero((level >= BIG_LEVEL) & (level < BUCKET_LEVEL))
         span = 1 << (BUCKET_LEVEL - level[coarse])  # buckets a side
         count = span * span
@@ -234,6 +233,15 @@ class _Obstacles:
         cx, cy = centre
         d = _cell_distance(metric, cx, cy, self.x0[cell], self.x1[cell], self.y0[cell], self.y1[cell])
         return unique(cell[d <= radius])  # (a cell may sit in several buckets)
+
+
+@functools.cache
+def _bucket_of_code() -> np.ndarray:
+    """The bucket number (column by column) of each cell of level BUCKET_LEVEL, by its Morton code:
+    a fine cell's bucket is its ancestor's code looked up (no coordinates gathered)."""
+    n = 1 << BUCKET_LEVEL
+    ij = deinterleave(np.arange(n * n), BUCKET_LEVEL, 2)
+    return (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
 
 
 def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:
