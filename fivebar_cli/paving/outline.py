@@ -191,11 +191,11 @@ def boundary_rings(tree: Tree):
     pred[succ] = np.arange(n_edges)
     corner = pinch | (d != d[pred])
     keep = np.flatnonzero(corner)
-    keep = keep[np.lexsort((position[keep], ring[keep]))]
+    keep = keep[np.argsort(ring[keep] * n_edges + position[keep], kind="stable")]  # by ring, then along it
     points, point_ring, point_pinch = start[keep], ring[keep], pinch[keep]
-    _, ring_index = np.unique(point_ring, return_inverse=True)
-    first_edge = np.zeros(ring_index.max() + 1, np.int64)
-    first_edge[ring_index[::-1]] = keep[::-1]
+    first = np.r_[True, point_ring[1:] != point_ring[:-1]]  # each ring's first point
+    ring_index = np.cumsum(first) - 1
+    first_edge = keep[first]
     # the cell on the left of each ring's first edge, at its start: the leaf holding it
     e = first_edge
     cell = start[e] - (d[e] == 1)[:, None] * [1, 0] - (d[e] == 2)[:, None] * [1, 1] - (d[e] == 3)[:, None] * [0, 1]
