@@ -267,16 +267,17 @@ def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     # which leaves may hold the optimum depends on their level alone (widths are powers of two
     # apart, far from the factor 4 sqrt 2 of the test): one leaf a level decides, only those kept
     # get their bounds
-    first = np.zeros(int(tree.level.max()) + 1, np.int64)
-    first[tree.level[::-1]] = np.arange(len(tree) - 1, -1, -1)  # (the last write wins: each level's first leaf)
     levels = np.flatnonzero(np.bincount(tree.level))
-    first = first[levels]
-    lo, hi = tree.bounds(first)
+    first = np.zeros(levels[-1] + 1, np.int64)
+    first[tree.level[::-1]] = np.arange(len(tree) - 1, -1, -1)  # (the last write wins: each level's first leaf)
+    lo, hi = tree.bounds(first[levels])
     width = hi - lo
     inner = 0.5 * width.min(axis=1)  # f >= this at a leaf's centre (the leaf is in the set)
     best = float(inner.max())
     bound = 4.0 * _reach(width, metric)  # on a canonical leaf: its parent holds a complement point
-    keep = np.flatnonzero(np.isin(tree.level, levels[bound > best]))
+    kept = np.zeros(levels[-1] + 1, bool)
+    kept[levels[bound > best]] = True
+    keep = np.flatnonzero(kept[tree.level])
     lo, hi = tree.bounds(keep)
     width = hi - lo
     bound = 4.0 * _reach(width, metric)
