@@ -243,3 +243,22 @@ def test_ragged_arrays_are_shapelys():
         _, coords, (rings, polygons, _) = shapely.to_ragged_array([geometry])
         got = _ragged(geometry)
         assert all(np.array_equal(g, w) for g, w in zip(got, (coords, rings, polygons), strict=True))
+
+
+def test_cycles_of_random_permutations():
+    """outline._cycles (pointer doubling) against walking each cycle from its smallest element:
+    random permutations with fixed points, short and long cycles."""
+    from fivebar_cli.paving.outline import _cycles
+
+    rng = np.random.default_rng(3)
+    for n in [1, 2, 3, 7, 64, 300] + [int(v) for v in rng.integers(1, 500, 20)]:
+        succ = rng.permutation(n)
+        ring, position = _cycles(succ)
+        want_ring, want_position = np.full(n, -1), np.full(n, -1)
+        for root in range(n):
+            if want_ring[root] >= 0:
+                continue
+            i, k = root, 0
+            while want_ring[i] < 0:
+                want_ring[i], want_position[i], i, k = root, k, succ[i], k + 1
+        assert ring.tolist() == want_ring.tolist() and position.tolist() == want_position.tolist()

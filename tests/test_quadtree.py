@@ -677,3 +677,21 @@ def test_morton_codes_bit_by_bit(dim, deepest):
     for lev in (0, 1, deepest):  # one level for every cell, as the engine and the trees call them
         same = coords >> (level[:, None] - np.minimum(level, lev)[:, None])
         assert deinterleave(interleave(same, lev), lev, dim).tolist() == same.tolist()
+
+
+def test_trailing_zeros_and_floor_log2_against_python_ints():
+    """morton.floor_log2 / trailing_zeros (float64 exponent bits) against int.bit_length, for every
+    cap a grid allows (0..52), at 0, powers of two, their neighbours and random values below 2^cap."""
+    from fivebar_cli.paving.morton import floor_log2, trailing_zeros
+
+    rng = np.random.default_rng(7)
+    for cap in range(53):
+        top = 1 << cap
+        x = np.unique(np.concatenate([[0, top - 1], [1 << b for b in range(cap)], [(1 << b) + 1 for b in range(cap)],
+                                      [(1 << b) - 1 for b in range(1, cap + 1)],
+                                      rng.integers(0, top, 50) if cap else []]).astype(np.int64))
+        x = x[x < top]
+        want = [cap if v == 0 else (v & -v).bit_length() - 1 for v in x.tolist()]
+        assert trailing_zeros(x, cap).tolist() == want
+        positive = x[x > 0]
+        assert floor_log2(positive).tolist() == [v.bit_length() - 1 for v in positive.tolist()]

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+import functools
 import math
 
 import numpy as np
@@ -115,9 +116,7 @@ class _Obstacles:
         n = 1 << BUCKET_LEVEL
         self.bucket_width = grid.size / n
         fine = np.flatnonzero(level >= BUCKET_LEVEL)
-        ij = coords[fine] >> (level[fine] - BUCKET_LEVEL)[:, None]
-        fine_bucket = (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
-        del ij
+        fine_bucket = _bucket_of_code()[self.cells.code[fine] >> (2 * (level[fine] - BUCKET_LEVEL))]
         coarse = np.flatnonzero((level >= BIG_LEVEL) & (level < BUCKET_LEVEL))
         span = 1 << (BUCKET_LEVEL - level[coarse])  # buckets a side
         count = span * span
@@ -236,6 +235,15 @@ class _Obstacles:
         return unique(cell[d <= radius])  # (a cell may sit in several buckets)
 
 
+@functools.cache
+def _bucket_of_code() -> np.ndarray:
+    """The bucket number (column by column) of each cell of level BUCKET_LEVEL, by its Morton code:
+    a fine cell's bucket is its ancestor's code looked up (no coordinates gathered)."""
+    n = 1 << BUCKET_LEVEL
+    ij = deinterleave(np.arange(n * n), BUCKET_LEVEL, 2)
+    return (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
+
+
 def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:
     """The distance ("l2" or "linf") from points (cx, cy) to cells [x0, x1] x [y0, y1], in floats
     (0 inside a cell); the arrays broadcast (every centre against every cell)."""
@@ -259,13 +267,17 @@ def _search(tree: Tree, metric: str, obstacles: "_Obstacles | None" = None):
     # which leaves may hold the optimum depends on their level alone (widths are powers of two
     # apart, far from the factor 4 sqrt 2 of the test): one leaf a level decides, only those kept
     # get their bounds
-    levels, first = np.unique(tree.level, return_index=True)
-    lo, hi = tree.bounds(first)
+    levels = np.flatnonzero(np.bincount(tree.level))
+    first = np.zeros(levels[-1] + 1, np.int64)
+    first[tree.level[::-1]] = np.arange(len(tree) - 1, -1, -1)  # (the last write wins: each level's first leaf)
+    lo, hi = tree.bounds(first[levels])
     width = hi - lo
     inner = 0.5 * width.min(axis=1)  # f >= this at a leaf's centre (the leaf is in the set)
     best = float(inner.max())
     bound = 4.0 * _reach(width, metric)  # on a canonical leaf: its parent holds a complement point
-    keep = np.flatnonzero(np.isin(tree.level, levels[bound > best]))
+    kept = np.zeros(levels[-1] + 1, bool)
+    kept[levels[bound > best]] = True
+    keep = np.flatnonzero(kept[tree.level])
     lo, hi = tree.bounds(keep)
     width = hi - lo
     bound = 4.0 * _reach(width, metric)

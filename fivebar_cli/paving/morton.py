@@ -75,14 +75,20 @@ def finest_order(code: np.ndarray, level: np.ndarray | int, dim: int, depth: int
 
 
 def floor_log2(x: np.ndarray) -> np.ndarray:
-    """floor(log2(x)) for positive integers below 2**53 (exact through frexp)."""
-    return np.frexp(x.astype(np.float64))[1].astype(np.int64) - 1
+    """floor(log2(x)) for positive integers below 2**53: the exponent bits of their (exact)
+    float64 values."""
+    out = np.asarray(x).astype(np.float64).view(np.int64)
+    out >>= 52
+    out -= 1023
+    return out
 
 
 def trailing_zeros(x: np.ndarray, cap: int) -> np.ndarray:
-    """Number of trailing zero bits of non-negative int64 values (x == 0 gives `cap`)."""
-    low = x & -x
-    return np.where(x == 0, cap, floor_log2(np.where(x == 0, 1, low)))
+    """Number of trailing zero bits of int64 values in [0, 2**cap), cap <= 52 (x == 0 gives
+    `cap`): the lowest set bit of x | 2**cap, by `floor_log2`."""
+    low = x | (np.int64(1) << cap)
+    low &= -low
+    return floor_log2(low)
 
 
 def aligned_blocks(a: np.ndarray, b: np.ndarray, dim: int, depth: int):

@@ -90,10 +90,11 @@ def _directed_edges(tree: Tree):
     """The boundary as maximal straight segments directed with the set on their left: start and
     end points (n, 2) and directions (0..3, `_STEP`), in depth-D lattice units.
 
-    On each lattice line, the leaves' sides facing one way minus those facing the other way: one
-    sort of the sides' ends, in place (memory: a few words a leaf, not its unit edges)."""
+    On each lattice line, the leaves' sides facing one way minus those facing the other way
+    (`_only_one`: memory of a few words a leaf, not its unit edges)."""
     depth = tree.grid.depth
-    span = np.int64(1) << (depth - tree.level)
+    size = depth - tree.level  # a leaf's side: 2^size lattice units
+    span = np.int64(1) << size
     lo = tree.coords
     lo *= span[:, None]
     hi = lo + span[:, None]
@@ -103,7 +104,7 @@ def _directed_edges(tree: Tree):
     for axis in (0, 1):  # sides along x (horizontal lines y = const), then along y
         other = 1 - axis
         # the low sides of the leaves (the set beyond them) and their high sides (the set before)
-        sides = _only_one(lo[:, other] * width, hi[:, other] * width, lo[:, axis], hi[:, axis])
+        sides = _only_one(lo[:, other] * width, hi[:, other] * width, lo[:, axis], size)
         for (start, end), forward in zip(sides, (axis == 0, axis == 1)):
             line, a, b = start // width, start % width, end - (start // width) * width
             first, last = (a, b) if forward else (b, a)
@@ -117,19 +118,31 @@ def _directed_edges(tree: Tree):
 _TAG = np.array([1, -1, 2, -2], np.int8)  # an end's change of state: entering a, leaving a, entering b, leaving b
 
 
-def _only_one(line_a: np.ndarray, line_b: np.ndarray, start: np.ndarray, end: np.ndarray):
-    """Two unions of disjoint intervals of non-negative keys below 2^60, a: [line_a + start,
-    line_a + end) and b: [line_b + start, line_b + end): the maximal intervals of a minus b and of b
-    minus a, sorted. One sort of every end, tagged with what it changes: the state (in a) + 2 (in
-    b) is their running sum between consecutive ends (int8: 0..3)."""
+def _only_one(line_a: np.ndarray, line_b: np.ndarray, start: np.ndarray, size: np.ndarray):
+    """Two unions of disjoint intervals of non-negative keys below 2^53, a: [line_a + start,
+    line_a + start + 2^size) and b: [line_b + start, line_b + start + 2^size) (0 <= size < 64):
+    the maximal intervals of a minus b and of b minus a, sorted. Each family sorted by its starts
+    (its sizes in the low bits; disjoint, so its ends come in the same order), then the four sorted
+    runs of ends, tagged with what they change, merged by one sort: the state (in a) + 2 (in b) is
+    their running sum between consecutive ends (int8: 0..3; the ends at one key in any order)."""
     n = len(start)
     events = np.empty(4 * n, np.int64)
-    for k, (line, pos) in enumerate(((line_a, start), (line_a, end), (line_b, start), (line_b, end))):
-        part = events[k * n:(k + 1) * n]
-        np.add(line, pos, out=part)
-        part <<= 2
-        part |= k
-    events.sort(kind="stable")  # sorted runs: merged
+    for k, line in enumerate((line_a, line_b)):
+        keys = line + start
+        keys <<= 6
+        keys |= size
+        keys.sort(kind="stable")  # (faster here than numpy's quicksort)
+        first, last = events[2 * k * n:(2 * k + 1) * n], events[(2 * k + 1) * n:(2 * k + 2) * n]
+        np.right_shift(keys, 6, out=first)
+        keys &= 63
+        np.left_shift(1, keys, out=keys)
+        np.add(first, keys, out=last)
+        first <<= 2
+        first |= 2 * k
+        last <<= 2
+        last |= 2 * k + 1
+        del keys
+    events.sort(kind="stable")  # four sorted runs: merged
     state = np.cumsum(_TAG[np.bitwise_and(events, 3, dtype=np.int8, casting="unsafe")], dtype=np.int8)
     events >>= 2  # the ends' keys
     step = events[1:] > events[:-1]  # elementary intervals [events[i], events[i + 1]) of positive length
@@ -178,11 +191,11 @@ def boundary_rings(tree: Tree):
     pred[succ] = np.arange(n_edges)
     corner = pinch | (d != d[pred])
     keep = np.flatnonzero(corner)
-    keep = keep[np.lexsort((position[keep], ring[keep]))]
+    keep = keep[np.argsort(ring[keep] * n_edges + position[keep], kind="stable")]  # by ring, then along it
     points, point_ring, point_pinch = start[keep], ring[keep], pinch[keep]
-    _, ring_index = np.unique(point_ring, return_inverse=True)
-    first_edge = np.zeros(ring_index.max() + 1, np.int64)
-    first_edge[ring_index[::-1]] = keep[::-1]
+    first = np.r_[True, point_ring[1:] != point_ring[:-1]]  # each ring's first point
+    ring_index = np.cumsum(first) - 1
+    first_edge = keep[first]
     # the cell on the left of each ring's first edge, at its start: the leaf holding it
     e = first_edge
     cell = start[e] - (d[e] == 1)[:, None] * [1, 0] - (d[e] == 2)[:, None] * [1, 1] - (d[e] == 3)[:, None] * [0, 1]
@@ -192,23 +205,21 @@ def boundary_rings(tree: Tree):
 
 def _cycles(succ: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The cycles of a permutation: each element's cycle (named by its smallest element) and its
-    position along the cycle from there, by pointer doubling (no loop over elements)."""
+    position along the cycle from there, by pointer doubling (no loop over elements): over windows
+    of 2^k steps ahead, the least element and how many steps ahead it first comes."""
     n = len(succ)
-    low, jump = np.minimum(np.arange(n), succ), succ[succ]
-    while True:  # low: the minimum over 2^k steps; once no window lowers it, it is the cycle's minimum
-        new_low = np.minimum(low, low[jump])
+    low = np.minimum(np.arange(n), succ)
+    ahead = (succ < np.arange(n)).astype(np.int64)  # steps to the window's least element
+    jump, span = succ[succ], 2
+    while True:  # once no window lowers its minimum, that is the cycle's minimum
+        next_low = low[jump]
+        new_low = np.minimum(low, next_low)
         if np.array_equal(new_low, low):
             break
-        low, jump = new_low, jump[jump]
-    # distance to the cycle's last element (the root's predecessor), on the cycle cut there
-    last = succ == low
-    nxt = np.where(last, np.arange(n), succ)
-    dist = (~last).astype(np.int64)
-    while not np.array_equal(nxt[nxt], nxt):
-        dist = dist + dist[nxt]
-        nxt = nxt[nxt]
+        ahead = np.where(low <= next_low, ahead, ahead[jump] + span)
+        low, jump, span = new_low, jump[jump], 2 * span
     length = np.bincount(low, minlength=n)[low]
-    return low, length - 1 - dist
+    return low, (length - ahead) % length
 
 
 def _split_at_repeats(points, ring, pinch, ring_leaf, m):
