@@ -10,7 +10,7 @@ import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from fivebar_cli.analyses.aspects import _free_modes, _largest_leaf, _region, _space_task, link_points, link_samples
+from fivebar_cli.analyses.aspects import DENSE, SMALL_PIECE, _free_modes, _largest_leaf, _region, _space_task, link_points, link_samples
 from fivebar_cli.analyses.pieces import ModeSet, _near
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.paving.grid import Grid
@@ -142,3 +142,24 @@ def test_link_points_are_the_images_located_one_by_one(regions):
             leaf = region.tree.locate(points)
             assert np.array_equal(s.anchor_of_leaf[leaf], owners)
     assert checked > 1000
+
+
+def test_link_samples_are_the_leaves_centres(regions):
+    """link_samples (centres built axis by axis from integer coordinates): bit for bit the centres
+    0.5 (lo + hi) of Tree.bounds of the large anchors' leaves, then a DENSE x DENSE grid in the
+    small anchors' leaves, with the anchor of each."""
+    sizes = set()
+    for _, region, sets in regions:
+        for s in sets:
+            points, owners = link_samples(s)
+            mine, anchor = s.black_leaves, s.leaf_anchors
+            small = s.anchor_size[anchor] <= SMALL_PIECE
+            lo, hi = region.tree.bounds(mine)
+            g = (np.arange(DENSE) + 0.5) / DENSE
+            offsets = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+            dense = (lo[small, None, :] + offsets[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
+            expected = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
+            assert points.shape == expected.shape and points.tobytes() == expected.tobytes()  # (bit for bit)
+            assert np.array_equal(owners, np.concatenate([anchor[~small], np.repeat(anchor[small], DENSE * DENSE)]))
+            sizes |= {bool(small.any()), bool((~small).any())}
+    assert sizes == {True, False}  # both kinds of anchors were sampled
