@@ -11,7 +11,7 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from fivebar_cli.analyses.aspects import DENSE, SMALL_PIECE, _free_modes, _largest_leaf, _region, _space_task, link_points, link_samples
-from fivebar_cli.analyses.pieces import ModeSet, _near
+from fivebar_cli.analyses.pieces import ModeSet, _integer_boxes, _near
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree, union_find, union_find_blocks
@@ -163,3 +163,24 @@ def test_link_samples_are_the_leaves_centres(regions):
             assert np.array_equal(owners, np.concatenate([anchor[~small], np.repeat(anchor[small], DENSE * DENSE)]))
             sizes |= {bool(small.any()), bool((~small).any())}
     assert sizes == {True, False}  # both kinds of anchors were sampled
+
+
+def test_cells_of_a_part_are_the_selected_cells_with_their_boxes(regions):
+    """ModeSet._cells_of(part, boxes=True) (built from the part alone, the undetermined cells'
+    boxes from their coordinates): the same cells as `cells.select(part)`, their integer boxes
+    as `_integer_boxes` of their codes, and each black cell's anchor as `anchor_of_leaf`."""
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _, region, sets in regions[:10]:
+        for s in sets:
+            cells = s.cells
+            for part in (s.outer == 0, rng.random(len(cells.level)) < 0.3):
+                got, (lo, hi, anchors) = s._cells_of(part, boxes=True)
+                want = cells.select(part)
+                for field in ("level", "code", "black", "leaf"):
+                    assert np.array_equal(getattr(got, field), getattr(want, field)), field
+                want_lo, want_hi = _integer_boxes(s.grid, want.level, want.code)
+                assert np.array_equal(lo, want_lo) and np.array_equal(hi, want_hi)
+                assert np.array_equal(anchors, s.anchor_of_leaf[want.leaf[want.black]])
+                checked += len(want.level)
+    assert checked > 1000

@@ -147,13 +147,27 @@ class ModeSet:
         """The set's cells: its black leaves, then its undetermined cells. Built when asked (for
         refinement, partners): kept for every mode set through a whole analysis, they would be
         most of its memory."""
+        return self._cells_of()[0]
+
+    def _cells_of(self, part: np.ndarray | None = None, boxes: bool = False):
+        """The set's cells (`cells`), or those of the mask `part` over them only (built without
+        the others); with `boxes`, also their integer boxes (`_integer_boxes`: the undetermined
+        cells' straight from their coordinates) and the anchor of each black cell."""
         paving, grid = self.region.paving, self.grid
-        fits = np.unpackbits(self._fits, count=self._cells).view(bool)
-        mine, und = self.black_leaves, paving.undetermined[fits]
+        mine, anchors = self.black_leaves, self.leaf_anchors
+        und = np.flatnonzero(np.unpackbits(self._fits, count=self._cells))
+        if part is not None:
+            mine, anchors, und = mine[part[:len(mine)]], anchors[part[:len(mine)]], und[part[len(mine):]]
+        und = paving.undetermined[und]
         level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
         code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
-        return CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
+        cells = CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
+        if not boxes:
+            return cells, None
+        lo, hi = _integer_boxes(grid, level[:len(mine)], code[:len(mine)])
+        und = und.astype(np.int64, copy=False)
+        return cells, (np.concatenate([lo, und]), np.concatenate([hi, und + 1]), anchors)
 
     def _outer_components(self, mine: np.ndarray, fits: np.ndarray, anchors: np.ndarray) -> tuple[np.ndarray, int]:
         """Components of the outer set (black leaves `mine`, undetermined cells `fits`), from the
@@ -187,7 +201,7 @@ class ModeSet:
         return self.region.tree.subset(self.black_leaves[self.leaf_anchors == anchor])
 
     def outer_cells(self, o: int) -> CellSet:
-        return self.cells.select(self.outer == o)
+        return self._cells_of(self.outer == o)[0]
 
     def anchors_in(self, o: int) -> np.ndarray:
         return np.flatnonzero(self.anchor_outer == o)
@@ -225,11 +239,10 @@ class ModeSet:
         sizes = {g: self.anchor_size[anchors[groups == g]].sum() for g in unique(groups)}
         biggest = max(sizes, key=lambda g: (sizes[g], -g))
         small = anchors[groups != biggest]
-        cells = self.outer_cells(o)
+        cells, (cell_lo, cell_hi, cell_anchor) = self._cells_of(self.outer == o, boxes=True)
         grid = cells.grid
-        black_leaf, anchor_of_leaf = self.black_leaves, self.anchor_of_leaf
-        leaves = self.region.tree
-        cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
+        targets = np.isin(cell_anchor, small)  # (the black cells come first)
+        t_lo, t_hi = cell_lo[:len(targets)][targets], cell_hi[:len(targets)][targets]
         found = []
         for extra, radius in JOIN_STEPS:
             if budget.left <= 0 or grid.depth + extra > MAX_INDEX_BITS // grid.dim:
@@ -237,8 +250,6 @@ class ModeSet:
             if radius is None:
                 near, window = ~cells.black, cells.black
             else:
-                targets = np.isin(self.leaf_anchors, small)
-                t_lo, t_hi = _integer_boxes(grid, leaves.level[black_leaf[targets]], leaves.code[black_leaf[targets]])
                 near = ~cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
                 window = cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
             if not near.any():
@@ -249,7 +260,7 @@ class ModeSet:
             labels, _ = components(local, local.black)
             # the window's anchors, located by their cells' first depth index in the refined set
             old = cells.select(window)
-            old_anchor = anchor_of_leaf[old.leaf]
+            old_anchor = cell_anchor[window[:len(cell_anchor)]]  # (the window's cells are black)
             black_local = local.select(local.black)
             where = _position(black_local, old.level, old.code)
             owner = labels[where]
@@ -266,13 +277,11 @@ class ModeSet:
         the window (the ring: outer cells touching a window cell), no outer path leaves the window
         from it, so it is a whole outer component and holds no other group's anchor, unless the
         refined part itself holds one."""
-        cells = self.outer_cells(o)
+        cells, (cell_lo, cell_hi, cell_anchor) = self._cells_of(self.outer == o, boxes=True)
         grid = cells.grid
-        leaves = self.region.tree
         anchor_of_leaf = self.anchor_of_leaf
-        members = self.black_leaves[np.isin(self.leaf_anchors, group)]
-        g_lo, g_hi = _integer_boxes(grid, leaves.level[members], leaves.code[members])
-        cell_lo, cell_hi = _integer_boxes(grid, cells.level, cells.code)
+        members = np.isin(cell_anchor, group)  # (the group's anchors are in o; black cells first)
+        g_lo, g_hi = cell_lo[:len(members)][members], cell_hi[:len(members)][members]
         for extra, radius in JOIN_STEPS:
             if radius is None or budget.left <= 0 or grid.depth + extra > MAX_INDEX_BITS // grid.dim:
                 return False
