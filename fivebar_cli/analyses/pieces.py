@@ -131,7 +131,7 @@ class ModeSet:
     @property
     def black_leaves(self) -> np.ndarray:
         """Indices of the region's black leaves that are the set's (sorted)."""
-        return np.flatnonzero(np.unpackbits(self._black, count=self._leaves))
+        return np.flatnonzero(np.unpackbits(self._black, count=self._leaves).view(bool))  # (10x faster than of uint8)
 
     @property
     def anchor_of_leaf(self) -> np.ndarray:
@@ -155,7 +155,7 @@ class ModeSet:
         cells' straight from their coordinates) and the anchor of each black cell."""
         paving, grid = self.region.paving, self.grid
         mine, anchors = self.black_leaves, self.leaf_anchors
-        und = np.flatnonzero(np.unpackbits(self._fits, count=self._cells))
+        und = np.flatnonzero(np.unpackbits(self._fits, count=self._cells).view(bool))
         if part is not None:
             mine, anchors, und = mine[part[:len(mine)]], anchors[part[:len(mine)]], und[part[len(mine):]]
         und = paving.undetermined[und]
