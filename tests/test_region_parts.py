@@ -166,16 +166,18 @@ def test_link_samples_are_the_leaves_centres(regions):
 
 
 def test_cells_of_a_part_are_the_selected_cells_with_their_boxes(regions):
-    """ModeSet._cells_of(part, boxes=True) (built from the part alone, the undetermined cells'
-    boxes from their coordinates): the same cells as `cells.select(part)`, their integer boxes
-    as `_integer_boxes` of their codes, and each black cell's anchor as `anchor_of_leaf`."""
+    """ModeSet._parts(part) and _cell_set (a part's cells built from it alone) and _boxes (the
+    undetermined cells' boxes from their coordinates): the same cells as `cells.select(part)`,
+    their integer boxes as `_integer_boxes` of their codes, each black cell's anchor as
+    `anchor_of_leaf`."""
     rng = np.random.default_rng(7)
     checked = 0
     for _, region, sets in regions[:10]:
         for s in sets:
             cells = s.cells
             for part in (s.outer == 0, rng.random(len(cells.level)) < 0.3):
-                got, (lo, hi, anchors) = s._cells_of(part, boxes=True)
+                mine, anchors, und = s._parts(part)
+                got, (lo, hi) = s._cell_set(mine, und), s._boxes(mine, und)
                 want = cells.select(part)
                 for field in ("level", "code", "black", "leaf"):
                     assert np.array_equal(getattr(got, field), getattr(want, field)), field

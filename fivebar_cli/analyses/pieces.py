@@ -147,27 +147,33 @@ class ModeSet:
         """The set's cells: its black leaves, then its undetermined cells. Built when asked (for
         refinement, partners): kept for every mode set through a whole analysis, they would be
         most of its memory."""
-        return self._cells_of()[0]
+        mine, _, und = self._parts()
+        return self._cell_set(mine, und)
 
-    def _cells_of(self, part: np.ndarray | None = None, boxes: bool = False):
-        """The set's cells (`cells`), or those of the mask `part` over them only (built without
-        the others); with `boxes`, also their integer boxes (`_integer_boxes`: the undetermined
-        cells' straight from their coordinates) and the anchor of each black cell."""
-        paving, grid = self.region.paving, self.grid
+    def _parts(self, part: np.ndarray | None = None):
+        """The set's black leaves, their anchors and its undetermined cells' coordinates (`cells`
+        in pieces), or those of the mask `part` over its cells only."""
         mine, anchors = self.black_leaves, self.leaf_anchors
         und = np.flatnonzero(np.unpackbits(self._fits, count=self._cells).view(bool))
         if part is not None:
             mine, anchors, und = mine[part[:len(mine)]], anchors[part[:len(mine)]], und[part[len(mine):]]
-        und = paving.undetermined[und]
-        level = np.concatenate([paving.inside.level[mine], np.full(len(und), grid.depth, np.int64)])
-        code = np.concatenate([paving.inside.code[mine], _codes(und, grid.depth)])
+        return mine, anchors, self.region.paving.undetermined[und]
+
+    def _cell_set(self, mine: np.ndarray, und: np.ndarray) -> CellSet:
+        """Black leaves `mine` of the region's paving, then undetermined cells `und` (coordinates)."""
+        inside, depth = self.region.paving.inside, self.grid.depth
+        level = np.concatenate([inside.level[mine], np.full(len(und), depth, np.int64)])
+        code = np.concatenate([inside.code[mine], _codes(und, depth)])
         black = np.concatenate([np.ones(len(mine), bool), np.zeros(len(und), bool)])
-        cells = CellSet(grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
-        if not boxes:
-            return cells, None
-        lo, hi = _integer_boxes(grid, level[:len(mine)], code[:len(mine)])
+        return CellSet(self.grid, level, code, black, np.concatenate([mine, np.full(len(und), -1, np.int64)]))
+
+    def _boxes(self, mine: np.ndarray, und: np.ndarray):
+        """The integer boxes (`_integer_boxes`) of `_cell_set(mine, und)`'s cells, the undetermined
+        cells' straight from their coordinates (not interleaved, then deinterleaved)."""
+        inside = self.region.paving.inside
+        lo, hi = _integer_boxes(self.grid, inside.level[mine], inside.code[mine])
         und = und.astype(np.int64, copy=False)
-        return cells, (np.concatenate([lo, und]), np.concatenate([hi, und + 1]), anchors)
+        return np.concatenate([lo, und]), np.concatenate([hi, und + 1])
 
     def _outer_components(self, mine: np.ndarray, fits: np.ndarray, anchors: np.ndarray) -> tuple[np.ndarray, int]:
         """Components of the outer set (black leaves `mine`, undetermined cells `fits`), from the
@@ -201,7 +207,8 @@ class ModeSet:
         return self.region.tree.subset(self.black_leaves[self.leaf_anchors == anchor])
 
     def outer_cells(self, o: int) -> CellSet:
-        return self._cells_of(self.outer == o)[0]
+        mine, _, und = self._parts(self.outer == o)
+        return self._cell_set(mine, und)
 
     def anchors_in(self, o: int) -> np.ndarray:
         return np.flatnonzero(self.anchor_outer == o)
@@ -239,28 +246,32 @@ class ModeSet:
         sizes = {g: self.anchor_size[anchors[groups == g]].sum() for g in unique(groups)}
         biggest = max(sizes, key=lambda g: (sizes[g], -g))
         small = anchors[groups != biggest]
-        cells, (cell_lo, cell_hi, cell_anchor) = self._cells_of(self.outer == o, boxes=True)
-        grid = cells.grid
-        targets = np.isin(cell_anchor, small)  # (the black cells come first)
-        t_lo, t_hi = cell_lo[:len(targets)][targets], cell_hi[:len(targets)][targets]
+        # the outer component's cells as pieces (black leaves first), made cells where selected
+        mine, cell_anchor, und = self._parts(self.outer == o)
+        cell_lo, cell_hi = self._boxes(mine, und)
+        grid, n = self.grid, len(mine)
+        black = np.arange(len(cell_lo)) < n
+        targets = np.isin(cell_anchor, small)
+        t_lo, t_hi = cell_lo[:n][targets], cell_hi[:n][targets]
         found = []
         for extra, radius in JOIN_STEPS:
             if budget.left <= 0 or grid.depth + extra > MAX_INDEX_BITS // grid.dim:
                 break
             if radius is None:
-                near, window = ~cells.black, cells.black
+                near, window = ~black, black
             else:
-                near = ~cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
-                window = cells.black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
+                near = ~black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
+                window = black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
             if not near.any():
                 break
-            local = self._deeper(cells.select(near | window), extra, budget)
+            chosen = near | window
+            local = self._deeper(self._cell_set(mine[chosen[:n]], und[chosen[n:]]), extra, budget)
             if local is None:
                 continue
             labels, _ = components(local, local.black)
             # the window's anchors, located by their cells' first depth index in the refined set
-            old = cells.select(window)
-            old_anchor = cell_anchor[window[:len(cell_anchor)]]  # (the window's cells are black)
+            old = self._cell_set(mine[window[:n]], und[:0])  # (the window's cells are black)
+            old_anchor = cell_anchor[window[:n]]
             black_local = local.select(local.black)
             where = _position(black_local, old.level, old.code)
             owner = labels[where]
@@ -277,7 +288,8 @@ class ModeSet:
         the window (the ring: outer cells touching a window cell), no outer path leaves the window
         from it, so it is a whole outer component and holds no other group's anchor, unless the
         refined part itself holds one."""
-        cells, (cell_lo, cell_hi, cell_anchor) = self._cells_of(self.outer == o, boxes=True)
+        mine, cell_anchor, und = self._parts(self.outer == o)
+        cells, (cell_lo, cell_hi) = self._cell_set(mine, und), self._boxes(mine, und)
         grid = cells.grid
         anchor_of_leaf = self.anchor_of_leaf
         members = np.isin(cell_anchor, group)  # (the group's anchors are in o; black cells first)
