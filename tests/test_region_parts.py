@@ -186,3 +186,28 @@ def test_cells_of_a_part_are_the_selected_cells_with_their_boxes(regions):
                 assert np.array_equal(anchors, s.anchor_of_leaf[want.leaf[want.black]])
                 checked += len(want.level)
     assert checked > 1000
+
+
+@pytest.mark.parametrize("stride", [16, 61])
+def test_pairs_of_a_set_are_the_links_of_all_its_samples(regions, stride, monkeypatch):
+    """_pairs_of (into a set of one anchor: a sparse stride of samples mapped first, the others
+    only for the anchors left without a pair): the same pairs as link_pairs of every sample's
+    image (`link_points`), on M1 and random five-bars; the wider stride leaves many anchors
+    without a sample in the first pass."""
+    from fivebar_cli.analyses import aspects
+    from fivebar_cli.analyses.aspects import _linked_to, _pairs_of, link_pairs
+    monkeypatch.setattr(aspects, "LINK_STRIDE", stride)
+    by_model: dict = {}
+    for m, _, sets in regions:
+        by_model.setdefault(m.name, (m, []))[1].extend(sets)
+    pruned = 0
+    for m, sets in by_model.values():
+        model = m.aspect_model()
+        for k, s in enumerate(sets):
+            for j in _linked_to(sets, k):
+                t = sets[j]
+                want = link_pairs(t, *link_points(model, s, t.grid))
+                got = _pairs_of(model, s, t)
+                assert got.dtype == want.dtype and np.array_equal(got, want)
+                pruned += t.n_anchors == 1 and len(link_samples(s)[0]) >= 4 * stride and len(want) > 0
+    assert pruned >= 3
