@@ -257,3 +257,38 @@ def triangle_angle_range(side_lo, side_hi, adjacent, opposite):
     cmin = np.where(np.isnan(cmin), -1.0, cmin)
     cmax = np.where(np.isnan(cmax), 1.0, cmax)
     return np.arccos(np.clip(cmax, -1, 1)), np.arccos(np.clip(cmin, -1, 1))
+
+
+# ---------------------------------------------------------------- mechanisms/fivebar/kinematics.py
+
+
+def ikp(m, x, y, working):
+    """kinematics.ikp as it was before the seventh pass (temporaries, np.where and np.clip)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    su, sv = working
+    m1 = np.hypot(x, y)
+    m2 = np.hypot(x - m.L0, y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c1 = (m.L1**2 + m1 * m1 - m.L3**2) / (2.0 * m.L1 * m1)
+        c2 = (m.L2**2 + m2 * m2 - m.L4**2) / (2.0 * m.L2 * m2)
+    ok = (m1 > 0) & (m2 > 0) & (np.abs(c1) <= 1) & (np.abs(c2) <= 1)
+    th1 = np.arctan2(y, x) - su * np.arccos(np.clip(np.where(ok, c1, 0.0), -1, 1))
+    th2 = np.arctan2(y, x - m.L0) - sv * np.arccos(np.clip(np.where(ok, c2, 0.0), -1, 1))
+    return np.where(ok, wrap_angle(th1), np.nan), np.where(ok, wrap_angle(th2), np.nan), ok
+
+
+def dkp(m, th1, th2, assembly):
+    """kinematics.dkp as it was before the seventh pass (the cranks as stacked points)."""
+    th1, th2 = np.asarray(th1, float), np.asarray(th2, float)
+    b1 = np.stack([m.L1 * np.cos(th1), m.L1 * np.sin(th1)], axis=-1)
+    b2 = np.stack([m.L0 + m.L2 * np.cos(th2), m.L2 * np.sin(th2)], axis=-1)
+    diff = b2 - b1
+    d = np.hypot(diff[..., 0], diff[..., 1])
+    beta = np.arctan2(diff[..., 1], diff[..., 0])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = (d * d + m.L3**2 - m.L4**2) / (2.0 * m.L3 * d)
+    ok = (d > 0) & (d <= m.L3 + m.L4) & (d >= abs(m.L3 - m.L4))
+    alpha = np.arccos(np.clip(np.where(ok, c, 0.0), -1.0, 1.0))
+    angle = beta + assembly * alpha
+    p = b1 + m.L3 * np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+    return np.where(ok[..., None], p, np.nan), ok

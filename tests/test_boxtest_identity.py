@@ -219,3 +219,43 @@ def test_centred_corner_angles_are_bit_identical():
     near = np.clip(near, -pi, pi)  # offsets within +-pi only: no remainder corrections needed
     assert same(_centred(near.copy(), c[:20000]), ref.wrap_angle(near - c[:20000]))
     assert _centred(np.zeros(0), np.zeros(0)).shape == (0,)
+
+
+def test_ikp_and_dkp_are_bit_identical():
+    """The IKP and DKP computed in place, coordinate by coordinate (the certificate's links map every
+    black leaf's centre through them), against the frozen code: random five-bars (and one with
+    equal links, where B1 = B2 happens), points and angles of every shape, on the edges too (P at
+    A1 or A2, B1 = B2, scalars, broadcast operands)."""
+    from fivebar_cli.mechanisms.fivebar import kinematics as kin
+    rng = np.random.default_rng(22)
+    designs = [FiveBar("m1", 9, 8, 5, 5, 8), FiveBar("equal", 1, 1, 1, 1, 1)]
+    designs += [FiveBar(f"r{k}", *(float(v) for v in rng.uniform(0.2, 3, 5))) for k in range(8)]
+    for m in designs:
+        for shape in [(), (400,), (6, 7)]:
+            th1, th2 = rng.uniform(-4, 4, shape), rng.uniform(-4, 4, shape)
+            x, y = (rng.uniform(-1, 1, shape) * kin.scale(m) for _ in range(2))
+            if shape == (400,):
+                th2[100:300] = _crank_angles_at(m, th1[100:300], m.L3 + m.L4, np.arange(200) % 41 - 20)
+                th2[300:] = _crank_angles_at(m, th1[300:], abs(m.L3 - m.L4), np.arange(100) % 41 - 20)
+                th1[:4] = th2[:4] = 0.0  # (B1 = B2 for the equal links)
+                x[4:6], y[4:6] = (0.0, m.L0), 0.0  # P at A1, at A2
+            for assembly in (1, -1):
+                assert all(same(g, w) for g, w in zip(kin.dkp(m, th1, th2, assembly), ref.dkp(m, th1, th2, assembly), strict=True))
+                assert all(same(g, w) for g, w in zip(kin.dkp(m, th1, 0.5, assembly), ref.dkp(m, th1, 0.5, assembly), strict=True))
+                crank_points = kin.cranks(m, th1, th2)
+                assert all(same(g, w) for g, w in zip(kin.dkp(m, th1, th2, assembly, crank_points),
+                                                      ref.dkp(m, th1, th2, assembly), strict=True))
+            for working in [(1, 1), (1, -1), (-1, 1), (-1, -1)]:
+                assert all(same(g, w) for g, w in zip(kin.ikp(m, x, y, working), ref.ikp(m, x, y, working), strict=True))
+                assert all(same(g, w) for g, w in zip(kin.ikp(m, x, -0.25, working), ref.ikp(m, x, -0.25, working), strict=True))
+
+
+def _crank_angles_at(m, th1, distance: float, ulps: np.ndarray) -> np.ndarray:
+    """Angles th2 (a few ulps off) where |B1B2| = distance, the ends of the DKP's domain, where the
+    cosine of the coupler's angle rounds to just above 1 (NaN where no such angle exists)."""
+    wx, wy = m.L0 - m.L1 * np.cos(th1), -m.L1 * np.sin(th1)  # A2 - B1
+    w = np.hypot(wx, wy)
+    k = (distance**2 - w * w - m.L2**2) / (2 * m.L2 * w)
+    with np.errstate(invalid="ignore"):
+        th2 = np.arctan2(wy, wx) + np.arccos(k)
+    return th2 * (1 + ulps * 2.0**-52)

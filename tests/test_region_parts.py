@@ -10,8 +10,8 @@ import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from fivebar_cli.analyses.aspects import _free_modes, _largest_leaf, _region, _space_task, link_points, link_samples
-from fivebar_cli.analyses.pieces import ModeSet, _near
+from fivebar_cli.analyses.aspects import DENSE, SMALL_PIECE, _free_modes, _largest_leaf, _region, _space_task, link_points, link_samples
+from fivebar_cli.analyses.pieces import ModeSet, _integer_boxes, _near
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree, union_find, union_find_blocks
@@ -142,3 +142,72 @@ def test_link_points_are_the_images_located_one_by_one(regions):
             leaf = region.tree.locate(points)
             assert np.array_equal(s.anchor_of_leaf[leaf], owners)
     assert checked > 1000
+
+
+def test_link_samples_are_the_leaves_centres(regions):
+    """link_samples (centres built axis by axis from integer coordinates): bit for bit the centres
+    0.5 (lo + hi) of Tree.bounds of the large anchors' leaves, then a DENSE x DENSE grid in the
+    small anchors' leaves, with the anchor of each."""
+    sizes = set()
+    for _, region, sets in regions:
+        for s in sets:
+            points, owners = link_samples(s)
+            mine, anchor = s.black_leaves, s.leaf_anchors
+            small = s.anchor_size[anchor] <= SMALL_PIECE
+            lo, hi = region.tree.bounds(mine)
+            g = (np.arange(DENSE) + 0.5) / DENSE
+            offsets = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
+            dense = (lo[small, None, :] + offsets[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
+            expected = np.concatenate([0.5 * (lo[~small] + hi[~small]), dense])
+            assert points.shape == expected.shape and points.tobytes() == expected.tobytes()  # (bit for bit)
+            assert np.array_equal(owners, np.concatenate([anchor[~small], np.repeat(anchor[small], DENSE * DENSE)]))
+            sizes |= {bool(small.any()), bool((~small).any())}
+    assert sizes == {True, False}  # both kinds of anchors were sampled
+
+
+def test_cells_of_a_part_are_the_selected_cells_with_their_boxes(regions):
+    """ModeSet._parts(part) and _cell_set (a part's cells built from it alone) and _boxes (the
+    undetermined cells' boxes from their coordinates): the same cells as `cells.select(part)`,
+    their integer boxes as `_integer_boxes` of their codes, each black cell's anchor as
+    `anchor_of_leaf`."""
+    rng = np.random.default_rng(7)
+    checked = 0
+    for _, region, sets in regions[:10]:
+        for s in sets:
+            cells = s.cells
+            for part in (s.outer == 0, rng.random(len(cells.level)) < 0.3):
+                mine, anchors, und = s._parts(part)
+                got, (lo, hi) = s._cell_set(mine, und), s._boxes(mine, und)
+                want = cells.select(part)
+                for field in ("level", "code", "black", "leaf"):
+                    assert np.array_equal(getattr(got, field), getattr(want, field)), field
+                want_lo, want_hi = _integer_boxes(s.grid, want.level, want.code)
+                assert np.array_equal(lo, want_lo) and np.array_equal(hi, want_hi)
+                assert np.array_equal(anchors, s.anchor_of_leaf[want.leaf[want.black]])
+                checked += len(want.level)
+    assert checked > 1000
+
+
+@pytest.mark.parametrize("stride", [16, 61])
+def test_pairs_of_a_set_are_the_links_of_all_its_samples(regions, stride, monkeypatch):
+    """_pairs_of (into a set of one anchor: a sparse stride of samples mapped first, the others
+    only for the anchors left without a pair): the same pairs as link_pairs of every sample's
+    image (`link_points`), on M1 and random five-bars; the wider stride leaves many anchors
+    without a sample in the first pass."""
+    from fivebar_cli.analyses import aspects
+    from fivebar_cli.analyses.aspects import _linked_to, _pairs_of, link_pairs
+    monkeypatch.setattr(aspects, "LINK_STRIDE", stride)
+    by_model: dict = {}
+    for m, _, sets in regions:
+        by_model.setdefault(m.name, (m, []))[1].extend(sets)
+    pruned = 0
+    for m, sets in by_model.values():
+        model = m.aspect_model()
+        for k, s in enumerate(sets):
+            for j in _linked_to(sets, k):
+                t = sets[j]
+                want = link_pairs(t, *link_points(model, s, t.grid))
+                got = _pairs_of(model, s, t)
+                assert got.dtype == want.dtype and np.array_equal(got, want)
+                pruned += t.n_anchors == 1 and len(link_samples(s)[0]) >= 4 * stride and len(want) > 0
+    assert pruned >= 3

@@ -42,11 +42,12 @@ from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, on_cells, pave_many
 from fivebar_cli.paving.arrays import unique, unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
-from fivebar_cli.paving.morton import finest_order
+from fivebar_cli.paving.morton import deinterleave, finest_order
 from fivebar_cli.paving.tree import Tree, finest_indices, union_find
 
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
 DENSE = 4  # samples per axis and leaf for small pieces
+LINK_STRIDE = 16  # into a mode set of one anchor, one sample in this many is mapped first (`_pairs_of`)
 DEFAULT_BUDGET = 1 << 21  # box evaluations local refinement may spend in one analysis (about a second)
 
 
@@ -444,8 +445,7 @@ class _Count:
             for j in others:
                 pairs = linked.get((k, j))
                 if pairs is None:
-                    links = links if links is not None else link_points(self.model, s, self.sets[j].grid)
-                    pairs = link_pairs(self.sets[j], *links)
+                    pairs = link_pairs(self.sets[j], *links) if links is not None else _pairs_of(self.model, s, self.sets[j])
                 self.edges_i += (self.offset[k] + pairs[:, 0]).tolist()
                 self.edges_j += (self.offset[j] + pairs[:, 1]).tolist()
 
@@ -559,22 +559,35 @@ def link_pairs(t: ModeSet, owners: np.ndarray, index: np.ndarray) -> np.ndarray:
 
 def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
     """Sample points of every anchor's black cells of a mode set (centres; a DENSE x DENSE grid in
-    the leaves of small anchors) and the anchor each comes from."""
+    the leaves of small anchors) and the anchor each comes from. The centres are built axis by
+    axis into one array with contiguous columns (the IKP / DKP read columns), as the same floats
+    as 0.5 * (lo + hi) of `Tree.bounds` (its cell widths from a table per level)."""
     tree = s.region.tree
+    grid = tree.grid
     mine, owner = s.black_leaves, s.leaf_anchors
-    lo, hi = tree.bounds(mine)
     small = s.anchor_size[owner] <= SMALL_PIECE
+    dense = None  # (most sets: no small anchor, no copies)
     if small.any():
+        lo, hi = tree.bounds(mine[small])
         g = (np.arange(DENSE) + 0.5) / DENSE
         grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
-        dense = (lo[small, None, :] + grid_pts[None] * (hi - lo)[small, None, :]).reshape(-1, 2)
-        big = ~small
-        lo, hi, owners = lo[big], hi[big], np.concatenate([owner[big], np.repeat(owner[small], DENSE * DENSE)])
-    else:  # (most sets: no copies)
-        dense, owners = None, owner
-    lo += hi  # the centres, 0.5 * (lo + hi), in place
-    lo *= 0.5
-    return (lo if dense is None else np.concatenate([lo, dense])), owners
+        dense = (lo[:, None, :] + grid_pts[None] * (hi - lo)[:, None, :]).reshape(-1, 2)
+        mine, owner = mine[~small], np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
+    level = tree.level[mine]
+    coords = deinterleave(tree.code[mine], level, grid.dim)
+    points = np.empty((len(mine) + (0 if dense is None else len(dense)), grid.dim), order="F")
+    levels = np.arange(int(level.max()) + 1 if len(level) else 1)
+    for axis in range(grid.dim):
+        width = np.ldexp(grid.size[axis], -levels)[level]
+        centre = points[:len(mine), axis]
+        np.multiply(coords[:, axis], width, out=centre)
+        centre += grid.lo[axis]  # lo
+        width += centre  # hi
+        centre += width  # lo + hi
+        centre *= 0.5
+    if dense is not None:
+        points[len(mine):] = dense
+    return points, owner
 
 
 def _images(model: AspectModel, s: ModeSet, points: np.ndarray):
@@ -589,8 +602,29 @@ def link_points(model: AspectModel, s: ModeSet, other: Grid) -> tuple[np.ndarray
     """What the certificate's links need of a mode set: its anchors' samples (`link_samples`) by
     anchor, and the depth-D Morton index of each sample's image in the other space's grid (-1
     where there is none). Computed in the region's task when that runs in a worker (the main
-    process then only looks the indices up), else by the certificate."""
+    process then only looks the indices up), else by the certificate (`_pairs_of`)."""
     points, owners = link_samples(s)
+    return owners, _image_indices(model, s, points, other)
+
+
+def _pairs_of(model: AspectModel, s: ModeSet, t: ModeSet) -> np.ndarray:
+    """`link_pairs(t, *link_points(model, s, t.grid))`, with fewer images when t has one anchor:
+    a sample then adds a pair only for an anchor of s that has none yet, so the samples of a
+    sparse stride are mapped first, and the others only for the anchors left without a pair
+    (the same pairs: those skipped are among the first ones)."""
+    points, owners = link_samples(s)
+    if t.n_anchors != 1 or len(points) < 4 * LINK_STRIDE:
+        return link_pairs(t, owners, _image_indices(model, s, points, t.grid))
+    first = np.zeros(len(points), bool)
+    first[::LINK_STRIDE] = True
+    found = link_pairs(t, owners[first], _image_indices(model, s, points[first], t.grid))
+    rest = ~first & ~np.isin(owners, found[:, 0])
+    more = link_pairs(t, owners[rest], _image_indices(model, s, points[rest], t.grid))
+    return unique_pairs(np.concatenate([found[:, 0], more[:, 0]]), np.concatenate([found[:, 1], more[:, 1]]))
+
+
+def _image_indices(model: AspectModel, s: ModeSet, points: np.ndarray, other: Grid) -> np.ndarray:
+    """The depth-D Morton index in the other space's grid of each point's image (-1: none)."""
     index = np.full(len(points), -1, np.int64)
     if len(points):
         images, ok = _images(model, s, points)
@@ -598,7 +632,7 @@ def link_points(model: AspectModel, s: ModeSet, other: Grid) -> tuple[np.ndarray
             index = finest_indices(other, images)
         else:
             index[ok] = finest_indices(other, images[ok])
-    return owners, index
+    return index
 
 
 def _number_aspects(model: AspectModel, regions: list[Region], sets: list[ModeSet], count: _Count):

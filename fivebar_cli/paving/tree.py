@@ -375,7 +375,10 @@ def finest_indices(grid: Grid, points: np.ndarray) -> np.ndarray:
     points outside the root box: where a point lies in any tree of the grid (`Tree.locate_finest`),
     found once for several trees, or where the trees are not at hand (another process)."""
     coords, inside = grid.cells_of_points(points)
-    return np.where(inside, interleave(coords, grid.depth), -1)
+    index = interleave(coords, grid.depth)
+    if not inside.all():
+        index[~inside] = -1
+    return index
 
 
 # ---------------------------------------------------------------- canonical form

@@ -36,19 +36,35 @@ def dkp(m, th1, th2, assembly: int, crank_points=None) -> tuple[np.ndarray, np.n
 
     Returns (p, ok) where ok is False where the mechanism cannot be assembled
     (|B1B2| > L3 + L4, |B1B2| < |L3 - L4|, or B1 = B2) and p is NaN there. `crank_points`:
-    `cranks(m, th1, th2)` when the caller has them.
+    `cranks(m, th1, th2)` when the caller has them. Computed coordinate by coordinate in place
+    (p's coordinates are its last axis, a view of one array per coordinate).
     """
-    b1, b2 = crank_points if crank_points is not None else cranks(m, th1, th2)
-    diff = b2 - b1
-    d = np.hypot(diff[..., 0], diff[..., 1])
-    beta = np.arctan2(diff[..., 1], diff[..., 0])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        c = (d * d + m.L3**2 - m.L4**2) / (2.0 * m.L3 * d)
-    ok = (d > 0) & (d <= m.L3 + m.L4) & (d >= abs(m.L3 - m.L4))
-    alpha = np.arccos(np.clip(np.where(ok, c, 0.0), -1.0, 1.0))
-    angle = beta + assembly * alpha
-    p = b1 + m.L3 * np.stack([np.cos(angle), np.sin(angle)], axis=-1)
-    return np.where(ok[..., None], p, np.nan), ok
+    if crank_points is not None:
+        (b1x, b1y), (b2x, b2y) = (np.moveaxis(b, -1, 0) for b in crank_points)
+    else:
+        th1, th2 = np.asarray(th1, float), np.asarray(th2, float)
+        b1x, b1y = np.cos(th1) * m.L1, np.sin(th1) * m.L1
+        b2x, b2y = np.cos(th2) * m.L2 + m.L0, np.sin(th2) * m.L2
+    dx, dy = np.asarray(b2x - b1x), np.asarray(b2y - b1y)
+    d = np.hypot(dx, dy)
+    ok = np.asarray((d > 0) & (d <= m.L3 + m.L4) & (d >= abs(m.L3 - m.L4)))
+    alpha = _cosine(d, m.L3, m.L4)
+    if not ok.all():
+        np.copyto(alpha, 0.0, where=~ok)
+    np.clip(alpha, -1.0, 1.0, out=alpha)
+    np.arccos(alpha, out=alpha)
+    alpha *= assembly
+    angle = np.arctan2(dy, dx, out=dx)  # beta (dx is not needed any more)
+    angle += alpha
+    p = np.empty((2, *ok.shape))
+    np.cos(angle, out=p[0, ...])
+    np.sin(angle, out=p[1, ...])
+    p *= m.L3
+    p[0, ...] += b1x
+    p[1, ...] += b1y
+    if not ok.all():
+        np.copyto(p, np.nan, where=~ok)
+    return np.moveaxis(p, 0, -1), ok
 
 
 def ikp(m, x, y, working: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -58,15 +74,38 @@ def ikp(m, x, y, working: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.n
     """
     x, y = np.asarray(x, float), np.asarray(y, float)
     su, sv = working
-    m1 = np.hypot(x, y)
-    m2 = np.hypot(x - m.L0, y)
+    x2 = np.asarray(x - m.L0)
+    m1, m2 = np.hypot(x, y), np.hypot(x2, y)
+    ok = np.asarray((m1 > 0) & (m2 > 0))
+    angles = []
+    for to_a, dist, side, leg, sign in ((x, m1, m.L1, m.L3, su), (x2, m2, m.L2, m.L4, sv)):
+        c = _cosine(dist, side, leg)
+        ok &= (c >= -1) & (c <= 1)  # (|c| <= 1, NaN excluded)
+        angles.append((to_a, c, sign))
+    out = []
+    for to_a, c, sign in angles:
+        if not ok.all():
+            np.copyto(c, 0.0, where=~ok)
+        np.arccos(c, out=c)
+        c *= sign
+        th = np.asarray(np.arctan2(y, to_a))
+        th -= c
+        th = np.asarray(wrap_angle(th, out=th))  # (a new 0-d array for a scalar)
+        if not ok.all():
+            np.copyto(th, np.nan, where=~ok)
+        out.append(th)
+    return out[0], out[1], ok
+
+
+def _cosine(side: np.ndarray, adjacent: float, opposite: float) -> np.ndarray:
+    """(adjacent^2 + side^2 - opposite^2) / (2 adjacent side), the cosine of the triangle's angle
+    between `side` and `adjacent` (NaN or infinite where side = 0), as a new array."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        c1 = (m.L1**2 + m1 * m1 - m.L3**2) / (2.0 * m.L1 * m1)
-        c2 = (m.L2**2 + m2 * m2 - m.L4**2) / (2.0 * m.L2 * m2)
-    ok = (m1 > 0) & (m2 > 0) & (np.abs(c1) <= 1) & (np.abs(c2) <= 1)
-    th1 = np.arctan2(y, x) - su * np.arccos(np.clip(np.where(ok, c1, 0.0), -1, 1))
-    th2 = np.arctan2(y, x - m.L0) - sv * np.arccos(np.clip(np.where(ok, c2, 0.0), -1, 1))
-    return np.where(ok, wrap_angle(th1), np.nan), np.where(ok, wrap_angle(th2), np.nan), ok
+        c = np.asarray(side * side)
+        c += adjacent**2
+        c -= opposite**2
+        c /= side * (2.0 * adjacent)
+    return c
 
 
 def mode_values(m, th1, th2, p, crank_points=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
