@@ -164,8 +164,8 @@ class Tree:
     def locate_finest(self, index: np.ndarray) -> np.ndarray:
         """Index of the leaf holding each depth-D Morton index (`finest_indices`), or -1 (and for -1)."""
         start = self.start
-        leaf = np.searchsorted(start, index, side="right") - 1
-        ok = leaf >= 0
+        leaf = _leaf_at(_search_keys(start, self.grid), np.maximum(index, 0))
+        ok = (leaf >= 0) & (index >= 0)
         ok[ok] &= start[leaf[ok]] + self._sizes(self.level[leaf[ok]]) > index[ok]
         return np.where(ok, leaf, -1)
 
@@ -210,11 +210,11 @@ class Tree:
         size = self._sizes(self.level[0] if uniform else self.level)
         # this tree's own leaves: each search starts from the leaf itself, among its neighbours in
         # Morton order (`_search_near`); another tree's: a binary search
-        own = (_padded(start), _ends(start, size)) if other is None or itself else None
+        own = (_padded(start), _ends(start, size), _search_keys(start, grid)) if other is None or itself else None
         others = None
         if other is not None:
             other_start = other.start
-            others = other_start, _ends(other_start, other._sizes(other.level))
+            others = _search_keys(other_start, grid), _ends(other_start, other._sizes(other.level))
         torus = len(self) == 1 and self.level[0] == 0  # the root cell, its own neighbour on a torus
         offsets = _offsets(grid.dim, corners)
         if not once:
@@ -260,28 +260,28 @@ class Tree:
         first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, self.grid, offset)
         last = first + size
         if back is not None:
-            other_start, other_end = others
+            other_keys, other_end = others
             rest = np.flatnonzero(back[s:s + PAIR_CHUNK] < 0)
-            leaf = np.searchsorted(other_start, first[rest], side="right") - 1
+            leaf = _leaf_at(other_keys, first[rest])
             hit = other_end[leaf] >= last[rest]
             if valid is not None:
                 hit &= valid[rest]
             return rest[hit] + s, leaf[hit]
         if own is not None:
-            near, end = own
-            leaf = _search_near(near, start, first, s, _morton_sign(offset))
+            near, end, keys = own
+            leaf = _search_near(near, keys, first, s, _morton_sign(offset))
             hit = end[leaf] >= last
             if torus:
                 hit &= leaf != s
         if others is not None:
-            other_start, other_end = others
+            other_keys, other_end = others
             if own is None:
-                leaf = np.searchsorted(other_start, first, side="right") - 1
+                leaf = _leaf_at(other_keys, first)
                 hit = other_end[leaf] >= last
             else:
-                leaf += len(other_start)
+                leaf += len(other_keys)
                 rest = np.flatnonzero(~hit)
-                found = np.searchsorted(other_start, first[rest], side="right") - 1
+                found = _leaf_at(other_keys, first[rest])
                 leaf[rest] = found
                 hit[rest] = other_end[found] >= last[rest]
         if valid is not None:
@@ -506,9 +506,22 @@ def _step_finest(start: np.ndarray, size: np.ndarray, grid: Grid, offset) -> tup
     return first, valid
 
 
-def _search_near(near: np.ndarray, start: np.ndarray, first: np.ndarray, s: int, sign: int) -> np.ndarray:
-    """np.searchsorted(start, first, side="right") - 1 for the queries of leaves s, s + 1, ... of
-    the tree whose sorted leaf starts are `start` (`near`: them `_padded`): most neighbours lie a
+def _search_keys(start: np.ndarray, grid: Grid) -> np.ndarray:
+    """Sorted leaf starts as the keys of binary searches (`_leaf_at`): uint32 when the grid's
+    depth-D indices fit in 32 bits (a 2-D grid up to depth 16), half the memory, and the cache
+    misses, of int64 (a search among a million leaves costs about 25 % less)."""
+    return start.astype(np.uint32) if grid.dim * grid.depth <= 32 else start
+
+
+def _leaf_at(keys: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """np.searchsorted(keys, index, side="right") - 1 (int64): the last leaf starting at or before
+    each depth-D index (>= 0), or -1; `keys`: `_search_keys`."""
+    return np.searchsorted(keys, index.astype(keys.dtype, copy=False), side="right") - 1
+
+
+def _search_near(near: np.ndarray, keys: np.ndarray, first: np.ndarray, s: int, sign: int) -> np.ndarray:
+    """`_leaf_at(keys, first)` for the queries of leaves s, s + 1, ... of the tree whose sorted
+    leaf starts are `keys` (`near`: them `_padded`, int64): most neighbours lie a
     few leaves away in Morton order, so the starts of the NEAR leaves on the side the step goes
     (`sign`, both sides when 0) are compared with each query as contiguous slices, and only the
     queries whose answer lies farther are searched (a binary search per query costs about as
@@ -536,7 +549,7 @@ def _search_near(near: np.ndarray, start: np.ndarray, first: np.ndarray, s: int,
         leaf = np.arange(s - NEAR - 1, s - NEAR - 1 + n) + count
         found = (count > 0) & (count <= 2 * NEAR)
     far = np.flatnonzero(~found)
-    leaf[far] = np.searchsorted(start, first[far], side="right") - 1
+    leaf[far] = _leaf_at(keys, first[far])
     return leaf
 
 
@@ -572,17 +585,19 @@ def union_find_blocks(n: int, blocks, parent: np.ndarray | None = None) -> np.nd
 def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray, fresh: bool = False) -> np.ndarray:
     """`union_find` in place on `parent` (every node pointing at its root, on entry and on return;
     `fresh`: every node its own root, no need to read them): each round hooks the larger root of
-    every edge joining two components to the smaller one, follows the hooked roots' pointers by
-    doubling until each points at a root (only they moved), then points every node at its root's
-    root (one pass, in place: a node read after its update points at the same root); the edges
-    left are those still across (all of them: no copies)."""
+    every edge joining two components to the smaller one and follows the hooked roots' pointers
+    by doubling until each points at a root (only they moved); an edge's new roots are then its
+    old roots' pointers, so the edges still across (all of them: no copies) need no pass over
+    every node. A node's path to its root grows by one a round: the paths are halved over every
+    node once the edges are joined, not once a round (about 10 % less on the black leaves)."""
     ri, rj = (i, j) if fresh else (parent[i], parent[j])
+    rounds = 0
     while True:
         cross = np.flatnonzero(ri != rj)
         if not len(cross):
-            return parent
-        if len(cross) < len(i):
-            i, j, ri, rj = i[cross], j[cross], ri[cross], rj[cross]
+            break
+        if len(cross) < len(ri):
+            ri, rj = ri[cross], rj[cross]
         hooked = np.maximum(ri, rj)
         np.minimum.at(parent, hooked, np.minimum(ri, rj))
         while len(hooked):
@@ -590,8 +605,15 @@ def _join(parent: np.ndarray, i: np.ndarray, j: np.ndarray, fresh: bool = False)
             root = parent[up]
             parent[hooked] = root
             hooked = hooked[root != up]
+        ri, rj = parent[ri], parent[rj]  # (the old roots' roots)
+        rounds += 1
+    # every node reaches its root in at most rounds + 1 steps: halved in place until one (a node
+    # read after its update points further along the same path)
+    steps = rounds + 1
+    while steps > 1:
         np.take(parent, parent, out=parent, mode="clip")
-        ri, rj = parent[i], parent[j]
+        steps = (steps + 1) // 2
+    return parent
 
 
 def _upsample(image: np.ndarray, levels: int) -> np.ndarray:
