@@ -196,10 +196,10 @@ class Tree:
         direction, whose own pairs are the reverse of those found and are not given again."""
         return self._pairs(other, corners, itself, once)
 
-    def _pairs(self, other: "Tree | None", corners: bool, itself: bool = False, once: bool = False):
+    def _pairs(self, other: "Tree | None", corners: bool, itself: bool = False, once: bool = False, dtype=np.int64):
         """The pairs of `adjacency` (with `itself`, `once`: of `neighbour_pairs`), one direction at
         a time (each found PAIR_CHUNK leaves at a time: the temporaries of a block, not of every
-        leaf)."""
+        leaf); without `once`, as `dtype`."""
         grid = self.grid
         if other is not None and other.grid != grid:
             raise ValueError("trees live on different grids")
@@ -219,7 +219,7 @@ class Tree:
         offsets = _offsets(grid.dim, corners)
         if not once:
             for offset in offsets:
-                yield self._direction(offset, start, size, own, others, torus)
+                yield self._direction(offset, start, size, own, others, torus, dtype=dtype)
             return
         if own is None or not (uniform or not len(self)):
             raise ValueError("own pairs once: for a tree's own leaves of one level")
@@ -238,35 +238,39 @@ class Tree:
                 continue
             yield self._direction(-offset, start, size, None, others, torus, back)
 
-    def _direction(self, offset, start, size, own, others, torus, back=None):
-        """The pairs of one direction (`_pairs_of`, block after block)."""
+    def _direction(self, offset, start, size, own, others, torus, back=None, dtype=np.int64):
+        """The pairs of one direction (`_pairs_of`, block after block), as `dtype` (cast as they
+        are gathered: a union-find's index type, no second copy)."""
         found = [self._pairs_of(s, offset, start, size, own, others, torus, back) for s in range(0, len(self), PAIR_CHUNK)]
         if not found:
-            return np.zeros(0, np.int64), np.zeros(0, np.int64)
-        return np.concatenate([i for i, _ in found]), np.concatenate([j for _, j in found])
+            return np.zeros(0, dtype), np.zeros(0, dtype)
+        return (np.concatenate([i for i, _ in found], dtype=dtype, casting="same_kind"),
+                np.concatenate([j for _, j in found], dtype=dtype, casting="same_kind"))
 
     def _pairs_of(self, s: int, offset, start, size, own, others, torus: bool = False, back=None):
         """The pairs of leaves s .. s + PAIR_CHUNK in one direction `offset`: the same-size cell
         across each leaf (its first depth-D index, stepped from the leaf's own), then the leaf
         holding that index, which is a neighbour when it holds the whole cell: looked up among
         this tree's leaves (`own`: padded starts and ends), then, for the cells not found there,
-        among `others` (starts and ends) (either may be None). `size`: the leaves' counts of
+        among `others` (`_search_keys` and ends) (either may be None). `size`: the leaves' counts of
         depth-D cells (one for all when they share a level); `torus`: the tree is the root cell
         alone (not its own neighbour); `back`: each leaf's own neighbour in this direction, known
         already (-1: none), whose pair is not given: only the cells without one are looked up, in
         `others`."""
         if np.ndim(size):
             size = size[s:s + PAIR_CHUNK]
-        first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, self.grid, offset)
-        last = first + size
-        if back is not None:
+        if back is not None:  # (only the cells without a neighbour here are stepped)
             other_keys, other_end = others
             rest = np.flatnonzero(back[s:s + PAIR_CHUNK] < 0)
-            leaf = _leaf_at(other_keys, first[rest])
-            hit = other_end[leaf] >= last[rest]
+            size = size[rest] if np.ndim(size) else size
+            first, valid = _step_finest(start[s:s + PAIR_CHUNK][rest], size, self.grid, offset)
+            leaf = _leaf_at(other_keys, first)
+            hit = other_end[leaf] >= first + size
             if valid is not None:
-                hit &= valid[rest]
+                hit &= valid
             return rest[hit] + s, leaf[hit]
+        first, valid = _step_finest(start[s:s + PAIR_CHUNK], size, self.grid, offset)
+        last = first + size
         if own is not None:
             near, end, keys = own
             leaf = _search_near(near, keys, first, s, _morton_sign(offset))
@@ -293,7 +297,7 @@ class Tree:
         """Label leaves by connected component (face-connected; with `corners`, touching at any
         point); labels are numbered in Morton order of their first leaf."""
         # one direction at a time: memory of one, not 26, sets of pairs
-        return root_labels(union_find_blocks(len(self), self._pairs(None, corners)))
+        return root_labels(union_find_blocks(len(self), self._pairs(None, corners, dtype=index_type(len(self)))))
 
     def split_components(self) -> list["Tree"]:
         """The face-connected components as trees, in Morton order of their first leaf."""
@@ -492,17 +496,22 @@ def _step_finest(start: np.ndarray, size: np.ndarray, grid: Grid, offset) -> tup
             moved = first | ~mask
             moved += step
             moved &= mask
-            wrapped = None if grid.periodic[axis] else moved == 0
+            inside = None if grid.periodic[axis] else moved != 0  # (0: carried out of the root)
         else:
             moved = first & mask
-            wrapped = None if grid.periodic[axis] else moved == 0
+            inside = None if grid.periodic[axis] else moved != 0  # (0: on the root's lower side)
             moved -= step
             moved &= mask
-        first = first & ~mask
+        if first is start:
+            first = first & ~mask
+        else:  # (our own array already)
+            first &= ~mask
         first |= moved
-        if wrapped is not None:
-            np.logical_not(wrapped, out=wrapped)
-            valid = wrapped if valid is None else valid & wrapped
+        if inside is not None:
+            if valid is None:
+                valid = inside
+            else:
+                valid &= inside
     return first, valid
 
 
@@ -530,22 +539,23 @@ def _search_near(near: np.ndarray, keys: np.ndarray, first: np.ndarray, s: int, 
     base = s + NEAR  # near[base + k] is the start of leaf s + k
     count = np.zeros(n, np.int8)
     below = np.empty(n, bool)
+    ones = below.view(np.int8)  # (added without a cast)
     if sign > 0:  # the leaves after: the answer is s + k + (how many of them start at or before)
         for d in range(1, NEAR + 1):
             np.less_equal(near[base + d:base + d + n], first, out=below)
-            count += below
+            np.add(count, ones, out=count)
         leaf = np.arange(s, s + n) + count
         found = (count < NEAR) & (near[base:base + n] <= first)
     elif sign < 0:  # the leaves before: s + k - 1 - (how many of them start after)
         for d in range(1, NEAR + 1):
             np.greater(near[base - d:base - d + n], first, out=below)
-            count += below
+            np.add(count, ones, out=count)
         leaf = np.arange(s - 1, s - 1 + n) - count
         found = (count < NEAR) & (near[base:base + n] > first)
     else:  # both sides: s + k - NEAR - 1 + (how many of the 2 NEAR + 1 start at or before)
         for d in range(-NEAR, NEAR + 1):
             np.less_equal(near[base + d:base + d + n], first, out=below)
-            count += below
+            np.add(count, ones, out=count)
         leaf = np.arange(s - NEAR - 1, s - NEAR - 1 + n) + count
         found = (count > 0) & (count <= 2 * NEAR)
     far = np.flatnonzero(~found)
