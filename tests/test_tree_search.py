@@ -1,0 +1,109 @@
+"""The neighbour searches' shortcuts (issue 22, seventh pass) against what they replace: binary
+searches on 32-bit keys against int64 ones, point location of finest indices (with -1) against a
+brute force, union-find whose paths are halved once a block against scipy's components on
+graphs of long chains (many hooking rounds), and the once pass's second direction against the
+plain adjacency."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from fivebar_cli.paving.grid import Grid
+from fivebar_cli.paving.morton import interleave
+from fivebar_cli.paving.tree import Tree, _leaf_at, _search_keys, union_find_blocks
+
+
+@pytest.mark.parametrize("depth, dtype", [(16, np.uint32), (17, np.int64)])
+def test_leaf_search_keys_against_int64_searchsorted(depth, dtype):
+    """Keys in 32 bits exactly when the depth-D indices fit (2-D up to depth 16), and the same
+    answers as an int64 search, at both ends of the index range too."""
+    grid = Grid(((0.0, 1.0), (0.0, 1.0)), depth, (False, False))
+    top = 1 << (2 * depth)
+    rng = np.random.default_rng(depth)
+    start = np.unique(np.r_[0, top - 1, rng.integers(0, top, 5000)])
+    keys = _search_keys(start, grid)
+    assert keys.dtype == dtype and np.array_equal(keys.astype(np.int64), start)
+    query = np.r_[0, 1, top - 2, top - 1, start, start + 1, rng.integers(0, top, 5000)].astype(np.int64)
+    query = query[query < top]
+    assert np.array_equal(_leaf_at(keys, query), np.searchsorted(start, query, side="right") - 1)
+    assert np.array_equal(_leaf_at(keys, query[:0]), np.zeros(0, np.int64))
+
+
+@pytest.mark.parametrize("depth", [16, 17])
+def test_locate_finest_against_brute_force(depth):
+    """Each finest index's leaf by a scan of the leaves' intervals (-1 outside every leaf, and
+    for the index -1 a point outside the root has)."""
+    grid = Grid(((0.0, 1.0), (0.0, 1.0)), depth, (False, False))
+    top = 1 << (2 * depth)
+    rng = np.random.default_rng(40 + depth)
+    cuts = np.unique(np.r_[0, rng.integers(0, top, 400), top])
+    keep = rng.random(len(cuts) - 1) < 0.5
+    tree = Tree.from_intervals(grid, cuts[:-1][keep], cuts[1:][keep])
+    start, end = tree.start, tree.end
+    query = np.r_[-1, 0, top - 1, start, end - 1, np.minimum(end, top - 1), rng.integers(0, top, 2000), -1]
+    inside = (start[None, :] <= query[:, None]) & (query[:, None] < end[None, :])
+    expected = np.where(inside.any(axis=1), inside.argmax(axis=1), -1)
+    assert np.array_equal(tree.locate_finest(query), expected)
+    assert np.array_equal(Tree.empty(grid).locate_finest(query), np.full(len(query), -1))
+
+
+def _chains(rng, n: int, blocks: int):
+    """Edges of a few long paths through a shuffled order of the nodes, cut into blocks: each
+    block's hooking takes several rounds and leaves long pointer chains."""
+    order = rng.permutation(n)
+    breaks = np.sort(rng.choice(np.arange(1, n), size=4, replace=False))
+    i, j = order[:-1], order[1:]
+    keep = ~np.isin(np.arange(1, n), breaks)
+    i, j = i[keep], j[keep]
+    shuffle = rng.permutation(len(i))
+    i, j = i[shuffle], j[shuffle]
+    cuts = np.linspace(0, len(i), blocks + 1).astype(int)
+    return i, j, [(i[a:b], j[a:b]) for a, b in zip(cuts[:-1], cuts[1:])]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_union_find_blocks_of_chains_against_scipy(seed):
+    rng = np.random.default_rng(seed)
+    n = 3000
+    i, j, blocks = _chains(rng, n, 1 + seed)
+    count, labels = connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)), directed=False)
+    smallest = np.full(count, n)
+    np.minimum.at(smallest, labels, np.arange(n))
+    assert count == 5
+    got = union_find_blocks(n, blocks)
+    assert np.array_equal(got, smallest[labels])
+    # on top of roots found already (every node its component's smallest node so far)
+    half = union_find_blocks(n, blocks[:1])
+    assert np.array_equal(union_find_blocks(n, blocks[1:], half), smallest[labels])
+
+
+def test_once_pairs_against_adjacency():
+    """The once pass (a uniform tree's own pairs once, its opposite directions looked up only
+    for the cells without a neighbour of their own, among another tree's leaves): the same pairs
+    as the plain adjacency of both trees, each own pair once, on random cells of a periodic and a
+    bounded grid."""
+    rng = np.random.default_rng(5)
+    for periodic in ((False, False), (True, True), (True, False)):
+        grid = Grid(((0.0, 1.0), (0.0, 1.0)), 6, periodic)
+        other = Tree.from_cells(grid, 5, np.argwhere(rng.random((32, 32)) < 0.3))
+        code = np.sort(interleave(np.argwhere(rng.random((64, 64)) < 0.4), 6))
+        code = code[other.locate_finest(code) < 0]  # (disjoint from the other tree)
+        mine = Tree(grid, np.full(len(code), 6), code, canonical=True)
+        shift = len(other)
+
+        def pairs(once: bool) -> list:
+            out = []
+            for i, j in mine.neighbour_pairs(other, corners=True, itself=True, once=once):
+                out += [(a, b) if b < shift else (min(a, b - shift), max(a, b - shift), "own")
+                        for a, b in zip(i.tolist(), j.tolist())]
+            return out
+
+        once, plain = pairs(True), pairs(False)
+        own = [p for p in once if len(p) == 3]
+        assert len(own) == len(set(own)) > 100 and set(own) == {p for p in plain if len(p) == 3}
+        # a cell meets a larger leaf of the other tree once per direction it lies in: as often
+        across = sorted(p for p in once if len(p) == 2)
+        assert across == sorted(p for p in plain if len(p) == 2) and len(across) > 100
