@@ -13,7 +13,10 @@ from scipy.sparse.csgraph import connected_components
 
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.morton import interleave
+from conftest import cells_of
+from fivebar_cli.paving import tree as tree_module
 from fivebar_cli.paving.tree import Tree, _leaf_at, _search_keys, union_find_blocks
+from test_quadtree import blocky
 
 
 @pytest.mark.parametrize("depth, dtype", [(16, np.uint32), (17, np.int64)])
@@ -107,3 +110,53 @@ def test_once_pairs_against_adjacency():
         # a cell meets a larger leaf of the other tree once per direction it lies in: as often
         across = sorted(p for p in once if len(p) == 2)
         assert across == sorted(p for p in plain if len(p) == 2) and len(across) > 100
+
+
+# ---- round 2 (r2tree): the uint32 window and the shared search index
+@pytest.mark.parametrize("sign", [-1, 0, 1])
+def test_uint32_window_equals_a_binary_search_up_to_the_last_index(sign):
+    """uint32 keys (depth-16 quadtree indices): queries at any distance, the first (0) and last
+    (2**32 - 1) depth-D indices included, where the paddings (0 and 2**32 - 1) equal a query."""
+    top = 2**32 - 1
+    rng = np.random.default_rng(7 + sign)
+    for n, near in ((40, 3), (300, 16)):
+        start = np.unique(np.concatenate([[0], rng.integers(0, 2**32, n), [top - 1, top]]))
+        keys = start.astype(np.uint32)
+        step = rng.geometric(0.2, len(start)) * rng.choice([1, 3 << 20, 1 << 30], len(start))
+        side = sign if sign else rng.choice([-1, 1], len(start))
+        first = np.clip(start + np.where(side > 0, step, -step), 0, top)
+        first[:3], first[-3:] = 0, top  # (queries at both ends)
+        expected = np.searchsorted(start, first, side="right") - 1
+        old = tree_module.NEAR
+        tree_module.NEAR = near
+        try:
+            padded = tree_module._padded(keys)
+            assert padded.dtype == np.uint32
+            for s in (0, len(start) // 2):
+                got = tree_module._search_near(padded, keys, first[s:], s, sign)
+                assert np.array_equal(got, expected[s:])
+        finally:
+            tree_module.NEAR = old
+
+
+def test_a_shared_search_index_gives_the_same_pairs_and_components():
+    """`components(index=)` and `neighbour_pairs(other_index=)` with `search_index()` built once
+    equal the searches that build their own (depth-16 quadtree: uint32 keys; and a 3-D grid)."""
+    rng = np.random.default_rng(3)
+    for dim, depth, coarse in ((2, 16, 6), (3, 5, 5)):
+        grid = Grid(tuple((-1.0, 1.0) for _ in range(dim)), depth, (False,) + (True,) * (dim - 1))
+        coarse_grid = grid.with_depth(coarse)
+        black = Tree.from_cells(coarse_grid, coarse, cells_of(blocky(rng, coarse, dim, 0.7, 0.5))).with_depth(depth)
+        other = Tree.from_cells(coarse_grid, coarse, cells_of(blocky(rng, coarse, dim, 0.7, 0.5))).with_depth(depth) - black
+        index = black.search_index()
+        for corners in (False, True):
+            labels, count = black.components(corners=corners)
+            shared = black.components(corners=corners, index=index)
+            assert count == shared[1] and np.array_equal(labels, shared[0])
+            for itself in (False, True):
+                own = list(other.neighbour_pairs(black, corners=corners, itself=itself))
+                given = list(other.neighbour_pairs(black, corners=corners, itself=itself, other_index=index))
+                assert len(own) == len(given) == len(tree_module._offsets(dim, corners))
+                for (i, j), (gi, gj) in zip(own, given):
+                    assert np.array_equal(i, gi) and np.array_equal(j, gj)
+        assert count > 1 and len(black) > 50  # (a tree with something to find)

@@ -323,7 +323,8 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
     # the components of all black leaves are the anchors of every mode set at once, and the free
     # signs are constant on each: read at the centre of its largest leaf, not of every leaf
     inside = paving.inside
-    region.black_labels, count = inside.components(corners=True)
+    index = inside.search_index()  # one search index of the black leaves for all their neighbour searches
+    region.black_labels, count = inside.components(corners=True, index=index)
     first = _largest_leaf(inside.level, region.black_labels, count)
     signs = region.free_signs(inside.subset(first).centres())
     if np.any(signs == 0):
@@ -337,8 +338,8 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
         band_signs = strict, region.und_signs
     else:
         region.und_possible, region.und_signs = on_cells(region.signs, paving.grid, paving.undetermined, ends=True)
-    region.und_pairs = _undetermined_pairs(paving)
-    region.bands = serial_bands(model, region, band_signs)
+    region.und_pairs = _undetermined_pairs(paving, index)
+    region.bands = serial_bands(model, region, band_signs, index)
     return region
 
 

@@ -43,10 +43,11 @@ class Band:
     leaf: np.ndarray
 
 
-def serial_bands(model: AspectModel, region, band_signs=None) -> list[Band]:
+def serial_bands(model: AspectModel, region, band_signs=None, index=None) -> list[Band]:
     """The bands of one joint-space mode region (`aspects.Region`), one per serial singularity that
     has some: what `find_crossings` needs of the region, computed with it (in its worker).
-    `band_signs`: the undetermined cells' `serial_band_signs`, when already at hand."""
+    `band_signs`: the undetermined cells' `serial_band_signs`, `index`: the black leaves'
+    `Tree.search_index()`, when already at hand."""
     if region.space != "jointspace" or not len(region.paving.undetermined):
         return []
     grid, cells = region.paving.grid, region.paving.undetermined
@@ -59,23 +60,24 @@ def serial_bands(model: AspectModel, region, band_signs=None) -> list[Band]:
         if not band.any():
             continue
         band_tree = Tree.from_cells(grid, grid.depth, cells[band])
-        labels, count, i, j = _band_pairs(band_tree, region.tree)
+        labels, count, i, j = _band_pairs(band_tree, region.tree, index)
         touched = unique_pairs(labels[i], j)  # kept through the analysis: in the smallest types
         bands.append(Band(changing, np.bincount(labels, minlength=count), touched[:, 0].astype(label_type(count)),
                           touched[:, 1].astype(index_type(len(region.tree)))))
     return bands
 
 
-def _band_pairs(band: Tree, black: Tree):
+def _band_pairs(band: Tree, black: Tree, index=None):
     """The band's face-connected components (`Tree.components`: labels, count) and its pairs
     (band leaf, black leaf) sharing a face (`band.adjacency(black)`), from one neighbour search of
     both: a cell across a band leaf that lies in the band lies in no black leaf (they are
-    disjoint), so only the others are looked up among the black leaves."""
+    disjoint), so only the others are looked up among the black leaves (`index`: theirs, when
+    at hand)."""
     n_black, across = len(black), []
     small = index_type(max(len(band), n_black))
 
     def own():  # the band's own pairs, a direction at a time; its pairs with the black leaves kept
-        for i, j in band.neighbour_pairs(black, itself=True):
+        for i, j in band.neighbour_pairs(black, itself=True, other_index=index):
             mine = j >= n_black
             other = np.flatnonzero(~mine)  # kept until the labels are known: in the smallest type
             across.append((i[other].astype(small), j[other].astype(small)))

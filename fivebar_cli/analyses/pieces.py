@@ -416,14 +416,15 @@ class ModeSet:
         return False
 
 
-def undetermined_pairs(paving: Paving) -> list[tuple[np.ndarray, np.ndarray]]:
+def undetermined_pairs(paving: Paving, index=None) -> list[tuple[np.ndarray, np.ndarray]]:
     """Every (undetermined cell u, neighbour n) touching at a point, a pair of undetermined cells
     once (n's index above u's); n < len(black leaves) is a black leaf, else the undetermined cell
     n - len(black leaves); as arrays (u, n), one block per direction (`union_find_blocks` joins
     them faster a block at a time). Undetermined cells are the smallest cells, so looking up their
     neighbours (among themselves, then among the black leaves) finds every pair; a pair of
     undetermined cells is looked up in half the directions (`Tree.neighbour_pairs`'s `once`), so
-    the blocks come in the order of `once`. int32 when the indices fit: these pairs are most of a region's memory (about 7 per undetermined cell)."""
+    the blocks come in the order of `once`. int32 when the indices fit: these pairs are most of a region's memory (about 7 per undetermined cell).
+    `index`: the black leaves' `Tree.search_index()`, when at hand."""
     grid, inside, und = paving.grid, paving.inside, paving.undetermined
     n_black = len(inside)
     small = index_type(n_black + len(und))
@@ -436,7 +437,7 @@ def undetermined_pairs(paving: Paving) -> list[tuple[np.ndarray, np.ndarray]]:
     del code
     blocks = []
     # a pair of undetermined cells is looked up from one side only (`once`: they share a level)
-    for i, j in cells.neighbour_pairs(inside, corners=True, itself=True, once=True):
+    for i, j in cells.neighbour_pairs(inside, corners=True, itself=True, once=True, other_index=index):
         u, n = i.astype(small), j.astype(small)
         if order is not None:
             u = order[i]

@@ -186,20 +186,31 @@ class Tree:
         return np.concatenate([i for i, _ in pairs]), np.concatenate([j for _, j in pairs])
 
     def neighbour_pairs(self, other: "Tree | None" = None, corners: bool = False, itself: bool = False,
-                        once: bool = False):
+                        once: bool = False, other_index=None):
         """The pairs of `adjacency` as (i, j) arrays, one direction at a time (a generator: the
         memory of one direction's pairs, not of all 8 or 26). With `other` and `itself`: the pairs
         with the leaves of both trees (disjoint sets), `other`'s leaves numbered first, then this
         tree's (len(other) + index). With `once`, for a tree whose leaves share one level (each
         pair of its own leaves is found from both sides): its own pairs once, looked up in the
         directions whose first nonzero step is positive only, each followed by its opposite
-        direction, whose own pairs are the reverse of those found and are not given again."""
-        return self._pairs(other, corners, itself, once)
+        direction, whose own pairs are the reverse of those found and are not given again.
+        `other_index`: `other.search_index()`, when at hand."""
+        return self._pairs(other, corners, itself, once, other_index=other_index)
 
-    def _pairs(self, other: "Tree | None", corners: bool, itself: bool = False, once: bool = False, dtype=np.int64):
+    def search_index(self) -> tuple[np.ndarray, np.ndarray]:
+        """What a neighbour search among these leaves reads (`_pairs`): their sorted starts as
+        `_search_keys`, `_padded`, and their ends (`_ends`), built once for several searches among
+        the same leaves (a region's black leaves: their components, then the undetermined cells'
+        and the serial bands' neighbours); the keys are `near[NEAR:len(near) - NEAR]`."""
+        start = self.start
+        return _padded(_search_keys(start, self.grid)), _ends(start, self._sizes(self.level))
+
+    def _pairs(self, other: "Tree | None", corners: bool, itself: bool = False, once: bool = False, dtype=np.int64,
+               index=None, other_index=None):
         """The pairs of `adjacency` (with `itself`, `once`: of `neighbour_pairs`), one direction at
         a time (each found PAIR_CHUNK leaves at a time: the temporaries of a block, not of every
-        leaf); without `once`, as `dtype`."""
+        leaf); without `once`, as `dtype`; `index`, `other_index`: the trees' `search_index()`,
+        when at hand."""
         grid = self.grid
         if other is not None and other.grid != grid:
             raise ValueError("trees live on different grids")
@@ -210,11 +221,13 @@ class Tree:
         size = self._sizes(self.level[0] if uniform else self.level)
         # this tree's own leaves: each search starts from the leaf itself, among its neighbours in
         # Morton order (`_search_near`); another tree's: a binary search
-        own = (_padded(start), _ends(start, size), _search_keys(start, grid)) if other is None or itself else None
-        others = None
+        own = others = None
+        if other is None or itself:
+            near, end = index or (_padded(_search_keys(start, grid)), _ends(start, size))
+            own = near, end, near[NEAR:len(near) - NEAR]  # (the keys: a view)
         if other is not None:
-            other_start = other.start
-            others = _search_keys(other_start, grid), _ends(other_start, other._sizes(other.level))
+            near, end = other_index or other.search_index()
+            others = near[NEAR:len(near) - NEAR], end
         torus = len(self) == 1 and self.level[0] == 0  # the root cell, its own neighbour on a torus
         offsets = _offsets(grid.dim, corners)
         if not once:
@@ -293,11 +306,13 @@ class Tree:
         idx = np.flatnonzero(hit)
         return idx + s, leaf[idx]
 
-    def components(self, corners: bool = False) -> tuple[np.ndarray, int]:
+    def components(self, corners: bool = False, index=None) -> tuple[np.ndarray, int]:
         """Label leaves by connected component (face-connected; with `corners`, touching at any
-        point); labels are numbered in Morton order of their first leaf."""
+        point); labels are numbered in Morton order of their first leaf. `index`: `search_index()`,
+        when at hand."""
         # one direction at a time: memory of one, not 26, sets of pairs
-        return root_labels(union_find_blocks(len(self), self._pairs(None, corners, dtype=index_type(len(self)))))
+        pairs = self._pairs(None, corners, dtype=index_type(len(self)), index=index)
+        return root_labels(union_find_blocks(len(self), pairs))
 
     def split_components(self) -> list["Tree"]:
         """The face-connected components as trees, in Morton order of their first leaf."""
@@ -472,10 +487,12 @@ def _ends(start: np.ndarray, size) -> np.ndarray:
     return end
 
 
-def _padded(start: np.ndarray) -> np.ndarray:
-    """Sorted leaf starts with NEAR entries below every index (-1) and above every index (_FAR)."""
-    out = np.empty(len(start) + 2 * NEAR, np.int64)
-    out[:NEAR], out[NEAR:-NEAR], out[-NEAR:] = -1, start, _FAR
+def _padded(keys: np.ndarray) -> np.ndarray:
+    """Sorted leaf starts (`_search_keys`, in their type) with NEAR entries below every index (-1;
+    unsigned: 0, at or below) and above every index (the type's largest; unsigned: at or above)."""
+    out = np.empty(len(keys) + 2 * NEAR, keys.dtype)
+    out[:NEAR], out[NEAR:len(out) - NEAR], out[len(out) - NEAR:] = -1 if keys.dtype.kind == "i" else 0, keys, \
+        np.iinfo(keys.dtype).max
     return out
 
 
@@ -537,8 +554,13 @@ def _search_near(near: np.ndarray, keys: np.ndarray, first: np.ndarray, s: int, 
     few leaves away in Morton order, so the starts of the NEAR leaves on the side the step goes
     (`sign`, both sides when 0) are compared with each query as contiguous slices, and only the
     queries whose answer lies farther are searched (a binary search per query costs about as
-    much as 100 such comparisons)."""
+    much as 100 such comparisons). `near` may be uint32 (`_search_keys`: the comparisons then
+    read half the memory, about 2.5x faster): the queries are compared in its type (a query at
+    the last depth-D index, equal to the upper padding, counts the padding as at or below it: the
+    window is full, and it is searched)."""
     n = len(first)
+    if first.dtype != near.dtype:
+        first = first.astype(near.dtype)
     base = s + NEAR  # near[base + k] is the start of leaf s + k
     count = np.zeros(n, np.int8)
     below = np.empty(n, bool)
