@@ -344,17 +344,14 @@ def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -
 
 
 def _largest_leaf(level: np.ndarray, labels: np.ndarray, count: int) -> np.ndarray:
-    """Per label 0 .. count - 1: its first leaf (in Morton order) of the lowest level, looked for
-    level by level from the coarsest (the few large leaves first; most labels have one)."""
+    """Per label 0 .. count - 1: its first leaf (in Morton order) of the lowest level: the least
+    key level * n + leaf of its leaves, in one pass (`np.minimum.at`)."""
     n = len(level)
-    best = np.full(count, n, np.int64)
-    for at in np.flatnonzero(np.bincount(level)).tolist():
-        if not np.any(best == n):
-            break
-        leaves = np.flatnonzero(level == at)
-        leaves = leaves[best[labels[leaves]] == n]
-        np.minimum.at(best, labels[leaves], leaves)
-    return best
+    key = level.astype(np.int64) * n
+    key += np.arange(n)
+    best = np.full(count, np.iinfo(np.int64).max)
+    np.minimum.at(best, labels, key)
+    return best % max(n, 1)
 
 
 # ---------------------------------------------------------------- the certificate
