@@ -476,7 +476,6 @@ def _sweep(interval_sets, keep) -> tuple[np.ndarray, np.ndarray]:
 # ---------------------------------------------------------------- neighbour search
 
 NEAR = 16  # a leaf's neighbour is first looked for among the NEAR leaves either side in Morton order
-_FAR = np.iinfo(np.int64).max
 
 
 def _ends(start: np.ndarray, size) -> np.ndarray:
