@@ -193,12 +193,11 @@ def boundary_rings(tree: Tree):
     succ = np.where(pinch_next & (d[second] == left), second, succ)
     pinch = np.zeros(n_edges, bool)  # the edge starts at a pinch point
     pinch[succ[pinch_next]] = True
-    ring, position = _cycles(succ)
-    pred = np.empty_like(succ)
-    pred[succ] = np.arange(n_edges)
-    corner = pinch | (d != d[pred])
-    keep = np.flatnonzero(corner)
-    keep = keep[np.argsort(ring[keep] * n_edges + position[keep], kind="stable")]  # by ring, then along it
+    # the boundary turns at every end (straight edges are merged; a ring never goes straight
+    # through a pinch point): horizontal and vertical edges alternate, and every edge starts at a
+    # corner or a pinch point: all kept
+    ring, position = _alternating_cycles(succ, int(np.count_nonzero(d % 2 == 0)))
+    keep = np.argsort(ring * n_edges + position, kind="stable")  # by ring, then along it
     points, point_ring, point_pinch = start[keep], ring[keep], pinch[keep]
     first = np.r_[True, point_ring[1:] != point_ring[:-1]]  # each ring's first point
     ring_index = np.cumsum(first) - 1
@@ -208,6 +207,18 @@ def boundary_rings(tree: Tree):
     cell = start[e] - (d[e] == 1)[:, None] * [1, 0] - (d[e] == 2)[:, None] * [1, 1] - (d[e] == 3)[:, None] * [0, 1]
     ring_leaf = np.searchsorted(tree.start, interleave(cell, tree.grid.depth), side="right") - 1
     return _split_at_repeats(points, ring_index, point_pinch, ring_leaf, m)
+
+
+def _alternating_cycles(succ: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray]:
+    """`_cycles` of a permutation taking [0, half) into the rest and back (the horizontal edges
+    come first in `_directed_edges`), from those of its square on [0, half): half the elements,
+    the same cycles' least elements (on [0, half)) and positions twice theirs (one more after)."""
+    into = succ[:half]
+    low, steps = _cycles(succ[into])
+    ring, position = np.empty_like(succ), np.empty_like(succ)
+    ring[:half], position[:half] = low, 2 * steps
+    ring[into], position[into] = low, 2 * steps + 1
+    return ring, position
 
 
 def _cycles(succ: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
