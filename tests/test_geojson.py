@@ -276,3 +276,19 @@ def test_alternating_cycles_equal_cycles():
         succ[half:] = rng.permutation(half)
         got, want = _alternating_cycles(succ, half), _cycles(succ)
         assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
+
+
+def test_value_texts_of_deep_and_shared_grids():
+    """The coordinates' texts, from the table a grid's trees share (several trees, values made by
+    one and looked up by the next) and made per tree on a grid deeper than the table's
+    (`TABLE_DEPTH`), are the bytes json.dumps gives of the shapely polygons."""
+    from fivebar_cli.io.geojson import TABLE_DEPTH
+
+    rng = np.random.default_rng(11)
+    for depth in (7, TABLE_DEPTH + 2):
+        grid = Grid(((-3.0, 3.0), (0.1, 0.7)), depth, (False, False))
+        for level in (depth - 2, depth - 1, depth):  # small cells: few lattice edges
+            cells = np.argwhere(rng.random((6, 6)) < 0.5) + int(rng.integers(0, 20))
+            tree = Tree.from_cells(grid, level, cells)
+            properties = {"depth": depth}
+            assert feature_text(tree, properties) == _reference_text(_polygonized(tree), properties)
