@@ -197,7 +197,9 @@ def boundary_rings(tree: Tree):
     # through a pinch point): horizontal and vertical edges alternate, and every edge starts at a
     # corner or a pinch point: all kept
     ring, position = _alternating_cycles(succ, int(np.count_nonzero(d % 2 == 0)))
-    keep = np.argsort(ring * n_edges + position, kind="stable")  # by ring, then along it
+    length = np.bincount(ring, minlength=n_edges)  # (rings named by their least edge: in that order)
+    keep = np.empty(n_edges, np.int64)  # by ring, then along it
+    keep[(np.cumsum(length) - length)[ring] + position] = np.arange(n_edges)
     points, point_ring, point_pinch = start[keep], ring[keep], pinch[keep]
     first = np.r_[True, point_ring[1:] != point_ring[:-1]]  # each ring's first point
     ring_index = np.cumsum(first) - 1
