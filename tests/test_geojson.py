@@ -262,3 +262,33 @@ def test_cycles_of_random_permutations():
             while want_ring[i] < 0:
                 want_ring[i], want_position[i], i, k = root, k, succ[i], k + 1
         assert ring.tolist() == want_ring.tolist() and position.tolist() == want_position.tolist()
+
+
+def test_alternating_cycles_equal_cycles():
+    """outline._alternating_cycles (the cycles of the square on the first half) against
+    outline._cycles on random permutations that take [0, half) into [half, 2 half) and back."""
+    from fivebar_cli.paving.outline import _alternating_cycles, _cycles
+
+    rng = np.random.default_rng(5)
+    for half in [1, 2, 5, 40] + [int(v) for v in rng.integers(1, 300, 12)]:
+        succ = np.empty(2 * half, np.int64)
+        succ[:half] = half + rng.permutation(half)
+        succ[half:] = rng.permutation(half)
+        got, want = _alternating_cycles(succ, half), _cycles(succ)
+        assert np.array_equal(got[0], want[0]) and np.array_equal(got[1], want[1])
+
+
+def test_value_texts_of_deep_and_shared_grids():
+    """The coordinates' texts, from the table a grid's trees share (several trees, values made by
+    one and looked up by the next) and made per tree on a grid deeper than the table's
+    (`TABLE_DEPTH`), are the bytes json.dumps gives of the shapely polygons."""
+    from fivebar_cli.io.geojson import TABLE_DEPTH
+
+    rng = np.random.default_rng(11)
+    for depth in (7, TABLE_DEPTH + 2):
+        grid = Grid(((-3.0, 3.0), (0.1, 0.7)), depth, (False, False))
+        for level in (depth - 2, depth - 1, depth):  # small cells: few lattice edges
+            cells = np.argwhere(rng.random((6, 6)) < 0.5) + int(rng.integers(0, 20))
+            tree = Tree.from_cells(grid, level, cells)
+            properties = {"depth": depth}
+            assert feature_text(tree, properties) == _reference_text(_polygonized(tree), properties)

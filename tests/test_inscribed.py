@@ -224,10 +224,14 @@ def test_bucketed_distance_is_the_one_pass_distance(seed):
     """Centres close to one another and far apart, with bounds above the true distance, with and
     without hints (any cell, or none): the very floats of a pass over every cell; the nearest cell
     given is at that distance; `near` finds the cells a pass over every cell finds."""
+    _check_bucketed_distance(seed, 9)
+
+
+def _check_bucketed_distance(seed: int, depth: int):
     from fivebar_cli.analyses.inscribed import _cell_distance, _Obstacles
 
     rng = np.random.default_rng(seed)
-    grid = Grid(((-1.5, 2.25), (-3.0, 0.5)), 9, (False, False))
+    grid = Grid(((-1.5, 2.25), (-3.0, 0.5)), depth, (False, False))
     level = int(rng.integers(3, 10))
     n = 1 << level
     tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < rng.uniform(0.5, 0.98)))
@@ -264,3 +268,15 @@ def test_bucketed_distance_is_the_one_pass_distance(seed):
         c, radius = centres[0], float(truth[0]) * 1.5
         everyone = _cell_distance(metric, c[0], c[1], obstacles.x0, obstacles.x1, obstacles.y0, obstacles.y1)
         assert np.array_equal(obstacles.near(metric, tuple(c), radius), np.flatnonzero(everyone <= radius))
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 10 ** 6))
+def test_bucketed_distance_on_a_deep_grid(seed):
+    """`test_bucketed_distance_is_the_one_pass_distance` on a grid of depth `DEEP` (its finer
+    buckets, and more cells looked at for every centre)."""
+    from fivebar_cli.analyses.inscribed import DEEP, LEVELS, _Obstacles
+
+    grid = Grid(((-1.5, 2.25), (-3.0, 0.5)), DEEP, (False, False))
+    assert _Obstacles(Tree.from_cells(grid, 1, [[0, 0]])).bucket_level == LEVELS[True][1] > LEVELS[False][1]
+    _check_bucketed_distance(seed, DEEP)

@@ -11,9 +11,9 @@ levels below the largest can hold the optimum. Boxes whose bound is not above th
 more than the tolerance are dropped, the others split in four, until none is left: the result is
 within TOLERANCE of the best that the cells allow.
 
-Distances. The complement's small cells are filed by the level-8 cells (buckets) they meet; f at
-all the centres of a round is one vectorised pass over (centre, cell) pairs: the cells of the
-buckets that meet the ball of radius f' around the centre, f' an upper bound on f (the box's bound,
+Distances. The complement's small cells are filed by the level-8 cells (level 9 on grids of
+depth 14 or more: buckets) they meet; f at all the centres of a round is one vectorised pass over
+(centre, cell) pairs: the cells of the buckets that meet the ball of radius f' around the centre, f' an upper bound on f (the box's bound,
 the distance to the root's outside, to the big cells, and to the cell nearest its parent's
 centre). Any cell nearer than f' is among them, so f is the minimum over every cell, whichever
 were looked at: the same float.
@@ -42,8 +42,11 @@ from fivebar_cli.paving.tree import Tree, cell_bounds
 
 TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
 MAX_ROUNDS = 60
-BIG_LEVEL = 6  # complement cells above this level are few: looked at for every centre
-BUCKET_LEVEL = 8  # the others are filed by the cells of this level they meet (at most 8: 16-bit keys)
+# complement cells above the big level are few: looked at for every centre; the others are filed
+# by the cells of the bucket level they meet. Deeper grids have more fine cells in a bucket: finer
+# buckets (fewer cells looked at for a centre) pay for their cost there.
+LEVELS = {False: (6, 8), True: (8, 9)}  # (big level, bucket level), by grid depth >= DEEP
+DEEP = 14
 NEAR = 1e-6  # complement cells within this relative margin of the radius are checked exactly
 BOUNDS_CHUNK = 1 << 16  # complement cells whose bounds are made together
 
@@ -91,7 +94,7 @@ def largest_shapes(tree: Tree) -> tuple[Disc | None, Square | None]:
 
 class _Obstacles:
     """The complement cells and the root box, with distances from centres. The small cells (level
-    >= BIG_LEVEL) are filed by the cells of level BUCKET_LEVEL (buckets) they meet, bucket column
+    >= the big level) are filed by the cells of the bucket level (buckets) they meet, bucket column
     by bucket column, so the cells of the buckets a box overlaps are a few runs of entries; the
     few big ones are looked at for every centre."""
 
@@ -109,16 +112,19 @@ class _Obstacles:
             lo, hi = cell_bounds(grid, coords[part], level[part])
             self.x0[part], self.y0[part] = lo.T
             self.x1[part], self.y1[part] = hi.T
-        self.big = np.flatnonzero(level < BIG_LEVEL)
+        big_level, self.bucket_level = LEVELS[grid.depth >= DEEP]
+        bucket_level = self.bucket_level
+        self.big = np.flatnonzero(level < big_level)
         self.root_lo, self.root_hi = grid.lo, grid.lo + grid.size
-        # each small cell filed in every bucket (cell of level BUCKET_LEVEL) it meets, column by column:
-        # a fine cell (level >= BUCKET_LEVEL) in one, a coarse one in 4^(BUCKET_LEVEL - level)
-        n = 1 << BUCKET_LEVEL
+        # each small cell filed in every bucket (cell of the bucket level) it meets, column by column:
+        # a fine cell (level >= bucket level) in one, a coarse one in 4^(bucket level - level)
+        n = 1 << bucket_level
         self.bucket_width = grid.size / n
-        fine = np.flatnonzero(level >= BUCKET_LEVEL)
-        fine_bucket = _bucket_of_code()[self.cells.code[fine] >> (2 * (level[fine] - BUCKET_LEVEL))]
-        coarse = np.flatnonzero((level >= BIG_LEVEL) & (level < BUCKET_LEVEL))
-        span = 1 << (BUCKET_LEVEL - level[coarse])  # buckets a side
+        fine = np.flatnonzero(level >= bucket_level)
+        table = _bucket_of_code(bucket_level)
+        fine_bucket = table[self.cells.code[fine] >> (2 * (level[fine] - bucket_level))]
+        coarse = np.flatnonzero((level >= big_level) & (level < bucket_level))
+        span = 1 << (bucket_level - level[coarse])  # buckets a side
         count = span * span
         within = np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count)
         side = np.repeat(span, count)
@@ -126,9 +132,9 @@ class _Obstacles:
                      + np.stack([within // side, within % side], axis=1))
         del coords
         entry = np.concatenate([fine, np.repeat(coarse, count)])
-        bucket = np.concatenate([fine_bucket, (coarse_ij[:, 0] * n + coarse_ij[:, 1]).astype(np.uint16)])
+        bucket = np.concatenate([fine_bucket, (coarse_ij[:, 0] * n + coarse_ij[:, 1]).astype(table.dtype)])
         del fine_bucket, coarse_ij
-        by_bucket = np.argsort(bucket, kind="stable")  # (a radix sort: 16-bit keys)
+        by_bucket = np.argsort(bucket, kind="stable")  # (a radix sort with 16-bit keys)
         self.entries = entry[by_bucket]
         self.runs = np.concatenate([[0], np.cumsum(np.bincount(bucket, minlength=n * n))])  # bucket b: runs[b]:runs[b + 1]
 
@@ -186,7 +192,7 @@ class _Obstacles:
         small cells of the buckets that meet the ball ("l2": disc, "linf": square) of each centre
         and radius its reach, a run of buckets per bucket column (a margin of 1e-6 bucket, and of
         1e-9 relative on the radius, keeps every cell nearer than the reach, float rounding or not)."""
-        n = 1 << BUCKET_LEVEL
+        n = 1 << self.bucket_level
         reach = np.maximum(reach, 0.0)  # (negative outside the root: no cell is nearer)
         (wx, wy), (x, y) = self.bucket_width, (centres - self.root_lo).T  # from the root's corner
         a = np.clip(np.floor((x - reach) / wx - 1e-6), 0, n - 1).astype(np.int64)
@@ -236,12 +242,12 @@ class _Obstacles:
 
 
 @functools.cache
-def _bucket_of_code() -> np.ndarray:
-    """The bucket number (column by column) of each cell of level BUCKET_LEVEL, by its Morton code:
+def _bucket_of_code(bucket_level: int) -> np.ndarray:
+    """The bucket number (column by column) of each cell of the bucket level, by its Morton code:
     a fine cell's bucket is its ancestor's code looked up (no coordinates gathered)."""
-    n = 1 << BUCKET_LEVEL
-    ij = deinterleave(np.arange(n * n), BUCKET_LEVEL, 2)
-    return (ij[:, 0] * n + ij[:, 1]).astype(np.uint16)
+    n = 1 << bucket_level
+    ij = deinterleave(np.arange(n * n), bucket_level, 2)
+    return (ij[:, 0] * n + ij[:, 1]).astype(np.uint16 if bucket_level <= 8 else np.uint32)  # (16-bit: a radix sort)
 
 
 def _cell_distance(metric: str, cx, cy, x0, x1, y0, y1) -> np.ndarray:

@@ -139,34 +139,40 @@ def _ragged(geometry) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return coords, ring_offsets, polygon_offsets
 
 
-_TEXTS: dict = {}  # per axis of the last grid written: (lattice values made, sorted; their point texts)
+_TEXTS: dict = {}  # per axis of the last grid written: (which lattice values are made, their point texts)
+TABLE_DEPTH = 20  # grids up to this depth (every analysis's) keep a table of 2^depth + 1 texts an axis
 
 
 def _value_texts(tree: Tree, values: np.ndarray, axis: int) -> np.ndarray:
     """The text of each lattice value along `axis` as a point writes it, "[x," or "y],": the space
     coordinate (`lattice_to_space`, `+ 0.0`: no -0.0) as json writes it (repr), each made once for
-    the trees of one grid (the aspects of an analysis share most of their lattice lines); an
-    object array."""
+    the trees of one grid (the aspects of an analysis share most of their lattice lines), kept in
+    a table by lattice value (0..2^depth: looked up, not searched); an object array. A deeper
+    grid's are made for each tree."""
+    if tree.grid.depth > TABLE_DEPTH:
+        wanted, inverse = np.unique(values, return_inverse=True)
+        return _made_texts(tree, wanted, axis)[inverse]
     key = (tree.grid, axis)
     if key not in _TEXTS:
         if len(_TEXTS) >= 2:  # another grid's
             _TEXTS.clear()
-        _TEXTS[key] = (np.zeros(0, np.int64), np.zeros(0, dtype=object))
-    known, texts = _TEXTS[key]
-    wanted = unique(values)
-    at = np.minimum(np.searchsorted(known, wanted), max(len(known) - 1, 0))
-    new = wanted[known[at] != wanted] if len(known) else wanted
+        size = (1 << tree.grid.depth) + 1
+        _TEXTS[key] = (np.zeros(size, bool), np.empty(size, dtype=object))
+    made, texts = _TEXTS[key]
+    new = unique(values[~made[values]])
     if len(new):
-        points = np.zeros((len(new), 2), np.int64)
-        points[:, axis] = new
-        before, after = ("[", ",") if axis == 0 else ("", "],")
-        made = np.array([before + repr(v) + after for v in (lattice_to_space(tree, points)[:, axis] + 0.0).tolist()],
-                        dtype=object)
-        known, texts = np.concatenate([known, new]), np.concatenate([texts, made])
-        order = np.argsort(known, kind="stable")
-        known, texts = known[order], texts[order]
-        _TEXTS[key] = known, texts
-    return texts[np.searchsorted(known, values)]
+        texts[new] = _made_texts(tree, new, axis)
+        made[new] = True
+    return texts[values]
+
+
+def _made_texts(tree: Tree, values: np.ndarray, axis: int) -> np.ndarray:
+    """The texts of some lattice values along `axis` (`_value_texts`), made."""
+    points = np.zeros((len(values), 2), np.int64)
+    points[:, axis] = values
+    before, after = ("[", ",") if axis == 0 else ("", "],")
+    return np.array([before + repr(v) + after for v in (lattice_to_space(tree, points)[:, axis] + 0.0).tolist()],
+                    dtype=object)
 
 
 def _json(value) -> str:

@@ -122,27 +122,34 @@ def _only_one(line_a: np.ndarray, line_b: np.ndarray, start: np.ndarray, size: n
     """Two unions of disjoint intervals of non-negative keys below 2^53, a: [line_a + start,
     line_a + start + 2^size) and b: [line_b + start, line_b + start + 2^size) (0 <= size < 64):
     the maximal intervals of a minus b and of b minus a, sorted. Each family sorted by its starts
-    (its sizes in the low bits; disjoint, so its ends come in the same order), then the four sorted
-    runs of ends, tagged with what they change, merged by one sort: the state (in a) + 2 (in b) is
-    their running sum between consecutive ends (int8: 0..3; the ends at one key in any order)."""
-    n = len(start)
-    events = np.empty(4 * n, np.int64)
+    (its sizes in the low bits; disjoint, so its ends come in the same order), its touching
+    intervals joined, so that its starts and ends alternate in one sorted run of ends, tagged with
+    what they change; the two runs merged by one sort: the state (in a) + 2 (in b) is their
+    running sum between consecutive ends (int8: 0..3; the ends at one key in any order)."""
+    runs = []
     for k, line in enumerate((line_a, line_b)):
         keys = line + start
         keys <<= 6
         keys |= size
         keys.sort(kind="stable")  # (faster here than numpy's quicksort)
-        first, last = events[2 * k * n:(2 * k + 1) * n], events[(2 * k + 1) * n:(2 * k + 2) * n]
-        np.right_shift(keys, 6, out=first)
+        first = keys >> 6
         keys &= 63
-        np.left_shift(1, keys, out=keys)
-        np.add(first, keys, out=last)
+        last = np.left_shift(1, keys, out=keys)
+        last += first
+        del keys
+        apart = last[:-1] != first[1:]  # not joined to the next interval
+        first, last = first[np.r_[True, apart]], last[np.r_[apart, True]]
+        events = np.empty(2 * len(first), np.int64)
         first <<= 2
         first |= 2 * k
         last <<= 2
         last |= 2 * k + 1
-        del keys
-    events.sort(kind="stable")  # four sorted runs: merged
+        events[0::2], events[1::2] = first, last
+        runs.append(events)
+        del first, last
+    events = np.concatenate(runs)
+    del runs
+    events.sort(kind="stable")  # two sorted runs: merged
     state = np.cumsum(_TAG[np.bitwise_and(events, 3, dtype=np.int8, casting="unsafe")], dtype=np.int8)
     events >>= 2  # the ends' keys
     step = events[1:] > events[:-1]  # elementary intervals [events[i], events[i + 1]) of positive length
@@ -186,12 +193,13 @@ def boundary_rings(tree: Tree):
     succ = np.where(pinch_next & (d[second] == left), second, succ)
     pinch = np.zeros(n_edges, bool)  # the edge starts at a pinch point
     pinch[succ[pinch_next]] = True
-    ring, position = _cycles(succ)
-    pred = np.empty_like(succ)
-    pred[succ] = np.arange(n_edges)
-    corner = pinch | (d != d[pred])
-    keep = np.flatnonzero(corner)
-    keep = keep[np.argsort(ring[keep] * n_edges + position[keep], kind="stable")]  # by ring, then along it
+    # the boundary turns at every end (straight edges are merged; a ring never goes straight
+    # through a pinch point): horizontal and vertical edges alternate, and every edge starts at a
+    # corner or a pinch point: all kept
+    ring, position = _alternating_cycles(succ, int(np.count_nonzero(d % 2 == 0)))
+    length = np.bincount(ring, minlength=n_edges)  # (rings named by their least edge: in that order)
+    keep = np.empty(n_edges, np.int64)  # by ring, then along it
+    keep[(np.cumsum(length) - length)[ring] + position] = np.arange(n_edges)
     points, point_ring, point_pinch = start[keep], ring[keep], pinch[keep]
     first = np.r_[True, point_ring[1:] != point_ring[:-1]]  # each ring's first point
     ring_index = np.cumsum(first) - 1
@@ -201,6 +209,18 @@ def boundary_rings(tree: Tree):
     cell = start[e] - (d[e] == 1)[:, None] * [1, 0] - (d[e] == 2)[:, None] * [1, 1] - (d[e] == 3)[:, None] * [0, 1]
     ring_leaf = np.searchsorted(tree.start, interleave(cell, tree.grid.depth), side="right") - 1
     return _split_at_repeats(points, ring_index, point_pinch, ring_leaf, m)
+
+
+def _alternating_cycles(succ: np.ndarray, half: int) -> tuple[np.ndarray, np.ndarray]:
+    """`_cycles` of a permutation taking [0, half) into the rest and back (the horizontal edges
+    come first in `_directed_edges`), from those of its square on [0, half): half the elements,
+    the same cycles' least elements (on [0, half)) and positions twice theirs (one more after)."""
+    into = succ[:half]
+    low, steps = _cycles(succ[into])
+    ring, position = np.empty_like(succ), np.empty_like(succ)
+    ring[:half], position[:half] = low, 2 * steps
+    ring[into], position[into] = low, 2 * steps + 1
+    return ring, position
 
 
 def _cycles(succ: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
