@@ -211,3 +211,33 @@ def test_pairs_of_a_set_are_the_links_of_all_its_samples(regions, stride, monkey
                 assert got.dtype == want.dtype and np.array_equal(got, want)
                 pruned += t.n_anchors == 1 and len(link_samples(s)[0]) >= 4 * stride and len(want) > 0
     assert pruned >= 3
+
+
+def test_links_skipped_between_joined_sets_leave_the_groups_of_every_link(regions):
+    """`_Count._link` does not look for the links of two sets whose anchors are one group
+    already: its groups equal those of every link (`_pairs_of` of every pair of linked sets,
+    joined by a plain union-find), on M1 and random five-bars; and it does skip some."""
+    from fivebar_cli.analyses.aspects import _Count, _linked_to, _pairs_of
+
+    skipped = 0
+    for m in {id(m): m for m, _, _ in regions}.values():
+        model = m.aspect_model()
+        sets = [s for mm, _, region_sets in regions if mm is m for s in region_sets]
+        count = _Count.__new__(_Count)
+        count.model, count.sets = model, sets
+        count.offset = np.cumsum([0] + [s.n_anchors for s in sets])
+        count.edges_i, count.edges_j, count._roots, count._roots_for = [], [], None, None
+        calls = []
+        original = count._joined
+        count._joined = lambda k, j: calls.append(original(k, j)) or calls[-1]
+        count._link({})
+        skipped += sum(calls)
+        i, j = [], []
+        for k, s in enumerate(sets):
+            for t in _linked_to(sets, k):
+                pairs = _pairs_of(model, s, sets[t])
+                i += (count.offset[k] + pairs[:, 0]).tolist()
+                j += (count.offset[t] + pairs[:, 1]).tolist()
+        every = union_find(int(count.offset[-1]), np.array(i, np.int64), np.array(j, np.int64))
+        assert np.array_equal(count.roots, every)
+    assert skipped > 0

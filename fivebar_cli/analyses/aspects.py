@@ -433,7 +433,9 @@ class _Count:
     def _link(self, linked: dict) -> None:
         """The links' edges, set by set: those found already (`linked`, by (set, other set)), or
         from the set's link samples (`link_points`: found in the region's task when it ran in a
-        worker, else now)."""
+        worker, else now). Links only join anchors: those between two sets whose anchors are all
+        one group already (often a set of one anchor, once the links into it are in) would join
+        nothing, and are not looked for (the groups are the same: `roots`)."""
         for k, s in enumerate(self.sets):
             others = _linked_to(self.sets, k)  # none when the aspects live in one space
             if not others:
@@ -442,10 +444,18 @@ class _Count:
             s.links = None
             for j in others:
                 pairs = linked.get((k, j))
+                if pairs is None and self._joined(k, j):
+                    continue
                 if pairs is None:
                     pairs = link_pairs(self.sets[j], *links) if links is not None else _pairs_of(self.model, s, self.sets[j])
                 self.edges_i += (self.offset[k] + pairs[:, 0]).tolist()
                 self.edges_j += (self.offset[j] + pairs[:, 1]).tolist()
+
+    def _joined(self, k: int, j: int) -> bool:
+        """Whether every anchor of sets k and j is in one group already."""
+        roots = self.roots
+        held = np.concatenate([roots[self.offset[k]:self.offset[k + 1]], roots[self.offset[j]:self.offset[j + 1]]])
+        return len(held) > 0 and bool(np.all(held == held[0]))
 
     def _join(self) -> None:
         """Join the anchors of each outer component by local refinement, as long as it joins."""
