@@ -225,9 +225,10 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
     or fewer, a space's regions are made in the task that paved it (`_space_regions_task`: the
     pavings cross to this process once, with the regions, not there and back); with more, they
     are tasks of their own, started as soon as their space is paved (the other space's paving may
-    still run). With workers, the certificate's links (`link_pairs`) of the sets taken so far are
-    found here while the last regions' tasks run: (regions, sets, the links found, by (set, set of
-    the other space))."""
+    still run), and the certificate's links (`link_pairs`) of the sets taken so far are found here
+    while the last regions' tasks run (a space's sets all arrive at once otherwise: the certificate
+    finds them, and skips those that would join nothing, `_Count._link`): (regions, sets, the links
+    found, by (set, set of the other space))."""
     links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
     names = ("workspace", "jointspace")
     along = pool.n <= len(names)
@@ -250,7 +251,7 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
         region.test = _mode_test(model, region.space, region.working, region.assembly)
         regions.append(region)
         sets += region_sets
-        if links:  # (with the link samples the workers found)
+        if links and not along:  # (with the link samples the workers found)
             for k in range(len(sets) - len(region_sets), len(sets)):
                 for j in _linked_to(sets, k):
                     if j < k:
