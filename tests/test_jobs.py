@@ -175,14 +175,5 @@ def test_same_bytes_on_one_and_two_processes(tmp_path, args):
     _same_files(tmp_path / "1", tmp_path / "2")
 
 
-def test_five_bar_aspects_same_bytes_whether_regions_run_with_their_paving_or_alone(tmp_path):
-    """Two workers make each space's regions in the task that paved it; three spread them as tasks
-    of their own (`aspects._regions`): the files are those of one process either way."""
-    for jobs in ("1", "2", "3"):
-        ok(run_cli("aspects", CONFIGS / "m1.yaml", "--depth", "7", "--no-plot", "-q", "--jobs", jobs, "-o", tmp_path / jobs))
-    _same_files(tmp_path / "1", tmp_path / "2")
-    _same_files(tmp_path / "1", tmp_path / "3")
-
-
 def test_jobs_must_be_positive(tmp_path):
     one_line(run_cli("aspects", CONFIGS / "m1.yaml", "--jobs", "0", "-o", tmp_path), 2, "--jobs")

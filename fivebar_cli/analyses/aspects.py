@@ -34,7 +34,7 @@ import numpy as np
 from fivebar_cli.analyses.aspect_texts import aspect_texts, signs_text
 from fivebar_cli.analyses.crossings import Band, Crossing, find_crossings, serial_bands
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
-from fivebar_cli.analyses.jobs import Workers, _Done
+from fivebar_cli.analyses.jobs import Workers
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
@@ -221,27 +221,19 @@ def _aspect_task(task: tuple) -> tuple[tuple[Disc | None, Square | None], tuple[
 
 def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timings: dict, advance):
     """The mode regions and their mode sets: one paving pass per space for all its modes (their
-    tests share work), then each mode region's data and mode sets. With as many workers as spaces
-    or fewer, a space's regions are made in the task that paved it (`_space_regions_task`: the
-    pavings cross to this process once, with the regions, not there and back); with more, they
-    are tasks of their own, started as soon as their space is paved (the other space's paving may
-    still run), and the certificate's links (`link_pairs`) of the sets taken so far are found here
-    while the last regions' tasks run (a space's sets all arrive at once otherwise: the certificate
-    finds them, and skips those that would join nothing, `_Count._link`): (regions, sets, the links
-    found, by (set, set of the other space))."""
+    tests share work), then each mode region's data and mode sets, as tasks of similar sizes
+    started as soon as their space is paved (the other space's paving may still run). With
+    workers, the certificate's links (`link_pairs`) of the sets taken so far are found here while
+    the last regions' tasks run: (regions, sets, the links found, by (set, set of the other space))."""
+    spaces = [pool.submit(_space_task, (m, space, depth)) for space in ("workspace", "jointspace")]
     links = pool.n > 1  # the certificate's link samples in the workers (their memory is no concern then)
-    names = ("workspace", "jointspace")
-    along = pool.n <= len(names)
-    spaces = [pool.submit(_space_regions_task if along else _space_task, (m, space, depth, links)) for space in names]
     region_tasks = [[], []]
     for k in pool.completed(spaces):
-        keys, pavings, seconds, *made = spaces[k].get()
-        if along:
-            region_tasks[k] = [(paving, _Done(result)) for paving, result in zip(pavings, made[0])]
-        else:  # (a region's task reads no outside tree: none travels to a worker)
-            region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, replace(paving, outside=Tree.empty(paving.grid))
-                                                                     if links else paving, links)))
-                               for key, paving in zip(keys, pavings)]
+        keys, pavings, seconds = spaces[k].get()
+        # (a region's task reads no outside tree: none travels to a worker)
+        region_tasks[k] = [(paving, pool.submit(_region_task, (m, *key, replace(paving, outside=Tree.empty(paving.grid))
+                                                                 if links else paving, links)))
+                           for key, paving in zip(keys, pavings)]
         timings["paving"] += seconds
     regions, sets, linked = [], [], {}
     for paving, task in region_tasks[0] + region_tasks[1]:
@@ -251,7 +243,7 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
         region.test = _mode_test(model, region.space, region.working, region.assembly)
         regions.append(region)
         sets += region_sets
-        if links and not along:  # (with the link samples the workers found)
+        if links:  # (with the link samples the workers found)
             for k in range(len(sets) - len(region_sets), len(sets)):
                 for j in _linked_to(sets, k):
                     if j < k:
@@ -276,7 +268,7 @@ def _mode_test(model: AspectModel, space: str, working, assembly):
 def _space_task(task: tuple) -> tuple[list, list[Paving], float]:
     """The mode pavings of one space in one pass, in a worker: (the regions' keys (space, working,
     assembly), their pavings, seconds)."""
-    m, space, depth, *_ = task
+    m, space, depth = task
     model = m.aspect_model()
     t0 = time.perf_counter()
     if space == "workspace":
@@ -287,14 +279,6 @@ def _space_task(task: tuple) -> tuple[list, list[Paving], float]:
         tests = model.jointspace_tests(model.assembly_modes)
     pavings = pave_many(m.spaces()[space].grid(depth), tests, len(keys))
     return keys, pavings, time.perf_counter() - t0
-
-
-def _space_regions_task(task: tuple) -> tuple[list, list[Paving], float, list]:
-    """`_space_task`, then its regions' tasks (`_region_task`) in the same worker: (keys, pavings,
-    seconds, the regions' results)."""
-    m, space, depth, links = task
-    keys, pavings, seconds = _space_task(task)
-    return keys, pavings, seconds, [_region_task((m, *key, paving, links)) for key, paving in zip(keys, pavings)]
 
 
 def _region_task(task: tuple) -> tuple[Region, list[ModeSet], float]:
