@@ -14,7 +14,7 @@ from fivebar_cli.analyses.aspects import DENSE, SMALL_PIECE, _free_modes, _large
 from fivebar_cli.analyses.pieces import ModeSet, _integer_boxes, _near
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.paving.grid import Grid
-from fivebar_cli.paving.tree import Tree, union_find, union_find_blocks
+from fivebar_cli.paving.tree import union_find, union_find_blocks
 
 
 def random_design(seed: int) -> FiveBar:
