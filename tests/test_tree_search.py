@@ -160,3 +160,18 @@ def test_a_shared_search_index_gives_the_same_pairs_and_components():
                 for (i, j), (gi, gj) in zip(own, given):
                     assert np.array_equal(i, gi) and np.array_equal(j, gj)
         assert count > 1 and len(black) > 50  # (a tree with something to find)
+
+
+@pytest.mark.parametrize("dim, depth", [(2, 7), (3, 5)])
+def test_centres_are_the_midpoints_of_the_bounds(dim, depth):
+    """`Tree.centres` (axis by axis, of a selection, into a given array) gives bit for bit
+    0.5 * (lo + hi) of `Tree.bounds`, on a grid with an offset root box."""
+    rng = np.random.default_rng(dim)
+    grid = Grid(((-1.3, 1.6), (0.7, 1.8), (2.0, 7.5))[:dim], depth, (False,) * dim)
+    tree = Tree.from_cells(grid, depth, cells_of(blocky(rng, depth, dim, 0.7, 0.5)))
+    lo, hi = tree.bounds()
+    assert np.array_equal(tree.centres(), 0.5 * (lo + hi))
+    pick = np.flatnonzero(rng.random(len(tree)) < 0.4)
+    out = np.full((len(pick) + 3, dim), np.nan)
+    tree.centres(pick, out=out[:len(pick)])
+    assert np.array_equal(out[:len(pick)], 0.5 * (lo[pick] + hi[pick])) and np.isnan(out[len(pick):]).all()

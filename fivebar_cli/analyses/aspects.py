@@ -42,7 +42,7 @@ from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
 from fivebar_cli.paving.engine import Paving, on_cells, pave_many
 from fivebar_cli.paving.arrays import unique, unique_pairs
 from fivebar_cli.paving.grid import MAX_INDEX_BITS, Grid
-from fivebar_cli.paving.morton import deinterleave, finest_order
+from fivebar_cli.paving.morton import finest_order
 from fivebar_cli.paving.tree import Tree, finest_indices, union_find
 
 SMALL_PIECE = 64  # pieces with at most this many black leaves are sampled densely when linking
@@ -553,10 +553,8 @@ def link_pairs(t: ModeSet, owners: np.ndarray, index: np.ndarray) -> np.ndarray:
 def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
     """Sample points of every anchor's black cells of a mode set (centres; a DENSE x DENSE grid in
     the leaves of small anchors) and the anchor each comes from. The centres are built axis by
-    axis into one array with contiguous columns (the IKP / DKP read columns), as the same floats
-    as 0.5 * (lo + hi) of `Tree.bounds` (its cell widths from a table per level)."""
+    axis into one array with contiguous columns (the IKP / DKP read columns: `Tree.centres`)."""
     tree = s.region.tree
-    grid = tree.grid
     mine, owner = s.black_leaves, s.leaf_anchors
     small = s.anchor_size[owner] <= SMALL_PIECE
     dense = None  # (most sets: no small anchor, no copies)
@@ -566,18 +564,8 @@ def link_samples(s: ModeSet) -> tuple[np.ndarray, np.ndarray]:
         grid_pts = np.stack(np.meshgrid(g, g), -1).reshape(-1, 2)
         dense = (lo[:, None, :] + grid_pts[None] * (hi - lo)[:, None, :]).reshape(-1, 2)
         mine, owner = mine[~small], np.concatenate([owner[~small], np.repeat(owner[small], DENSE * DENSE)])
-    level = tree.level[mine]
-    coords = deinterleave(tree.code[mine], level, grid.dim)
-    points = np.empty((len(mine) + (0 if dense is None else len(dense)), grid.dim), order="F")
-    levels = np.arange(int(level.max()) + 1 if len(level) else 1)
-    for axis in range(grid.dim):
-        width = np.ldexp(grid.size[axis], -levels)[level]
-        centre = points[:len(mine), axis]
-        np.multiply(coords[:, axis], width, out=centre)
-        centre += grid.lo[axis]  # lo
-        width += centre  # hi
-        centre += width  # lo + hi
-        centre *= 0.5
+    points = np.empty((len(mine) + (0 if dense is None else len(dense)), tree.grid.dim), order="F")
+    tree.centres(mine, out=points[:len(mine)])
     if dense is not None:
         points[len(mine):] = dense
     return points, owner

@@ -103,9 +103,24 @@ class Tree:
         level, code = (self.level, self.code) if index is None else (self.level[index], self.code[index])
         return cell_bounds(self.grid, deinterleave(code, level, self.grid.dim), level)
 
-    def centres(self) -> np.ndarray:
-        lo, hi = self.bounds()
-        return 0.5 * (lo + hi)
+    def centres(self, index: np.ndarray | None = None, out: np.ndarray | None = None) -> np.ndarray:
+        """Leaf centres, (m, dim): 0.5 * (lo + hi) of `bounds`, the same floats, made axis by axis
+        into contiguous columns (what the kinematics read); of the leaves `index` only when given;
+        `out`: an (m, dim) array to write them into."""
+        level, code = (self.level, self.code) if index is None else (self.level[index], self.code[index])
+        grid = self.grid
+        coords = deinterleave(code, level, grid.dim)
+        points = np.empty((len(level), grid.dim), order="F") if out is None else out
+        widths = np.ldexp(grid.size[:, None], -np.arange(int(level.max()) + 1 if len(level) else 1))
+        for axis in range(grid.dim):
+            width = widths[axis][level]
+            centre = points[:, axis]
+            np.multiply(coords[:, axis], width, out=centre)
+            centre += grid.lo[axis]  # lo
+            width += centre  # hi
+            centre += width  # lo + hi
+            centre *= 0.5
+        return points
 
     # -- changing the grid
 

@@ -39,12 +39,8 @@ def dkp(m, th1, th2, assembly: int, crank_points=None) -> tuple[np.ndarray, np.n
     `cranks(m, th1, th2)` when the caller has them. Computed coordinate by coordinate in place
     (p's coordinates are its last axis, a view of one array per coordinate).
     """
-    if crank_points is not None:
-        (b1x, b1y), (b2x, b2y) = (np.moveaxis(b, -1, 0) for b in crank_points)
-    else:
-        th1, th2 = np.asarray(th1, float), np.asarray(th2, float)
-        b1x, b1y = np.cos(th1) * m.L1, np.sin(th1) * m.L1
-        b2x, b2y = np.cos(th2) * m.L2 + m.L0, np.sin(th2) * m.L2
+    b1, b2 = crank_points if crank_points is not None else cranks(m, th1, th2)
+    (b1x, b1y), (b2x, b2y) = np.moveaxis(b1, -1, 0), np.moveaxis(b2, -1, 0)
     dx, dy = np.asarray(b2x - b1x), np.asarray(b2y - b1y)
     d = np.hypot(dx, dy)
     ok = np.asarray((d > 0) & (d <= m.L3 + m.L4) & (d >= abs(m.L3 - m.L4)))
