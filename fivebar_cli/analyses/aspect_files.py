@@ -9,11 +9,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from fivebar_cli.analyses.aspect_texts import aspect_properties, aspect_texts, signs_text
+from fivebar_cli.analyses.aspect_texts import aspect_texts, signs_text
 from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis
 from fivebar_cli.analyses.inscribed import Disc, Square
 from fivebar_cli.errors import InputError
-from fivebar_cli.analyses.jobs import Workers
+from fivebar_cli.analyses.jobs import Texts, Workers
 from fivebar_cli.io.files import read_csv_table, write_csv, write_text
 from fivebar_cli.io.layout import ASPECT_FILES, ASPECTS_CSV, CROSSINGS_CSV, aspect_geojson_path, aspect_path
 from fivebar_cli.io.outputs import of_complete_runs, output_set
@@ -92,9 +92,9 @@ def write_aspects(folder: Path, analysis: AspectAnalysis, jobs: int | None = 1) 
     return paths
 
 
-def _aspect_texts(task: tuple) -> tuple[str, str, str]:
+def _aspect_texts(task: tuple) -> Texts:
     """One aspect's `.qt` texts (workspace, joint space) and workspace GeoJSON text."""
-    return aspect_texts(*task)
+    return Texts(aspect_texts(*task))
 
 
 @dataclass(frozen=True)

@@ -34,7 +34,7 @@ import numpy as np
 from fivebar_cli.analyses.aspect_texts import aspect_texts, signs_text
 from fivebar_cli.analyses.crossings import Band, Crossing, find_crossings, serial_bands
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
-from fivebar_cli.analyses.jobs import Workers
+from fivebar_cli.analyses.jobs import Texts, Workers
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
@@ -212,11 +212,11 @@ def analyse_aspects(m: Mechanism, depth: int, advance=lambda n=1: None, budget: 
                           [made for _, made in found] if texts else None)
 
 
-def _aspect_task(task: tuple) -> tuple[tuple[Disc | None, Square | None], tuple[str, str, str] | None]:
+def _aspect_task(task: tuple) -> tuple[tuple[Disc | None, Square | None], Texts | None]:
     """One aspect's largest disc and square in its workspace cells, and with `texts` its files'
-    texts (`aspect_texts`; the circle and square are not in them)."""
+    texts (`aspect_texts`, as `Texts`; the circle and square are not in them)."""
     m, aspect, depth, texts = task
-    return largest_shapes(aspect.workspace), aspect_texts(m, aspect, depth) if texts else None
+    return largest_shapes(aspect.workspace), Texts(aspect_texts(m, aspect, depth)) if texts else None
 
 
 def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timings: dict, advance):

@@ -11,7 +11,14 @@ module-level function and picklable arguments; workers are forked where the plat
 re-import, the parent's data shared copy-on-write), spawned elsewhere. Trees and pavings travel
 between the processes compact (`_tree_travels`, `_paving_travels`: levels in a byte, cell
 coordinates in 32 bits; the same arrays arrive): their bytes through the pipes are most of what
-the workers cost the parent. Workers ignore Ctrl-C and
+the workers cost the parent. Arrays of 64 KiB or more (and the texts a task gives back,
+`Texts`) do not go through the pipes at all while a pool runs: the sender writes their bytes to
+a file in memory (/dev/shm, in a folder of the pool's) and the pipe carries its name; the
+receiver reads and removes it (`_array_travels`). Through a pipe of 64 KiB, megabytes go in
+hundreds of turns between two processes, each waiting for the other's GIL; through a file, in
+one copy each way. The folder goes with the pool; one left by a killed run is removed by the
+next pool (`_clear_stale`). Without /dev/shm (or when it is full) arrays go through the pipes as
+before. Workers ignore Ctrl-C and
 SIGHUP and die on SIGTERM: the parent alone reacts to signals, and when it stops (an interruption,
 an error) it terminates its pool.
 """
@@ -22,7 +29,9 @@ import itertools
 import multiprocessing
 import os
 import queue
+import shutil
 import signal
+import tempfile
 from multiprocessing.reduction import ForkingPickler
 from typing import Callable, Iterable, Iterator, TypeVar
 
@@ -73,13 +82,27 @@ class Workers:
     def __enter__(self) -> "Workers":
         if self.n > 1:
             method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-            self._pool = multiprocessing.get_context(method).Pool(self.n, initializer=_quiet_worker)
+            self._spill = _spill_folder()
+            self._outer, _spill[0] = _spill[0], self._spill
+            try:
+                self._pool = multiprocessing.get_context(method).Pool(self.n, initializer=_start_worker,
+                                                                      initargs=(self._spill,))
+            except BaseException:
+                self._release()
+                raise
         return self
 
     def __exit__(self, *exc) -> None:
         if self._pool is not None:
             self._pool.terminate()  # what is left to run is not wanted (an error, an interruption)
             self._pool.join()
+            self._release()
+
+    def _release(self) -> None:
+        """Remove the pool's folder, with the arrays of tasks never run or results never taken."""
+        _spill[0] = self._outer
+        if self._spill is not None:
+            shutil.rmtree(self._spill, ignore_errors=True)
 
     def map(self, fn: Callable[[T], R], items: Iterable[T], advance: Callable[[int], None] = lambda n=1: None,
             cost: Callable[[T], float] | None = None) -> Iterator[R]:
@@ -147,7 +170,9 @@ class _Done:
         return self.value
 
 
-def _quiet_worker() -> None:
+def _start_worker(spill: str | None) -> None:
+    """A worker: its pool's folder for large arrays in transit; signals left to the parent."""
+    _spill[0] = spill
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # the parent's handler would raise inside a task
     if hasattr(signal, "SIGHUP"):
@@ -178,3 +203,89 @@ def _paving_arrives(grid, inside: Tree, outside: Tree, cells: np.ndarray, dtype:
 
 ForkingPickler.register(Tree, _tree_travels)
 ForkingPickler.register(Paving, _paving_travels)
+
+
+# ---------------------------------------------------------------- large arrays through memory files
+
+SPILL_BYTES = 1 << 16  # arrays from this size travel through a file in memory: one pipe's buffer
+SPILL_ROOT = "/dev/shm"
+_spill: list[str | None] = [None]  # the folder of the pool this process runs or works in
+_names = itertools.count()
+
+
+def _spill_folder() -> str | None:
+    """A new folder in memory for a pool's arrays in transit (None: none can be made here)."""
+    if not os.path.isdir(SPILL_ROOT):
+        return None
+    _clear_stale()
+    try:
+        return tempfile.mkdtemp(prefix=f"fivebar-{os.getpid()}-", dir=SPILL_ROOT)
+    except OSError:
+        return None
+
+
+def _clear_stale() -> None:
+    """Remove the folders of pools whose process is gone (a SIGKILL leaves its folder behind)."""
+    for entry in os.scandir(SPILL_ROOT):
+        pid = entry.name.split("-")[1] if entry.name.startswith("fivebar-") else ""
+        if not pid.isdigit() or int(pid) == os.getpid():
+            continue
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            shutil.rmtree(entry.path, ignore_errors=True)
+        except OSError:  # alive (another user's process): not ours to remove
+            pass
+
+
+def _array_travels(a: np.ndarray):
+    """How an array is pickled between processes: a large one, while a pool runs, as the name of
+    a file holding its bytes (in its memory order: C, or F for a Fortran-ordered array, as numpy's
+    own pickling keeps it); others, and any the file cannot take, as numpy pickles them."""
+    folder = _spill[0]
+    if folder is None or a.nbytes < SPILL_BYTES or a.dtype.hasobject:
+        return a.__reduce__()
+    transposed = a.flags.f_contiguous and not a.flags.c_contiguous
+    data = a.T if transposed else np.ascontiguousarray(a)
+    path = os.path.join(folder, f"{os.getpid()}-{next(_names)}")
+    try:
+        with open(path, "xb") as fh:
+            fh.write(data.reshape(-1).view(np.uint8))
+    except OSError:  # full, or the folder went with its pool: through the pipe after all
+        try:
+            os.unlink(path)
+        except OSError:
+            pass
+        return a.__reduce__()
+    return _array_arrives, (path, data.dtype, data.shape, transposed)
+
+
+def _array_arrives(path: str, dtype: np.dtype, shape: tuple, transposed: bool) -> np.ndarray:
+    a = np.fromfile(path, dtype).reshape(shape)
+    os.unlink(path)
+    return a.T if transposed else a
+
+
+class Texts(tuple):
+    """Texts a task gives back (a tuple of str), which travel between processes as one array of
+    their UTF-8 bytes, so large ones through a file in memory (`_array_travels`); a plain tuple
+    arrives."""
+
+
+def _texts_travel(texts: Texts):
+    data = [t.encode() for t in texts]
+    return _texts_arrive, (np.frombuffer(b"".join(data), np.uint8), [len(d) for d in data])
+
+
+def _texts_arrive(data: np.ndarray, lengths: list[int]) -> tuple[str, ...]:
+    raw, ends = data.tobytes(), itertools.accumulate(lengths, initial=0)
+    start = next(ends)
+    out = []
+    for end in ends:
+        out.append(raw[start:end].decode())
+        start = end
+    return tuple(out)
+
+
+ForkingPickler.register(np.ndarray, _array_travels)
+ForkingPickler.register(Texts, _texts_travel)
