@@ -1,15 +1,13 @@
 """Large arrays and texts between the processes of `--jobs N` (`analyses/jobs.py`): while a pool
 runs they cross through files in memory (/dev/shm), not the pipes, and arrive as sent (values,
 dtype, shape; the memory order numpy's pickling gives); the files go once read, and the
-pool's folder with the pool, also after an error or a killed run. Without /dev/shm, or when a
+pool's folder with the pool, also after an error or a killed run (by the next pool). Without /dev/shm, or when a
 file cannot be written, they cross through the pipes as before."""
 
 from __future__ import annotations
 
 import os
 import pickle
-import subprocess
-import sys
 from multiprocessing.reduction import ForkingPickler
 from pathlib import Path
 
@@ -107,25 +105,65 @@ def test_a_pool_that_cannot_start_leaves_no_folder(monkeypatch):
     assert made[0] is not None and not os.path.exists(made[0]) and jobs._spill[0] is None
 
 
-def test_a_killed_runs_folder_is_removed_by_the_next_pool_a_living_ones_kept():
-    gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True,
-                          text=True, check=True)
-    dead = Path(jobs.SPILL_ROOT) / f"fivebar-{int(gone.stdout)}-killed"
-    alive = Path(jobs.SPILL_ROOT) / f"fivebar-{os.getppid()}-running"
-    for folder in (dead, alive):  # made whole, then named (another test's pool may look meanwhile)
+def test_a_killed_runs_folder_is_removed_by_the_next_pool_a_running_ones_kept():
+    """A pool's folder is locked while the pool lives (the lock goes with its processes, however
+    they end): one whose lock nothing holds is a killed run's, one locked is a running pool's."""
+    import fcntl
+
+    killed = Path(jobs.SPILL_ROOT) / f"{jobs.SPILL_PREFIX}test-killed-{os.getpid()}"
+    running = Path(jobs.SPILL_ROOT) / f"{jobs.SPILL_PREFIX}test-running-{os.getpid()}"
+    for folder in (killed, running):  # made whole, then named (another test's pool may look meanwhile)
         making = folder.with_name("making-" + folder.name)
         making.mkdir()
         (making / "1-0").write_bytes(b"\0" * 100)
+        if folder == running:
+            lock = os.open(making, os.O_RDONLY)
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
         making.rename(folder)
     try:
         with Workers(2, 2) as pool:
             assert list(pool.map(_itself, [1, 2])) == [1, 2]
-        assert not dead.exists() and (alive / "1-0").exists()
+            with pytest.raises(BlockingIOError):  # this pool's own folder is locked too
+                probe = os.open(pool._spill, os.O_RDONLY)
+                try:
+                    fcntl.flock(probe, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                finally:
+                    os.close(probe)
+        assert not killed.exists() and (running / "1-0").exists()
     finally:
-        for folder in (dead, alive):
+        os.close(lock)
+        for folder in (killed, running):
             if folder.exists():
                 (folder / "1-0").unlink()
                 folder.rmdir()
+
+
+def test_a_sigkilled_runs_folder_goes_with_the_next_pool():
+    import fcntl
+    import subprocess
+    import sys
+    import time
+
+    script = ("import time\nfrom fivebar_cli.analyses.jobs import Workers\nwith Workers(2, 2) as pool:\n"
+              "    list(pool.map(abs, [1, -2]))\n    print(pool._spill, flush=True)\n    time.sleep(60)\n")
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, text=True)
+    folder = proc.stdout.readline().strip()
+    proc.kill()
+    proc.wait()
+    assert os.path.isdir(folder)  # left behind
+    deadline = time.monotonic() + 20
+    while time.monotonic() < deadline:  # its workers leave once their parent is gone
+        probe = os.open(folder, os.O_RDONLY)
+        try:
+            fcntl.flock(probe, fcntl.LOCK_SH | fcntl.LOCK_NB)
+            break
+        except BlockingIOError:
+            time.sleep(0.05)
+        finally:
+            os.close(probe)
+    with Workers(2, 2):
+        pass
+    assert not os.path.exists(folder)
 
 
 def test_without_dev_shm_arrays_cross_through_the_pipes(monkeypatch, tmp_path):

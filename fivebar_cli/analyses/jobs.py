@@ -16,8 +16,8 @@ the workers cost the parent. Arrays of 64 KiB or more (and the texts a task give
 a file in memory (/dev/shm, in a folder of the pool's) and the pipe carries its name; the
 receiver reads and removes it (`_array_travels`). Through a pipe of 64 KiB, megabytes go in
 hundreds of turns between two processes, each waiting for the other's GIL; through a file, in
-one copy each way. The folder goes with the pool; one left by a killed run is removed by the
-next pool (`_clear_stale`). Without /dev/shm (or when it is full) arrays go through the pipes as
+one copy each way. The folder goes with the pool; one left by a killed run (its lock gone with
+its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is full) arrays go through the pipes as
 before. Workers ignore Ctrl-C and
 SIGHUP and die on SIGTERM: the parent alone reacts to signals, and when it stops (an interruption,
 an error) it terminates its pool.
@@ -82,7 +82,7 @@ class Workers:
     def __enter__(self) -> "Workers":
         if self.n > 1:
             method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
-            self._spill = _spill_folder()
+            self._spill, self._lock = _spill_folder() or (None, None)
             self._outer, _spill[0] = _spill[0], self._spill
             try:
                 self._pool = multiprocessing.get_context(method).Pool(self.n, initializer=_start_worker,
@@ -103,6 +103,7 @@ class Workers:
         _spill[0] = self._outer
         if self._spill is not None:
             shutil.rmtree(self._spill, ignore_errors=True)
+            os.close(self._lock)
 
     def map(self, fn: Callable[[T], R], items: Iterable[T], advance: Callable[[int], None] = lambda n=1: None,
             cost: Callable[[T], float] | None = None) -> Iterator[R]:
@@ -209,33 +210,60 @@ ForkingPickler.register(Paving, _paving_travels)
 
 SPILL_BYTES = 1 << 16  # arrays from this size travel through a file in memory: one pipe's buffer
 SPILL_ROOT = "/dev/shm"
+SPILL_PREFIX = "fivebar-pool-"
 _spill: list[str | None] = [None]  # the folder of the pool this process runs or works in
 _names = itertools.count()
 
 
-def _spill_folder() -> str | None:
-    """A new folder in memory for a pool's arrays in transit (None: none can be made here)."""
-    if not os.path.isdir(SPILL_ROOT):
+def _spill_folder() -> tuple[str, int] | None:
+    """A new folder in memory for a pool's arrays in transit, and an open descriptor of it that
+    holds a lock on it while the pool lives (None: none can be made here)."""
+    if not os.path.isdir(SPILL_ROOT):  # (Linux: not on macOS or Windows)
         return None
+    import fcntl
+
     _clear_stale()
-    try:
-        return tempfile.mkdtemp(prefix=f"fivebar-{os.getpid()}-", dir=SPILL_ROOT)
+    try:  # made under another name, locked, then named: `_clear_stale` never sees it unlocked
+        making = tempfile.mkdtemp(prefix=f"making-{SPILL_PREFIX}", dir=SPILL_ROOT)
     except OSError:
         return None
+    fd = None
+    try:
+        fd = os.open(making, os.O_RDONLY)
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        folder = os.path.join(SPILL_ROOT, os.path.basename(making).removeprefix("making-"))
+        os.rename(making, folder)
+    except OSError:
+        if fd is not None:
+            os.close(fd)
+        shutil.rmtree(making, ignore_errors=True)
+        return None
+    return folder, fd
 
 
 def _clear_stale() -> None:
-    """Remove the folders of pools whose process is gone (a SIGKILL leaves its folder behind)."""
-    for entry in os.scandir(SPILL_ROOT):
-        pid = entry.name.split("-")[1] if entry.name.startswith("fivebar-") else ""
-        if not pid.isdigit() or int(pid) == os.getpid():
+    """Remove the folders of pools that are gone (a SIGKILL leaves its folder behind): those whose
+    lock nothing holds any more (a lock goes with the processes that held it)."""
+    import fcntl
+
+    try:
+        entries = list(os.scandir(SPILL_ROOT))
+    except OSError:
+        return
+    for entry in entries:
+        if not entry.name.startswith(SPILL_PREFIX):
             continue
         try:
-            os.kill(int(pid), 0)
-        except ProcessLookupError:
+            fd = os.open(entry.path, os.O_RDONLY)
+        except OSError:  # gone meanwhile, or another user's
+            continue
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             shutil.rmtree(entry.path, ignore_errors=True)
-        except OSError:  # alive (another user's process): not ours to remove
+        except OSError:  # locked: its pool runs
             pass
+        finally:
+            os.close(fd)
 
 
 def _array_travels(a: np.ndarray):
