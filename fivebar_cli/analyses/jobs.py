@@ -306,12 +306,10 @@ def _texts_travel(texts: Texts):
 
 
 def _texts_arrive(data: np.ndarray, lengths: list[int]) -> tuple[str, ...]:
-    raw, ends = data.tobytes(), itertools.accumulate(lengths, initial=0)
-    start = next(ends)
-    out = []
-    for end in ends:
-        out.append(raw[start:end].decode())
-        start = end
+    raw, out, start = data.tobytes(), [], 0
+    for length in lengths:
+        out.append(raw[start:start + length].decode())
+        start += length
     return tuple(out)
 
 

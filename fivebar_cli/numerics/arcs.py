@@ -90,7 +90,8 @@ def _coincident_foot(d, r1, r2, foot):
     grouped as (d - r2)(d + r2) + r1^2, regrouped as d^2 + (r1 - r2)(r1 + r2) where that grouping's
     rounding is a million times smaller: nearly coincident circles of nearly equal radii, where the
     first loses digits as r^2 / d^2 (a cut 1e-5 rad off for d = 1e-12 r); every other cut keeps its
-    bits. Only circles with d < 1e-3 (r1 + r2) can be regrouped (the caller's cheap test)."""
+    bits. Only circles with d < 1e-2 (r1 + r2) can be regrouped, the caller's cheap test: beyond it,
+    1e-6 size <= 1e-6 (d + r1 + r2)^2 < 0.011 d^2."""
     size = np.abs(d - r2) * (d + r2) + r1 * r1  # the first grouping's rounding, in units of eps
     better = d * d + np.abs(r1 - r2) * (r1 + r2) < 1e-6 * size
     return np.where(better, (d * d + (r1 - r2) * (r1 + r2)) / (2.0 * d), foot)
