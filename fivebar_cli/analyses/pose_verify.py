@@ -44,6 +44,12 @@ class SingularPose:
     joints: tuple[float, ...]
     value: float
 
+    def value_text(self, name: str, digits: int = 2) -> str:
+        """`det J = 0 to rounding (-1.1e-15)`: what is claimed is that the value's sign cannot be
+        certified here; its computed digits are rounding noise, which differs between machines'
+        math libraries (so they are shown, but never as the claim)."""
+        return f"{name} = 0 to rounding ({self.value:.{digits}g})"
+
 
 @dataclass(frozen=True)
 class VerifyResult:

@@ -182,7 +182,7 @@ def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:
             singular.append((sheet, pose))
             notes.append("  singular pose: " + ", ".join(f"{a} = {v:.12g}" for a, v in zip(pose_columns(m), pose.pose))
                          + ", " + ", ".join(f"{a} = {v:.12g}" for a, v in zip(joint_columns(m), pose.joints))
-                         + f", {model.singularity_name} = {pose.value:.3g}")
+                         + ", " + pose.value_text(model.singularity_name))
         if result.status == UNDECIDED:
             notes.append("  " + result.undecided_line())
     header = ("name", *fields, "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume")
@@ -199,7 +199,7 @@ def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:
 
             poses = np.array([p.pose for _, p in singular])
             classes = np.array([sheet_classes(model, s)[0] for s, _ in singular])
-            labels = [f"{model.sheets[s].label or m.name}: {model.singularity_name} = {p.value:.2g}"
+            labels = [f"{model.sheets[s].label or m.name}: {p.value_text(model.singularity_name)}"
                       for s, p in singular]
             return figure_assembly_modes(model, poses, labels, f"{m.name}: valid singular poses", classes)
 

@@ -504,14 +504,14 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
     if result.status == SINGULAR:
         x, y, phi = (*pose.pose, m.phi_range[0])[:3]  # one orientation: the pose is (x, y)
         notes.append(f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
-                     f"{', '.join(f'{v:.12g}' for v in pose.joints)}, det J = {pose.value:.3g}")
+                     f"{', '.join(f'{v:.12g}' for v in pose.joints)}, {pose.value_text('det J')}")
         counterexample = Table("Singular pose", COUNTEREXAMPLE_HEADER, ((x, y, phi, *pose.joints, pose.value),))
 
         def pose_figure():
             from fivebar_cli.plotting.rpr3 import figure_pose
 
-            return figure_pose(m, (x, y, phi), pose.joints, f"{m.name}: a reachable singular pose (det J = "
-                               f"{pose.value:.2g})")
+            return figure_pose(m, (x, y, phi), pose.joints,
+                               f"{m.name}: a reachable singular pose ({pose.value_text('det J')})")
 
         drawings = ((COUNTEREXAMPLE_PNG, pose_figure),)
     if result.status == UNDECIDED:
