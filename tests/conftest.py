@@ -48,6 +48,13 @@ def unchecked_fivebar(name: str, *lengths: float, bounds=None) -> FiveBar:
     return m
 
 
+def box_points(lo: np.ndarray, hi: np.ndarray, frac: np.ndarray) -> np.ndarray:
+    """(boxes, k, dim): the points lo + frac (hi - lo) of each box (frac in [0, 1], k of them), kept
+    in the box: lo + 1 * (hi - lo) can round an ulp beyond hi, outside the box and past a joint
+    limit the box ends at (a sample there would blame the box test for a point it never held)."""
+    return np.clip(lo[:, None, :] + frac[None] * (hi - lo)[:, None, :], lo[:, None, :], hi[:, None, :])
+
+
 def load_fivebar(path) -> FiveBar:
     return load_config(path, kind="fivebar")
 

@@ -20,10 +20,11 @@ import math
 import mpmath
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 import reference_constrained as rc
+from conftest import box_points
 from cli_helpers import run_cli
 from reference_kinematics import ref_dkp, ref_ikp
 from fivebar_cli.mechanisms.fivebar import constrained
@@ -207,7 +208,7 @@ def samples(lo, hi, rng) -> np.ndarray:
     t = np.linspace(0, 1, 6)
     fx, fy = np.meshgrid(t, t, indexing="ij")
     frac = np.concatenate([np.stack([fx.ravel(), fy.ravel()], 1), rng.random((16, 2))])
-    return lo[:, None, :] + frac[None] * (hi - lo)[:, None, :]
+    return box_points(lo, hi, frac)
 
 
 class Reference:
@@ -274,8 +275,14 @@ def test_workspace_constraint_tests_are_sound(case, seed):
     assert_sound(m.box_test("workspace")(lo, hi), np.ones_like(union), union, lo, hi, f"workspace of {m}")
 
 
+# a box ending at theta1's limit (the root's end): lo + 1 * (hi - lo) once sampled an ulp past it
+EDGE_OF_A_LIMIT = (FiveBar("random", 1.0, 1.0, 1.0, 1.0, 1.5, constraints=Constraints((Limit("theta1", -93.0, -3.5),))),
+                   ((1.0, 1.0, 1.0, 1.0, 1.5), {"theta1": (-93.0, -3.5)}, [], 0.0))
+
+
 @SETTINGS
 @given(case=constrained_mechanisms(), seed=st.integers(0, 2**32 - 1))
+@example(case=EDGE_OF_A_LIMIT, seed=1)
 def test_jointspace_constraint_tests_are_sound(case, seed):
     m, data = case
     rng = np.random.default_rng(seed)

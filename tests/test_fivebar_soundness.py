@@ -25,6 +25,7 @@ from conftest import (
     M1,
     M2,
     MECHS,
+    box_points,
     jointspace_area_numeric,
     jointspace_boundary_points,
     leaf_bounds,
@@ -218,7 +219,7 @@ def box_samples(lo, hi, rng, grid: int = 9, extra: int = 40) -> np.ndarray:
     t = np.linspace(0.0, 1.0, grid)
     fx, fy = np.meshgrid(t, t, indexing="ij")
     frac = np.concatenate([np.stack([fx.ravel(), fy.ravel()], axis=1), rng.random((extra, 2))])
-    return lo[:, None, :] + frac[None, :, :] * (hi - lo)[:, None, :]
+    return box_points(lo, hi, frac)
 
 
 def check_boxes(m, space, procedure, lo, hi, rng) -> np.ndarray:

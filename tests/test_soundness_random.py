@@ -20,7 +20,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import unchecked_fivebar, valid_joint, valid_work
+from conftest import box_points, unchecked_fivebar, valid_joint, valid_work
 from reference_kinematics import ref_dkp, ref_ikp
 from fivebar_cli.mechanisms.fivebar import modes
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
@@ -86,7 +86,7 @@ def samples(lo, hi, rng, points: np.ndarray) -> np.ndarray:
     t = np.linspace(0, 1, 7)
     fx, fy = np.meshgrid(t, t, indexing="ij")
     frac = np.concatenate([np.stack([fx.ravel(), fy.ravel()], 1), rng.random((24, 2))])
-    grid = lo[:, None, :] + frac[None] * (hi - lo)[:, None, :]
+    grid = box_points(lo, hi, frac)
     inside = np.all((points[None] >= lo[:, None]) & (points[None] <= hi[:, None]), axis=2)
     special = np.where(inside[..., None], points[None], 0.5 * (lo + hi)[:, None, :])
     return np.concatenate([grid, special], axis=1)
