@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import pickle
+import time
 from multiprocessing.reduction import ForkingPickler
 from pathlib import Path
 
@@ -152,11 +153,28 @@ def test_a_killed_runs_folder_is_removed_by_the_next_pool_a_running_ones_kept():
                 folder.rmdir()
 
 
+def test_a_folder_left_half_made_is_removed_after_a_minute():
+    """A run killed between making its folder and naming it leaves `making-fivebar-pool-*`: the
+    next pool removes it once it is a minute old (a younger one may be another pool's, being made)."""
+    old, young = (Path(jobs.SPILL_ROOT) / f"making-{jobs.SPILL_PREFIX}test-{age}-{os.getpid()}"
+                  for age in ("old", "young"))
+    for folder in (old, young):
+        folder.mkdir()
+    os.utime(old, (time.time() - 2 * jobs.MAKING_SECONDS,) * 2)
+    try:
+        with Workers(2, 2) as pool:
+            assert list(pool.map(_itself, [1, 2])) == [1, 2]
+        assert not old.exists() and young.exists()
+    finally:
+        for folder in (old, young):
+            if folder.exists():
+                folder.rmdir()
+
+
 def test_a_sigkilled_runs_folder_goes_with_the_next_pool():
     import fcntl
     import subprocess
     import sys
-    import time
 
     script = ("import time\nfrom fivebar_cli.analyses.jobs import Workers\nwith Workers(2, 2) as pool:\n"
               "    list(pool.map(abs, [1, -2]))\n    print(pool._spill, flush=True)\n    time.sleep(60)\n")

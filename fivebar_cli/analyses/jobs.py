@@ -34,6 +34,7 @@ import queue
 import shutil
 import signal
 import tempfile
+import time
 from multiprocessing.reduction import ForkingPickler
 from typing import Callable, Iterable, Iterator, TypeVar
 
@@ -253,6 +254,7 @@ ForkingPickler.register(Paving, _paving_travels)
 SPILL_BYTES = 1 << 16  # arrays from this size travel through a file in memory: one pipe's buffer
 SPILL_ROOT = "/dev/shm"
 SPILL_PREFIX = "fivebar-pool-"
+MAKING_SECONDS = 60.0  # a folder still being made after this long was left by a killed run
 _spill: list[str | None] = [None]  # the folder of the pool this process runs or works in
 _names = itertools.count()
 
@@ -285,7 +287,8 @@ def _spill_folder() -> tuple[str, int] | None:
 
 def _clear_stale() -> None:
     """Remove the folders of pools that are gone (a SIGKILL leaves its folder behind): those whose
-    lock nothing holds any more (a lock goes with the processes that held it)."""
+    lock nothing holds any more (a lock goes with the processes that held it), and those still
+    being made a minute after (a run killed in the microseconds between making and naming one)."""
     import fcntl
 
     try:
@@ -293,7 +296,8 @@ def _clear_stale() -> None:
     except OSError:
         return
     for entry in entries:
-        if not entry.name.startswith(SPILL_PREFIX):
+        if not (entry.name.startswith(SPILL_PREFIX) or entry.name.startswith("making-" + SPILL_PREFIX)
+                and _age(entry) > MAKING_SECONDS):
             continue
         try:
             fd = os.open(entry.path, os.O_RDONLY)
@@ -306,6 +310,13 @@ def _clear_stale() -> None:
             pass
         finally:
             os.close(fd)
+
+
+def _age(entry: os.DirEntry) -> float:
+    try:
+        return time.time() - entry.stat().st_mtime
+    except OSError:  # gone meanwhile
+        return 0.0
 
 
 def _array_travels(a: np.ndarray):
