@@ -147,6 +147,13 @@ def _unraisable(hook):
     return unraisable
 
 
+def _quiet(info) -> None:
+    """The interpreter's teardown after an interruption, its one line printed: an object the
+    interruption left half-built may fail in its finaliser (pyparsing's `Forward.__del__` reads an
+    attribute its interrupted `__init__` never set), which Python would print as "Exception
+    ignored ... Traceback" after the line. The run's status stands; nothing more is said."""
+
+
 def _send_again(signum: int) -> None:
     """The signal again, if the command is still running under our handlers: once it has finished
     (handlers ignored) or the interpreter is shutting down (handlers back to the default, which
@@ -188,7 +195,7 @@ def main(argv: list[str] | None = None, held: list[int] | None = None) -> None:
         for sig in INTERRUPTS:
             if argv is None and signal.getsignal(sig) is _on_signal:
                 signal.signal(sig, signal.SIG_IGN)  # the interpreter's teardown is not interrupted
-        sys.unraisablehook = hook
+        sys.unraisablehook = _quiet if argv is None and _received else hook
     if argv is not None:
         for sig, handler in previous.items():
             if sig != signal.SIGINT:  # run_cli (tests) restores SIGINT itself
