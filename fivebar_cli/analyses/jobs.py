@@ -254,8 +254,9 @@ def _clear_stale() -> None:
     except OSError:
         return
     for entry in entries:
-        if not (entry.name.startswith(SPILL_PREFIX) or entry.name.startswith("making-" + SPILL_PREFIX)
-                and _age(entry) > MAKING_SECONDS):
+        made = entry.name.startswith(SPILL_PREFIX)
+        left_half_made = entry.name.startswith("making-" + SPILL_PREFIX) and _age(entry) > MAKING_SECONDS
+        if not (made or left_half_made):
             continue
         try:
             fd = os.open(entry.path, os.O_RDONLY)
