@@ -6,13 +6,15 @@ and the 3-RPR's aspects, at small depths."""
 from __future__ import annotations
 
 import os
+import signal
+import time
 from multiprocessing.reduction import ForkingPickler
 
 import numpy as np
 import pytest
 from cli_helpers import REPO, ok, one_line, run_cli
 
-from fivebar_cli.analyses.jobs import Workers, default_jobs, run_tasks, workers
+from fivebar_cli.analyses.jobs import Workers, WorkerLost, default_jobs, run_tasks, workers
 from fivebar_cli.paving.engine import Paving
 from fivebar_cli.paving.grid import Grid
 from fivebar_cli.paving.tree import Tree
@@ -83,6 +85,30 @@ def test_a_failing_submitted_task_raises_when_its_result_is_taken():
         assert tasks[0].get() == 2
         with pytest.raises(ValueError, match="task 3 fails"):
             tasks[1].get()
+
+
+def _dies(x: int) -> int:
+    if x == 3:
+        os.kill(os.getpid(), signal.SIGKILL)  # as the out-of-memory killer would
+    time.sleep(0.05)
+    return x
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("wait", ["get", "completed", "map", "map by cost"])
+def test_a_killed_worker_fails_the_wait_instead_of_hanging(wait):
+    """multiprocessing's pool replaces a dead worker and its task never finishes: every way of
+    waiting for a result fails with WorkerLost (one line for the CLI), at once, not forever."""
+    start = time.monotonic()
+    with pytest.raises(WorkerLost, match=r"a worker process ended before its task was done \(killed by SIGKILL"):
+        with Workers(2, 4) as pool:
+            if wait == "get":
+                [pool.submit(_dies, x) for x in (1, 2, 3, 4)][2].get()
+            elif wait == "completed":
+                list(pool.completed([pool.submit(_dies, x) for x in (1, 2, 3, 4)]))
+            else:
+                list(pool.map(_dies, [1, 2, 3, 4], cost=(lambda x: -x) if wait == "map by cost" else None))
+    assert time.monotonic() - start < 20
 
 
 def test_in_process_results_are_made_as_they_are_taken():
@@ -177,3 +203,17 @@ def test_same_bytes_on_one_and_two_processes(tmp_path, args):
 
 def test_jobs_must_be_positive(tmp_path):
     one_line(run_cli("aspects", CONFIGS / "m1.yaml", "--jobs", "0", "-o", tmp_path), 2, "--jobs")
+
+
+def _killed(task):
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+@pytest.mark.timeout(60)
+def test_a_worker_killed_during_aspects_is_one_line_and_exit_1(tmp_path, monkeypatch):
+    """The command fails with the failure contract (no traceback, nothing half-written) when a
+    worker dies during a mode region's task (the forked workers run the patched task)."""
+    monkeypatch.setattr("fivebar_cli.analyses.aspects._region_task", _killed)
+    r = run_cli("aspects", CONFIGS / "m1.yaml", "--depth", "6", "--jobs", "2", "-o", tmp_path / "out", "--no-plot")
+    one_line(r, 1, "a worker process ended before its task was done (killed by SIGKILL; out of memory?)")
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").rglob("*.qt"))

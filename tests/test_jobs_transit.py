@@ -29,6 +29,20 @@ def _fails(x):
     raise ValueError("this task fails")
 
 
+class _RemovesTheFilesSent:
+    """Pickled after a large array in a task's result: removes the files the worker just wrote
+    (as a cleaner of /dev/shm, such as systemd's RemoveIPC, would) before the parent reads them."""
+
+    def __reduce__(self):
+        for name in os.listdir(jobs._spill[0]):
+            os.unlink(os.path.join(jobs._spill[0], name))
+        return (int, ())
+
+
+def _big_then_removed(x):
+    return np.zeros(SPILL_BYTES), _RemovesTheFilesSent()
+
+
 def _arrays():
     rng = np.random.default_rng(7)
     big = rng.normal(size=(300, 40))  # 96 000 bytes
@@ -211,3 +225,12 @@ def test_texts_cross_as_one_array_and_arrive_as_the_same_strings():
         back = list(pool.map(_itself, [texts, Texts(())]))
     assert back == [tuple(texts), ()] and type(back[0]) is tuple
     assert pickle.loads(ForkingPickler.dumps(texts)) == tuple(texts)  # no pool: the same, in the pipe
+
+
+@pytest.mark.timeout(60)
+def test_a_result_whose_file_vanished_fails_instead_of_hanging():
+    """The pool's thread that reads results stops on a file it cannot read (the result is lost):
+    the wait fails with WorkerLost, not forever."""
+    with pytest.raises(jobs.WorkerLost, match="could no longer be read"):
+        with Workers(2, 2) as pool:
+            pool.submit(_big_then_removed, 0).get()

@@ -20,7 +20,9 @@ one copy each way. The folder goes with the pool; one left by a killed run (its 
 its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is full) arrays go through the pipes as
 before. Workers ignore Ctrl-C and
 SIGHUP and die on SIGTERM: the parent alone reacts to signals, and when it stops (an interruption,
-an error) it terminates its pool.
+an error) it terminates its pool. A worker that dies (killed, out of memory) takes its task with it,
+and multiprocessing's pool only replaces it: the parent waits in short turns and, between them,
+checks its workers, so that it fails with one line (`WorkerLost`) instead of waiting forever.
 """
 
 from __future__ import annotations
@@ -38,11 +40,17 @@ from typing import Callable, Iterable, Iterator, TypeVar
 
 import numpy as np
 
+from fivebar_cli.errors import FivebarError
 from fivebar_cli.paving.engine import Paving
 from fivebar_cli.paving.tree import Tree
 
 T = TypeVar("T")
 R = TypeVar("R")
+TURN = 0.25  # seconds a wait for a result lasts before the workers are checked (a result ends it at once)
+
+
+class WorkerLost(FivebarError):
+    """A worker process ended before its task was done (the task is lost with it)."""
 
 
 def default_jobs() -> int:
@@ -88,6 +96,7 @@ class Workers:
             try:
                 self._pool = multiprocessing.get_context(method).Pool(self.n, initializer=_start_worker,
                                                                       initargs=(self._spill,))
+                self._started = list(self._pool._pool)  # the pool's processes (it would replace a dead one)
             except BaseException:
                 self._release()
                 raise
@@ -95,6 +104,8 @@ class Workers:
 
     def __exit__(self, *exc) -> None:
         if self._pool is not None:
+            if not self._pool._result_handler.is_alive():  # (WorkerLost: results it can no longer read)
+                self._pool._cache.clear()  # or terminate() refuses to run, and the workers would live on
             self._pool.terminate()  # what is left to run is not wanted (an error, an interruption)
             self._pool.join()
             self._release()
@@ -115,7 +126,7 @@ class Workers:
         if self._pool is None:
             results = (fn(item) for item in items)
         elif cost is None:
-            results = self._pool.imap(fn, items, chunksize=1)
+            results = self._each(self._pool.imap(fn, items, chunksize=1))
         else:
             items = list(items)
             tasks = [None] * len(items)
@@ -133,6 +144,7 @@ class Workers:
         else:
             done = lambda _: self._finished.put(task.id)  # noqa: E731 (run by the pool's result thread)
             task._result = self._pool.apply_async(fn, (item,), callback=done, error_callback=done)
+            task._wait = self._wait
         return task
 
     def completed(self, tasks: list["Task"]) -> Iterator[int]:
@@ -142,7 +154,36 @@ class Workers:
             for done in [i for i in waiting if i in self._seen]:
                 yield waiting.pop(done)
             if waiting:
-                self._seen.add(self._finished.get())
+                self._seen.add(self._wait(lambda turn: self._finished.get(timeout=turn)))
+
+    def _wait(self, take: Callable[[float], R]) -> R:
+        """`take(TURN)` until it gives a result (it raises queue.Empty or a TimeoutError when none
+        came in a turn), checking between turns that the workers and the pool's result thread live."""
+        while True:
+            try:
+                return take(TURN)
+            except (queue.Empty, multiprocessing.TimeoutError):
+                self._check()
+
+    def _check(self) -> None:
+        """WorkerLost if a worker died (its task would never finish) or the thread that takes the
+        results stopped (a result it could not read: its file in /dev/shm removed by someone else)."""
+        ended = next((p.exitcode for p in self._started if p.exitcode is not None), None)
+        if ended is not None:
+            how = f"killed by {signal.Signals(-ended).name}" if ended < 0 else f"exit status {ended}"
+            raise WorkerLost(f"a worker process ended before its task was done ({how}; out of memory?): "
+                             "run again, or with fewer jobs")
+        if not self._pool._result_handler.is_alive():
+            raise WorkerLost("the workers' results could no longer be read (their files in /dev/shm removed?): "
+                             "run again, or with fewer jobs")
+
+    def _each(self, results) -> Iterator:
+        """An `imap` iterator's results, waited for in turns (`_wait`)."""
+        while True:
+            try:
+                yield self._wait(results.next)
+            except StopIteration:
+                return
 
 
 def _advancing(results: Iterable[R], advance: Callable[[int], None]) -> Iterator[R]:
@@ -157,9 +198,10 @@ class Task:
     def __init__(self, key: int):
         self.id = key
         self._result = None
+        self._wait = None  # a pool's turns of waiting (`Workers._wait`); None for a task run here
 
     def get(self):
-        return self._result.get()
+        return self._result.get() if self._wait is None else self._wait(self._result.get)
 
 
 class _Done:
