@@ -217,3 +217,37 @@ def test_a_worker_killed_during_aspects_is_one_line_and_exit_1(tmp_path, monkeyp
     r = run_cli("aspects", CONFIGS / "m1.yaml", "--depth", "6", "--jobs", "2", "-o", tmp_path / "out", "--no-plot")
     one_line(r, 1, "a worker process ended before its task was done (killed by SIGKILL; out of memory?)")
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").rglob("*.qt"))
+
+
+def _stuck(started, held) -> None:
+    started.set()
+    held.acquire()  # never returns: the parent holds it
+
+
+def test_a_child_forked_while_a_pool_runs_dies_on_sigterm(monkeypatch):
+    """A process forked while a pool runs (a worker, or the pool's replacement of a dead one) takes
+    SIGTERM at its default from its first instruction: stuck before its initializer (here on a lock,
+    with the parent's handler one that does not end it), it would outlive the pool's terminate()."""
+    import multiprocessing
+    import threading
+
+    from fivebar_cli.analyses import jobs
+
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: None)
+    monkeypatch.setattr(jobs, "_pools", [1])
+    held = threading.Lock()
+    held.acquire()
+    context = multiprocessing.get_context("fork")
+    started = context.Event()
+    child = context.Process(target=_stuck, args=(started, held))
+    try:
+        child.start()
+        assert started.wait(10)
+        child.terminate()
+        child.join(10)
+        assert child.exitcode == -signal.SIGTERM
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+        if child.exitcode is None:
+            child.kill()
+            child.join()

@@ -93,6 +93,7 @@ class Workers:
             method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
             self._spill, self._lock = _spill_folder() or (None, None)
             self._outer, _spill[0] = _spill[0], self._spill
+            _pools[0] += 1
             try:
                 self._pool = multiprocessing.get_context(method).Pool(self.n, initializer=_start_worker,
                                                                       initargs=(self._spill,))
@@ -113,6 +114,7 @@ class Workers:
     def _release(self) -> None:
         """Remove the pool's folder, with the arrays of tasks never run or results never taken."""
         _spill[0] = self._outer
+        _pools[0] -= 1
         if self._spill is not None:
             shutil.rmtree(self._spill, ignore_errors=True)
             os.close(self._lock)
@@ -212,6 +214,23 @@ class _Done:
 
     def get(self):
         return self.value
+
+
+_pools = [0]  # the pools this process runs now
+
+
+def _child_of_a_pool() -> None:
+    """In a process forked while a pool runs (a worker, or the pool's replacement of a dead one):
+    SIGTERM at its default at once, not only once `_start_worker` runs. A child forked from a
+    process with threads can hang on a lock another thread held and never run it; with the
+    parent's handler, SIGTERM would then only set a flag its Python never reads, and the pool's
+    `terminate()` would wait for it forever (seen after a WorkerLost, under a loaded test run)."""
+    if _pools[0]:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+if hasattr(os, "register_at_fork"):  # (not on Windows: workers are spawned there)
+    os.register_at_fork(after_in_child=_child_of_a_pool)
 
 
 def _start_worker(spill: str | None) -> None:
