@@ -251,3 +251,29 @@ def test_a_child_forked_while_a_pool_runs_dies_on_sigterm(monkeypatch):
         if child.exitcode is None:
             child.kill()
             child.join()
+
+
+def _report_sigterm(queue) -> None:
+    queue.put((signal.SIGTERM in signal.pthread_sigmask(signal.SIG_BLOCK, []), signal.getsignal(signal.SIGTERM)))
+
+
+def test_sigterm_is_held_back_across_a_pools_forks_and_at_its_default_in_the_child(monkeypatch):
+    """While a pool runs, a fork holds SIGTERM back in the forking thread (one sent to the child
+    before it drops the parent's handler would be lost) and lets it through in the child once it is
+    at its default; the parent's own mask is as before."""
+    import multiprocessing
+
+    from fivebar_cli.analyses import jobs
+
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: None)
+    monkeypatch.setattr(jobs, "_pools", [1])
+    context = multiprocessing.get_context("fork")
+    queue = context.SimpleQueue()
+    try:
+        child = context.Process(target=_report_sigterm, args=(queue,))
+        child.start()
+        child.join(10)
+        assert queue.get() == (False, signal.SIG_DFL)
+        assert signal.SIGTERM not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -219,18 +219,30 @@ class _Done:
 _pools = [0]  # the pools this process runs now
 
 
-def _child_of_a_pool() -> None:
-    """In a process forked while a pool runs (a worker, or the pool's replacement of a dead one):
-    SIGTERM at its default at once, not only once `_start_worker` runs. A child forked from a
-    process with threads can hang on a lock another thread held and never run it; with the
-    parent's handler, SIGTERM would then only set a flag its Python never reads, and the pool's
-    `terminate()` would wait for it forever (seen after a WorkerLost, under a loaded test run)."""
+def _forking() -> None:
+    """Before a fork while a pool runs, in the forking thread: SIGTERM held back (blocked) until
+    the child has it at its default (`_forked_child`). A SIGTERM that reached the child while it
+    still had the parent's Python handler would only set a flag that the handler's replacement
+    then drops: the child lives on, idle, and the pool's `terminate()` waits for it forever (seen
+    when a WorkerLost terminated a pool just after it had forked a replacement worker)."""
+    if _pools[0]:
+        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM})
+
+
+def _forked_parent() -> None:
+    if _pools[0]:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGTERM})
+
+
+def _forked_child() -> None:
+    """SIGTERM at its default, then let through: one sent meanwhile ends the child now."""
     if _pools[0]:
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGTERM})
 
 
 if hasattr(os, "register_at_fork"):  # (not on Windows: workers are spawned there)
-    os.register_at_fork(after_in_child=_child_of_a_pool)
+    os.register_at_fork(before=_forking, after_in_parent=_forked_parent, after_in_child=_forked_child)
 
 
 def _start_worker(spill: str | None) -> None:
