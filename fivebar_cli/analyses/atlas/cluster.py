@@ -89,11 +89,12 @@ def local_cluster(workers: int) -> Iterator[DaskRunner]:
     from dask.distributed import Client, LocalCluster
 
     cluster = None
-    with _quiet_dask(), _workers_ignore_ctrl_c():
+    with _quiet_dask(), _workers_ignore_ctrl_c() as started:
         try:
             with dask.config.set({MALLOC_TRIM: None}):
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                        dashboard_address=None, silence_logs=logging.CRITICAL)
+            started.append(True)
             with Client(cluster) as client:
                 yield DaskRunner(client, f"a local cluster of {workers} worker processes")
         finally:
@@ -117,11 +118,13 @@ def _workers_ignore_ctrl_c():
     wrapper.chmod(0o700)
     previous = spawn.get_executable()
     spawn.set_executable(str(wrapper))
+    started: list[bool] = []  # set by the caller once the cluster is up (and so closed on the way out)
     try:
-        yield
+        yield started
     finally:
         spawn.set_executable(previous)
-        shutil.rmtree(folder, ignore_errors=True)
+        if started:  # else a Ctrl-C stopped the start-up: worker processes may still be spawned through
+            shutil.rmtree(folder, ignore_errors=True)  # it (a shell error each), so the tiny folder stays
 
 
 def check_address(address: str) -> str:
