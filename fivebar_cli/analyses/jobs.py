@@ -17,10 +17,10 @@ a file in memory (/dev/shm, in a folder of the pool's) and the pipe carries its 
 receiver reads and removes it (`_array_travels`). Through a pipe of 64 KiB, megabytes go in
 hundreds of turns between two processes, each waiting for the other's GIL; through a file, in
 one copy each way. The folder goes with the pool; one left by a killed run (its lock gone with
-its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is full) arrays go through the pipes as
-before. Workers ignore Ctrl-C and
-SIGHUP and die on SIGTERM: the parent alone reacts to signals, and when it stops (an interruption,
-an error) it terminates its pool. A worker that dies (killed, out of memory) takes its task with it,
+its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is
+full) arrays go through the pipes as before. Workers ignore Ctrl-C and SIGHUP and die on SIGTERM
+(from their fork on, `_forking`): the parent alone reacts to signals, and when it stops (an
+interruption, an error) it terminates its pool. A worker that dies (killed, out of memory) takes its task with it,
 and multiprocessing's pool only replaces it: the parent waits in short turns and, between them,
 checks its workers, so that it fails with one line (`WorkerLost`) instead of waiting forever.
 """

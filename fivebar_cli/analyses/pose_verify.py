@@ -44,11 +44,11 @@ class SingularPose:
     joints: tuple[float, ...]
     value: float
 
-    def value_text(self, name: str, digits: int = 2) -> str:
+    def value_text(self, name: str) -> str:
         """`det J = 0 to rounding (-1.1e-15)`: what is claimed is that the value's sign cannot be
         certified here; its computed digits are rounding noise, which differs between machines'
         math libraries (so they are shown, but never as the claim)."""
-        return f"{name} = 0 to rounding ({self.value:.{digits}g})"
+        return f"{name} = 0 to rounding ({self.value:.2g})"
 
 
 @dataclass(frozen=True)
