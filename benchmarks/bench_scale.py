@@ -8,7 +8,10 @@ M1 aspects: the whole `fivebar aspects configs/m1.yaml --no-plot` pipeline (mode
 certificate, crossings, inscribed shapes, every file written), as the command calls the library.
 3-RPR octrees: `fivebar rpr3 pave configs/rpr3-table1.yaml` (Table 1's design: the reachable set and
 both signs of det J), pavings only. Every row runs in a fresh interpreter; seconds are wall time
-(best of --repeat), memory the largest max RSS of the run's processes (its workers included);
+(best of --repeat, the worker counts of a depth taking turns), CPU seconds those of the best
+run's processes together (user + system: what `--jobs 2` spends beyond `--jobs 1` is the work
+its workers duplicate or slow down, not waiting), memory the largest max RSS of the run's
+processes (its workers included);
 cells are the undetermined cells of the mode pavings (the boundary the work follows); growth is
 the ratio to the row two depths above, per level (sqrt). Codac 2.1.2 (`pip install codac`, a
 benchmark-only dependency): `sivia` of M1's workspace (the two annuli) at eps = 26/2^10 plus
@@ -88,7 +91,8 @@ def job_codac() -> dict:
 
 
 def child(args: list[str]) -> dict:
-    """One job in a fresh interpreter: its result and the max RSS (MiB) of it and its workers."""
+    """One job in a fresh interpreter: its result, the max RSS (MiB) of it and its workers, and
+    their CPU seconds (user + system: the work done, where `seconds` is the wait)."""
     proc = subprocess.Popen([sys.executable, __file__, "--job", *args], stdout=subprocess.PIPE, text=True, cwd=ROOT)
     out = proc.stdout.read()
     _, status, usage = os.wait4(proc.pid, 0)
@@ -96,6 +100,7 @@ def child(args: list[str]) -> dict:
         raise SystemExit(f"job {args} failed")
     result = json.loads(out)
     result["rss"] = max(usage.ru_maxrss / 1024, result.pop("workers_rss"))
+    result["cpu"] = usage.ru_utime + usage.ru_stime
     return result
 
 
@@ -104,20 +109,32 @@ def best(args: list[str], repeat: int) -> dict:
     return min(runs, key=lambda r: r.get("seconds", 0.0))
 
 
+def best_of_each(kind: str, depth: int, jobs: list[int], repeat: int) -> dict:
+    """The best run of each worker count, the counts taking turns (1, 2, 1, 2, ...): on a machine
+    whose speed drifts from one minute to the next (a shared VM), each count meets the same
+    spells, where runs of one count after the other would compare two moments."""
+    runs = {j: [] for j in jobs}
+    for _ in range(repeat):
+        for j in jobs:
+            runs[j].append(child([kind, str(depth), str(j)]))
+    return {j: min(r, key=lambda row: row["seconds"]) for j, r in runs.items()}
+
+
 def table(title: str, kind: str, depths: list[int], jobs: list[int], repeat: int) -> dict:
     print(title)
-    print(f"  {'d':>2s} {'jobs':>4s} {'seconds':>8s} {'max RSS MiB':>11s} {'cells':>9s} {'time/level':>10s} "
+    print(f"  {'d':>2s} {'jobs':>4s} {'seconds':>8s} {'CPU s':>6s} {'max RSS MiB':>11s} {'cells':>9s} {'time/level':>10s} "
           f"{'RSS/level':>9s} {'cells/level':>11s}  what")
     out = {}
     for depth in depths:
+        turns = best_of_each(kind, depth, jobs, repeat)
         for j in jobs:
-            r = out[depth, j] = best([kind, str(depth), str(j)], repeat)
+            r = out[depth, j] = turns[j]
             prev = out.get((depth - 2, j)) or out.get((depth - 1, j))
             levels = 2 if (depth - 2, j) in out else 1
             growth = ("" if prev is None else
                       f"{(r['seconds'] / prev['seconds']) ** (1 / levels):10.2f} {(r['rss'] / prev['rss']) ** (1 / levels):9.2f} "
                       f"{(r['cells'] / prev['cells']) ** (1 / levels):11.2f}")
-            print(f"  {depth:2d} {j:4d} {r['seconds']:8.2f} {r['rss']:11.1f} {r['cells']:9d} "
+            print(f"  {depth:2d} {j:4d} {r['seconds']:8.2f} {r['cpu']:6.2f} {r['rss']:11.1f} {r['cells']:9d} "
                   f"{growth or ' ' * 32:32s}  {r['what']}", flush=True)
         if len(jobs) > 1:
             print(f"     --jobs {jobs[-1]} is {out[depth, jobs[0]]['seconds'] / out[depth, jobs[-1]]['seconds']:.2f}x "
