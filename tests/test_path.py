@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +25,9 @@ from reference_kinematics import ref_dkp, ref_ikp
 from reference_paths import shortest_through_tree
 
 from fivebar_cli.analyses.aspects import analyse_aspects
-from fivebar_cli.analyses.channel import Waypoint, ExactCells, certified_polyline, find_chain, lift
+from fivebar_cli.analyses.channel import (
+    ExactCells, Waypoint, certified_polyline, covering, find_chain, lift, segment_span,
+)
 from fivebar_cli.analyses.paths import Endpoint, NoPath, find_path, mode_cells, resolve
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 from fivebar_cli.mechanisms.registry import load_config
@@ -361,6 +364,42 @@ def test_exact_check_refuses_a_segment_leaving_the_cells_by_a_hair():
     assert not exact.covers(w(0.0, 1.0), w(1.0, 1.0 + 2.0 ** -40))  # above y = 1 left of x = 1
     assert not exact.covers(w(0.5, 0.5), w(2.0 + 2.0 ** -40, 0.5))  # ends outside the cells
     assert exact.covers(w(0.5, 0.5), w(2.0 + 2.0 ** -52, 0.5))  # within the one-ulp widening (4 ulp tested)
+
+
+small_fractions = st.fractions(min_value=-4, max_value=4, max_denominator=8)
+
+
+@settings(max_examples=200, deadline=None)
+@given(box=st.lists(st.tuples(small_fractions, small_fractions).map(sorted), min_size=1, max_size=3),
+       data=st.data())
+def test_segment_span_is_where_the_segment_is_in_the_box(box, data):
+    """`segment_span` (the exact check's clipping, shared by `path` and the 3-D paths) against the
+    definition: at t = k/48 on [0, 1] (and at the span's ends), start + t * step is in the closed box
+    exactly when t is in the span."""
+    start = data.draw(st.lists(small_fractions, min_size=len(box), max_size=len(box)))
+    step = data.draw(st.lists(small_fractions, min_size=len(box), max_size=len(box)))
+
+    def inside(t):
+        return all(lo <= x + t * d <= hi for (lo, hi), x, d in zip(box, start, step))
+
+    span = segment_span(box, start, step)
+    ts = [Fraction(k, 48) for k in range(49)]
+    if span is None:
+        assert not any(inside(t) for t in ts)
+    else:
+        t0, t1 = span
+        assert 0 <= t0 <= t1 <= 1 and inside(t0) and inside(t1)
+        assert all(inside(t) == (t0 <= t <= t1) for t in ts)
+
+
+def test_covering_needs_the_whole_unit_interval_and_names_the_spans_that_extend_it():
+    f = Fraction
+    assert covering([(f(1, 2), f(1), "b"), (f(0), f(1, 2), "a")]) == ["a", "b"]  # touching at 1/2
+    assert covering([(f(0), f(3, 4), "a"), (f(1, 4), f(1, 2), "inner"), (f(1, 2), f(1), "b")]) == ["a", "b"]
+    assert covering([(f(0), f(1, 2), "a"), (f(2, 3), f(1), "b")]) is None  # a gap (1/2, 2/3)
+    assert covering([(f(1, 8), f(1), "a")]) is None  # 0 itself is not covered
+    assert covering([(f(0), f(7, 8), "a")]) is None
+    assert covering([]) is None
 
 
 def random_motion(seed: int, periodic: bool, depth: int, density: float):

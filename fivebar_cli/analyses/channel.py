@@ -431,34 +431,46 @@ class ExactCells:
         p, q = a.unwrapped(self.grid), b.unwrapped(self.grid)
         P, Q = self._exact(a), self._exact(b)
         D = [y - x for x, y in zip(P, Q)]
-        spans = []
-        for k in self._near(p, q).tolist():
-            t0, t1 = Fraction(0), Fraction(1)
-            for (lo, hi), x, d in zip(self.box(k), P, D):
-                if d == 0:
-                    if not lo <= x <= hi:
-                        t0, t1 = Fraction(1), Fraction(0)
-                        break
-                    continue
-                ta, tb = (lo - x) / d, (hi - x) / d
-                if ta > tb:
-                    ta, tb = tb, ta
-                t0, t1 = max(t0, ta), min(t1, tb)
-                if t0 > t1:
-                    break
-            if t0 <= t1:
-                spans.append((t0, t1, k))
-        reach, used = Fraction(0), []
-        for t0, t1, k in sorted(spans):
-            if t0 > reach:
-                return False
-            if t1 > reach:
-                used.append(k)
-            reach = max(reach, t1)
-            if reach >= 1:
-                self.used.update(used)
-                return True
-        return False
+        spans = [(*span, k) for k in self._near(p, q).tolist() if (span := segment_span(self.box(k), P, D))]
+        used = covering(spans)
+        if used is None:
+            return False
+        self.used.update(used)
+        return True
+
+
+def segment_span(box, start, step) -> tuple[Fraction, Fraction] | None:
+    """The parameters t in [0, 1] at which start + t * step lies in the closed box ((lo, hi) per
+    axis), exactly (fractions: clipping against each axis's slab): (t0, t1), or None when the
+    segment misses the box."""
+    t0, t1 = Fraction(0), Fraction(1)
+    for (lo, hi), x, d in zip(box, start, step):
+        if d == 0:
+            if not lo <= x <= hi:
+                return None
+            continue
+        ta, tb = (lo - x) / d, (hi - x) / d
+        if ta > tb:
+            ta, tb = tb, ta
+        t0, t1 = max(t0, ta), min(t1, tb)
+        if t0 > t1:
+            return None
+    return t0, t1
+
+
+def covering(spans) -> list | None:
+    """Whether the parameter intervals (t0, t1, key) cover [0, 1]: the keys of those that extend
+    the covered part, swept in order of t0, or None (a gap)."""
+    reach, used = Fraction(0), []
+    for t0, t1, k in sorted(spans):
+        if t0 > reach:
+            return None
+        if t1 > reach:
+            used.append(k)
+        reach = max(reach, t1)
+        if reach >= 1:
+            return used
+    return None
 
 
 def lift(chain: Chain, point: np.ndarray) -> Waypoint:

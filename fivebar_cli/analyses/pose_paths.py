@@ -30,7 +30,8 @@ from fractions import Fraction
 import numpy as np
 
 from fivebar_cli.analyses.channel import (
-    Chain, face_neighbours, from_lattice, lattice_boxes, shifted_boxes, to_lattice, unwrap_shifts, wrapped_delta,
+    Chain, covering, face_neighbours, from_lattice, lattice_boxes, segment_span, shifted_boxes, to_lattice,
+    unwrap_shifts, wrapped_delta,
 )
 from fivebar_cli.analyses.pose_aspects import PoseAspect, analyse_pose_aspects, aspect_at, class_region, pose_model
 from fivebar_cli.analyses.slabs import astar
@@ -158,31 +159,8 @@ class ExactCells:
         near = np.flatnonzero(np.all((self.float_hi >= lo) & (self.float_lo <= hi), axis=1))
         P, Q = self.exact(p, p_turns), self.exact(q, q_turns)
         D = [b - a for a, b in zip(P, Q)]
-        spans = []
-        for k in near:
-            t0, t1 = Fraction(0), Fraction(1)
-            for (a, b), x, d in zip(self.boxes[k], P, D):
-                if d == 0:
-                    if not a <= x <= b:
-                        t0, t1 = Fraction(1), Fraction(0)
-                        break
-                    continue
-                ta, tb = (a - x) / d, (b - x) / d
-                if ta > tb:
-                    ta, tb = tb, ta
-                t0, t1 = max(t0, ta), min(t1, tb)
-                if t0 > t1:
-                    break
-            if t0 <= t1:
-                spans.append((t0, t1))
-        reach = Fraction(0)
-        for t0, t1 in sorted(spans):
-            if t0 > reach:
-                return False
-            reach = max(reach, t1)
-            if reach >= 1:
-                return True
-        return False
+        spans = [(*span, k) for k in near.tolist() if (span := segment_span(self.boxes[k], P, D))]
+        return covering(spans) is not None
 
 
 # ---------------------------------------------------------------- 3. the polyline

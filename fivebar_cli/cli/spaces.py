@@ -33,6 +33,14 @@ def _geojson_option(func):
     )(func)
 
 
+def _space_options(func):
+    """The argument and options both space commands take, in the order --help lists them."""
+    for decorate in (option_errors(), common_options, _geojson_option, tolerance_option, _procedure_option,
+                     depth_option(), click.argument("config_path", metavar="CONFIG", type=CONFIG)):
+        func = decorate(func)
+    return func
+
+
 def _space_command(space: str, config_path: Path, depth: int, procedure: str, tolerance: float, out, no_plot: bool,
                    quiet: bool, geojson: bool = False) -> None:
     m = with_tolerance(load_config(config_path, space=space), tolerance, config_path)
@@ -60,13 +68,7 @@ def _space_command(space: str, config_path: Path, depth: int, procedure: str, to
 
 
 @click.command(short_help="Certified joint space of a mechanism (figs. 3, 4).")
-@click.argument("config_path", metavar="CONFIG", type=CONFIG)
-@depth_option()
-@_procedure_option
-@tolerance_option
-@_geojson_option
-@common_options
-@option_errors()
+@_space_options
 def jointspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, quiet):
     """Certified joint space of a mechanism: (th1, th2) on the torus [-pi, pi]^2 for a five-bar
     (an actuated limit narrower than a turn makes its axis that interval), the leg lengths
@@ -86,13 +88,7 @@ def jointspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, 
 
 
 @click.command(short_help="Certified workspace (x, y) of a mechanism (fig. 6).")
-@click.argument("config_path", metavar="CONFIG", type=CONFIG)
-@depth_option()
-@_procedure_option
-@tolerance_option
-@_geojson_option
-@common_options
-@option_errors()
+@_space_options
 def workspace(config_path, depth, procedure, tolerance, geojson, out, no_plot, quiet):
     """Certified workspace (x, y) of a mechanism, on the root box [-(L1+L3), L1+L3]^2 for a five-bar.
 
