@@ -8,7 +8,8 @@ M1 aspects: the whole `fivebar aspects configs/m1.yaml --no-plot` pipeline (mode
 certificate, crossings, inscribed shapes, every file written), as the command calls the library.
 3-RPR octrees: `fivebar rpr3 pave configs/rpr3-table1.yaml` (Table 1's design: the reachable set and
 both signs of det J), pavings only. Every row runs in a fresh interpreter; seconds are wall time
-(best of --repeat, the worker counts of a depth taking turns), CPU seconds those of the best
+(best of --repeat, the worker counts of a depth taking turns; with 3 runs or more, the ratio of
+the medians too: a best run may be a lucky one), CPU seconds those of the best
 run's processes together (user + system: what `--jobs 2` spends beyond `--jobs 1` is the work
 its workers duplicate or slow down, not waiting), memory the largest max RSS of the run's
 processes (its workers included);
@@ -27,6 +28,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -117,7 +119,8 @@ def best_of_each(kind: str, depth: int, jobs: list[int], repeat: int) -> dict:
     for _ in range(repeat):
         for j in jobs:
             runs[j].append(child([kind, str(depth), str(j)]))
-    return {j: min(r, key=lambda row: row["seconds"]) for j, r in runs.items()}
+    return {j: {**min(r, key=lambda row: row["seconds"]), "median": statistics.median(row["seconds"] for row in r)}
+            for j, r in runs.items()}
 
 
 def table(title: str, kind: str, depths: list[int], jobs: list[int], repeat: int) -> dict:
@@ -137,8 +140,10 @@ def table(title: str, kind: str, depths: list[int], jobs: list[int], repeat: int
             print(f"  {depth:2d} {j:4d} {r['seconds']:8.2f} {r['cpu']:6.2f} {r['rss']:11.1f} {r['cells']:9d} "
                   f"{growth or ' ' * 32:32s}  {r['what']}", flush=True)
         if len(jobs) > 1:
-            print(f"     --jobs {jobs[-1]} is {out[depth, jobs[0]]['seconds'] / out[depth, jobs[-1]]['seconds']:.2f}x "
-                  f"faster than --jobs {jobs[0]}", flush=True)
+            first, last = out[depth, jobs[0]], out[depth, jobs[-1]]
+            medians = f", {first['median'] / last['median']:.2f}x by the medians" if repeat > 2 else ""
+            print(f"     --jobs {jobs[-1]} is {first['seconds'] / last['seconds']:.2f}x faster than --jobs {jobs[0]} "
+                  f"(best runs{medians})", flush=True)
     return out
 
 
