@@ -9,12 +9,11 @@ certificate, crossings, inscribed shapes, every file written), as the command ca
 3-RPR octrees: `fivebar rpr3 pave configs/rpr3-table1.yaml` (Table 1's design: the reachable set and
 both signs of det J), pavings only. Every row runs in a fresh interpreter; seconds are wall time
 (best of --repeat, the worker counts of a depth taking turns; with 3 runs or more, the ratio of
-the medians too: a best run may be a lucky one), CPU seconds those of the best
-run's processes together (user + system: what `--jobs 2` spends beyond `--jobs 1` is the work
-its workers duplicate or slow down, not waiting), memory the largest max RSS of the run's
-processes (its workers included);
-cells are the undetermined cells of the mode pavings (the boundary the work follows); growth is
-the ratio to the row two depths above, per level (sqrt). Codac 2.1.2 (`pip install codac`, a
+the medians too: a best run may be a lucky one), CPU seconds those of the best run's processes
+together (user + system: what `--jobs 2` spends beyond `--jobs 1` is the work its workers
+duplicate or slow down, not waiting), memory the largest max RSS of the run's processes (its
+workers included); cells are the undetermined cells of the mode pavings (the boundary the work
+follows); growth is the ratio to the row two depths above, per level (sqrt). Codac 2.1.2 (`pip install codac`, a
 benchmark-only dependency): `sivia` of M1's workspace (the two annuli) at eps = 26/2^10 plus
 `connected_subsets` of the result, the peer the aspects pipeline at depth 12 is compared with.
 The machine's load average is printed: other processes on a shared machine slow every row, and
