@@ -13,9 +13,10 @@ the medians too: a best run may be a lucky one), CPU seconds those of the best r
 together (user + system: what `--jobs 2` spends beyond `--jobs 1` is the work its workers
 duplicate or slow down, not waiting), memory the largest max RSS of the run's processes (its
 workers included); cells are the undetermined cells of the mode pavings (the boundary the work
-follows); growth is the ratio to the row two depths above, per level (sqrt). Codac 2.1.2 (`pip install codac`, a
-benchmark-only dependency): `sivia` of M1's workspace (the two annuli) at eps = 26/2^10 plus
-`connected_subsets` of the result, the peer the aspects pipeline at depth 12 is compared with.
+follows); growth is the ratio to the row two depths above, per level (sqrt). Codac 2.1.2 (`pip
+install codac`, a benchmark-only dependency): `sivia` of M1's workspace (the two annuli) at eps =
+26/2^10 plus `connected_subsets` of the result, the peer the aspects pipeline at depth 12 is
+compared with.
 The machine's load average is printed: other processes on a shared machine slow every row, and
 `--jobs 2` gains nothing when the second core is busy. fivebar's bytecode is compiled first (as pip
 compiles an installed package), by this process, which never imports codac: every row reads it,

@@ -20,9 +20,10 @@ one copy each way. The folder goes with the pool; one left by a killed run (its 
 its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is
 full) arrays go through the pipes as before. Workers ignore Ctrl-C and SIGHUP and die on SIGTERM
 (from their fork on, `_forking`): the parent alone reacts to signals, and when it stops (an
-interruption, an error) it terminates its pool. A worker that dies (killed, out of memory) takes its task with it,
-and multiprocessing's pool only replaces it: the parent waits in short turns and, between them,
-checks its workers, so that it fails with one line (`WorkerLost`) instead of waiting forever.
+interruption, an error) it terminates its pool. A worker that dies (killed, out of memory) takes
+its task with it, and multiprocessing's pool only replaces it: the parent waits in short turns
+and, between them, checks its workers, so that it fails with one line (`WorkerLost`) instead of
+waiting forever.
 """
 
 from __future__ import annotations
