@@ -48,10 +48,14 @@ def unchecked_fivebar(name: str, *lengths: float, bounds=None) -> FiveBar:
     return m
 
 
-def box_points(lo: np.ndarray, hi: np.ndarray, frac: np.ndarray) -> np.ndarray:
-    """(boxes, k, dim): the points lo + frac (hi - lo) of each box (frac in [0, 1], k of them), kept
-    in the box: lo + 1 * (hi - lo) can round an ulp beyond hi, outside the box and past a joint
-    limit the box ends at (a sample there would blame the box test for a point it never held)."""
+def box_samples(lo: np.ndarray, hi: np.ndarray, rng, grid: int, extra: int) -> np.ndarray:
+    """(boxes, grid^2 + extra, 2): a grid x grid lattice over each 2-D box, its corners and edges
+    included, and `extra` random points, kept in the box: lo + 1 * (hi - lo) can round an ulp
+    beyond hi, outside the box and past a joint limit the box ends at (a sample there would blame
+    the box test for a point it never held)."""
+    t = np.linspace(0.0, 1.0, grid)
+    fx, fy = np.meshgrid(t, t, indexing="ij")
+    frac = np.concatenate([np.stack([fx.ravel(), fy.ravel()], axis=1), rng.random((extra, 2))])
     return np.clip(lo[:, None, :] + frac[None] * (hi - lo)[:, None, :], lo[:, None, :], hi[:, None, :])
 
 

@@ -24,7 +24,7 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 import reference_constrained as rc
-from conftest import box_points
+from conftest import box_samples
 from cli_helpers import run_cli
 from reference_kinematics import ref_dkp, ref_ikp
 from fivebar_cli.mechanisms.fivebar import constrained
@@ -205,10 +205,7 @@ def boxes(points, lo, hi, rng, n: int):
 
 def samples(lo, hi, rng) -> np.ndarray:
     """(boxes, k, 2): a 6 x 6 grid with corners and edges, and random points."""
-    t = np.linspace(0, 1, 6)
-    fx, fy = np.meshgrid(t, t, indexing="ij")
-    frac = np.concatenate([np.stack([fx.ravel(), fy.ravel()], 1), rng.random((16, 2))])
-    return box_points(lo, hi, frac)
+    return box_samples(lo, hi, rng, 6, 16)
 
 
 class Reference:

@@ -25,7 +25,7 @@ from conftest import (
     M1,
     M2,
     MECHS,
-    box_points,
+    box_samples,
     jointspace_area_numeric,
     jointspace_boundary_points,
     leaf_bounds,
@@ -214,18 +214,10 @@ def random_boxes(m, space, rng, n, kind, log_width):
     return lo, lo + widths
 
 
-def box_samples(lo, hi, rng, grid: int = 9, extra: int = 40) -> np.ndarray:
-    """(boxes, points, 2): a grid over each box including its corners and edges, and random points."""
-    t = np.linspace(0.0, 1.0, grid)
-    fx, fy = np.meshgrid(t, t, indexing="ij")
-    frac = np.concatenate([np.stack([fx.ravel(), fy.ravel()], axis=1), rng.random((extra, 2))])
-    return box_points(lo, hi, frac)
-
-
 def check_boxes(m, space, procedure, lo, hi, rng) -> np.ndarray:
     status = m.box_test(space, procedure)(lo, hi)
     assert status.dtype == np.int8 and set(np.unique(status).tolist()) <= {-1, 0, 1}
-    pts = box_samples(lo, hi, rng)
+    pts = box_samples(lo, hi, rng, 9, 40)
     valid = point_valid(m, space, pts.reshape(-1, 2)).reshape(pts.shape[:2])
     wrong_in = (status == 1) & ~valid.all(axis=1)
     wrong_out = (status == -1) & valid.any(axis=1)

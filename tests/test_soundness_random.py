@@ -20,7 +20,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from conftest import box_points, unchecked_fivebar, valid_joint, valid_work
+from conftest import box_samples, unchecked_fivebar, valid_joint, valid_work
 from reference_kinematics import ref_dkp, ref_ikp
 from fivebar_cli.mechanisms.fivebar import modes
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
@@ -83,10 +83,7 @@ def boxes_around(points: np.ndarray, rng, n: int, scale: float) -> tuple[np.ndar
 def samples(lo, hi, rng, points: np.ndarray) -> np.ndarray:
     """(boxes, k, 2): a 7 x 7 grid with corners and edges, random points, and every special point
     that lies inside the box (elsewhere replaced by the box centre)."""
-    t = np.linspace(0, 1, 7)
-    fx, fy = np.meshgrid(t, t, indexing="ij")
-    frac = np.concatenate([np.stack([fx.ravel(), fy.ravel()], 1), rng.random((24, 2))])
-    grid = box_points(lo, hi, frac)
+    grid = box_samples(lo, hi, rng, 7, 24)
     inside = np.all((points[None] >= lo[:, None]) & (points[None] <= hi[:, None]), axis=2)
     special = np.where(inside[..., None], points[None], 0.5 * (lo + hi)[:, None, :])
     return np.concatenate([grid, special], axis=1)
