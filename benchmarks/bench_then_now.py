@@ -1,0 +1,134 @@
+"""Then and now on this machine: the test suite and M1's aspects of a past revision against this
+checkout's, in turns, in one run (issues 21 and 22 state their time budgets as figures measured on
+the machine they were filed on; a machine two times slower, or drifting by 1.5x from one minute to
+the next, says nothing against such a figure, but the same work of both revisions side by side
+does).
+
+    python benchmarks/bench_then_now.py                       # suite and aspects 12,14,16, 2 turns
+    python benchmarks/bench_then_now.py --rev 0f6e153 --no-suite --aspects 14 --repeat 3
+
+The past revision (default 0f6e153: the main on which issues 18 to 23 were filed, 1201 tests) is
+cloned from this repository into --work and installed in a venv of its own once (as `make install`
+does; pip needs the package index), then reused. Each turn runs the past revision first, then this
+checkout (with this interpreter, which is this checkout's venv under `make bench`):
+- suite: `python -m pytest` as `make test` runs it (the project's own options: xdist on every
+  core), seconds as pytest prints them, and the counts it prints;
+- aspects D: `python -m fivebar_cli aspects configs/m1.yaml --depth D --no-plot --quiet` into a new
+  folder, with FIVEBAR_JOBS=1 (the past revision has no workers), wall seconds and max RSS.
+Best of the turns, and the median with 3 turns or more. Not part of `make bench`: it clones,
+installs and runs two test suites (10 minutes or more on 2 cores).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+FILED_ON = "0f6e153"  # main when issues 18-23 were filed: their "today"
+SUMMARY = re.compile(r"(?P<counts>\d+ (?:failed|passed).*?) in (?P<seconds>[\d.]+)s")
+
+
+def past_tree(rev: str, work: Path) -> Path:
+    """A clone of this repository at `rev` with its own venv (made once, reused)."""
+    tree = work / rev
+    python = tree / ".venv" / "bin" / "python"
+    if not (tree / ".venv" / ".bench-installed").exists():
+        if not tree.exists():
+            subprocess.run(["git", "clone", "--quiet", str(ROOT), str(tree)], check=True)
+        subprocess.run(["git", "-C", str(tree), "checkout", "--quiet", rev], check=True)
+        subprocess.run([sys.executable, "-m", "venv", str(tree / ".venv")], check=True)
+        subprocess.run([str(python), "-m", "pip", "install", "--quiet", "-e", ".[test]"], cwd=tree, check=True)
+        (tree / ".venv" / ".bench-installed").touch()
+    return tree
+
+
+def timed(argv: list[str], cwd: Path, env: dict) -> tuple[float, float, str]:
+    """Run argv to its end: (wall seconds, max RSS MiB of the process, its standard output)."""
+    with tempfile.TemporaryFile() as out:
+        t0 = time.perf_counter()
+        child = subprocess.Popen(argv, cwd=cwd, env=env, stdout=out, stderr=subprocess.STDOUT)
+        _, status, usage = os.wait4(child.pid, 0)
+        seconds = time.perf_counter() - t0
+        child.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        text = out.read().decode(errors="replace")
+    if child.returncode not in (0, 1):  # pytest exits 1 when a test fails: its time still counts
+        raise SystemExit(f"{' '.join(argv)} exited {child.returncode} in {cwd}:\n{text[-2000:]}")
+    return seconds, usage.ru_maxrss / 1024, text
+
+
+def suite(python: str, tree: Path) -> tuple[float, str]:
+    """The test suite's seconds and counts, as pytest prints them."""
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    _, _, text = timed([python, "-m", "pytest", "-p", "no:cacheprovider"], tree, env)
+    found = SUMMARY.findall(text.splitlines()[-1] if text.strip() else "")
+    if not found:
+        raise SystemExit(f"no pytest summary in {tree}:\n{text[-2000:]}")
+    counts, seconds = found[-1]
+    return float(seconds), counts
+
+
+def aspects(python: str, tree: Path, depth: int) -> tuple[float, float]:
+    with tempfile.TemporaryDirectory() as out:
+        env = dict(os.environ, FIVEBAR_JOBS="1")
+        seconds, rss, _ = timed([python, "-m", "fivebar_cli", "aspects", "configs/m1.yaml", "--depth", str(depth),
+                                 "--no-plot", "--quiet", "-o", out], tree, env)
+    return seconds, rss
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description="A past revision's test suite and M1 aspects against this "
+                                                 "checkout's, in turns, on this machine.")
+    parser.add_argument("--rev", default=FILED_ON, help=f"the past revision (default {FILED_ON})")
+    parser.add_argument("--aspects", default="12,14,16", help="M1 aspects depths ('' for none)")
+    parser.add_argument("--no-suite", action="store_true", help="leave the test suites out")
+    parser.add_argument("--repeat", type=int, default=2, help="turns of each pair of runs")
+    parser.add_argument("--work", type=Path, default=Path(tempfile.gettempdir()) / "fivebar-then",
+                        help="where the past revision is cloned and installed")
+    args = parser.parse_args()
+    depths = [int(d) for d in args.aspects.split(",") if d.strip()]
+    then = past_tree(args.rev, args.work)
+    now_rev = subprocess.run(["git", "-C", str(ROOT), "log", "-1", "--format=%h"], capture_output=True,
+                             text=True).stdout.strip() or "this checkout"
+    trees = {"then": (str(then / ".venv" / "bin" / "python"), then), "now": (sys.executable, ROOT)}
+    print(f"then: {args.rev} ({then}), now: {now_rev} ({ROOT}); load average {os.getloadavg()[0]:.1f}", flush=True)
+
+    rows: dict = {}
+    for _ in range(args.repeat):
+        for depth in depths:
+            for when, (python, tree) in trees.items():
+                rows.setdefault((f"aspects d{depth}", when), []).append(aspects(python, tree, depth))
+        if not args.no_suite:
+            for when, (python, tree) in trees.items():
+                seconds, counts = suite(python, tree)
+                rows.setdefault(("suite", when), []).append((seconds, None))
+                rows[("counts", when)] = counts
+
+    medians = args.repeat >= 3
+    columns = ["then best", "now best", "now/then"] + (["then median", "now median", "now/then"] if medians else [])
+    print(f"{'':12s}" + "".join(f"{c:>12s}" for c in columns) + "   max RSS then -> now")
+    for what in [f"aspects d{d}" for d in depths] + ([] if args.no_suite else ["suite"]):
+        then_runs, now_runs = rows[(what, "then")], rows[(what, "now")]
+        t, n = [s for s, _ in then_runs], [s for s, _ in now_runs]
+        cells = [f"{min(t):.2f} s", f"{min(n):.2f} s", f"{min(n) / min(t):.2f}x"]
+        if medians:
+            cells += [f"{statistics.median(t):.2f} s", f"{statistics.median(n):.2f} s",
+                      f"{statistics.median(n) / statistics.median(t):.2f}x"]
+        rss = "" if then_runs[0][1] is None else (f"   {max(r for _, r in then_runs):.0f} -> "
+                                                 f"{max(r for _, r in now_runs):.0f} MiB")
+        print(f"{what:12s}" + "".join(f"{c:>12s}" for c in cells) + rss)
+    if not args.no_suite:
+        print(f"tests: then {rows[('counts', 'then')]}; now {rows[('counts', 'now')]}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
