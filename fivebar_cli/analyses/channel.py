@@ -431,12 +431,18 @@ class ExactCells:
         p, q = a.unwrapped(self.grid), b.unwrapped(self.grid)
         P, Q = self._exact(a), self._exact(b)
         D = [y - x for x, y in zip(P, Q)]
-        spans = [(*span, k) for k in self._near(p, q).tolist() if (span := segment_span(self.box(k), P, D))]
-        used = covering(spans)
+        used = segment_cover(((k, self.box(k)) for k in self._near(p, q).tolist()), P, D)
         if used is None:
             return False
         self.used.update(used)
         return True
+
+
+def segment_cover(boxes, start, step) -> list | None:
+    """Whether the segment start + t * step, t in [0, 1], lies in the union of the closed boxes
+    ((key, box) pairs), exactly: the keys of the boxes that extend its covered part (`covering`),
+    or None (a part of it in none of them)."""
+    return covering([(*span, k) for k, box in boxes if (span := segment_span(box, start, step))])
 
 
 def segment_span(box, start, step) -> tuple[Fraction, Fraction] | None:

@@ -30,8 +30,8 @@ from fractions import Fraction
 import numpy as np
 
 from fivebar_cli.analyses.channel import (
-    Chain, covering, face_neighbours, from_lattice, lattice_boxes, segment_span, shifted_boxes, to_lattice,
-    unwrap_shifts, wrapped_delta,
+    Chain, face_neighbours, from_lattice, lattice_boxes, segment_cover, shifted_boxes, to_lattice, unwrap_shifts,
+    wrapped_delta,
 )
 from fivebar_cli.analyses.pose_aspects import PoseAspect, analyse_pose_aspects, aspect_at, class_region, pose_model
 from fivebar_cli.analyses.slabs import astar
@@ -159,8 +159,7 @@ class ExactCells:
         near = np.flatnonzero(np.all((self.float_hi >= lo) & (self.float_lo <= hi), axis=1))
         P, Q = self.exact(p, p_turns), self.exact(q, q_turns)
         D = [b - a for a, b in zip(P, Q)]
-        spans = [(*span, k) for k in near.tolist() if (span := segment_span(self.boxes[k], P, D))]
-        return covering(spans) is not None
+        return segment_cover(((k, self.boxes[k]) for k in near.tolist()), P, D) is not None
 
 
 # ---------------------------------------------------------------- 3. the polyline
