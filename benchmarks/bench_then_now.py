@@ -57,11 +57,11 @@ def timed(argv: list[str], cwd: Path, env: dict) -> tuple[float, float, str]:
         child = subprocess.Popen(argv, cwd=cwd, env=env, stdout=out, stderr=subprocess.STDOUT)
         _, status, usage = os.wait4(child.pid, 0)
         seconds = time.perf_counter() - t0
-        child.returncode = os.waitstatus_to_exitcode(status)
         out.seek(0)
         text = out.read().decode(errors="replace")
-    if child.returncode not in (0, 1):  # pytest exits 1 when a test fails: its time still counts
-        raise SystemExit(f"{' '.join(argv)} exited {child.returncode} in {cwd}:\n{text[-2000:]}")
+    code = os.waitstatus_to_exitcode(status)
+    if code not in (0, 1):  # pytest exits 1 when a test fails: its time still counts
+        raise SystemExit(f"{' '.join(argv)} exited {code} in {cwd}:\n{text[-2000:]}")
     return seconds, usage.ru_maxrss / 1024, text
 
 
@@ -101,16 +101,17 @@ def main() -> int:
     trees = {"then": (str(then / ".venv" / "bin" / "python"), then), "now": (sys.executable, ROOT)}
     print(f"then: {args.rev} ({then}), now: {now_rev} ({ROOT}); load average {os.getloadavg()[0]:.1f}", flush=True)
 
-    rows: dict = {}
+    rows: dict = {}  # (what, then or now): [(seconds, max RSS MiB or None)] of each turn
+    counts: dict = {}  # then or now: the suite's counts, as pytest printed them
     for _ in range(args.repeat):
         for depth in depths:
             for when, (python, tree) in trees.items():
                 rows.setdefault((f"aspects d{depth}", when), []).append(aspects(python, tree, depth))
         if not args.no_suite:
             for when, (python, tree) in trees.items():
-                seconds, counts = suite(python, tree)
+                seconds, tally = suite(python, tree)
                 rows.setdefault(("suite", when), []).append((seconds, None))
-                rows[("counts", when)] = counts
+                counts[when] = tally
 
     medians = args.repeat >= 3
     columns = ["then best", "now best", "now/then"] + (["then median", "now median", "now/then"] if medians else [])
@@ -126,7 +127,7 @@ def main() -> int:
                                                  f"{max(r for _, r in now_runs):.0f} MiB")
         print(f"{what:12s}" + "".join(f"{c:>12s}" for c in cells) + rss)
     if not args.no_suite:
-        print(f"tests: then {rows[('counts', 'then')]}; now {rows[('counts', 'now')]}")
+        print(f"tests: then {counts['then']}; now {counts['now']}")
     return 0
 
 
