@@ -299,25 +299,29 @@ def test_page_paints_every_leaf_in_chromium(chromium, pages, inputs, key, tmp_pa
 
 
 def test_pointing_reads_cells_and_links_aspects_in_chromium(chromium, pages):
-    """#probe points at the centre of each panel with real mouse events: the read-outs name the
-    cells there, the aspects under the cursor in the joint space are highlighted (in both spaces),
-    and panning the torus by one period repaints the same image."""
-    state = body_attributes(chromium, pages["aspects"], fragment="probe")
+    """#probe points at the centre of each panel in turn with real mouse events (entering one, leaving
+    it for the next): the read-outs name the cells there, the aspects under the cursor are highlighted
+    (in both spaces) while it rests on an aspects panel and none once it has left them, and panning
+    the torus by one period repaints the same image."""
+    # (virtual time: the page idles once the probe is done, so a generous budget costs no real time)
+    state = body_attributes(chromium, pages["aspects"], fragment="probe", budget_ms=2000)
     probe = json.loads(state["data-probe"])
     workspace, joint, joint_pair, work_pair = probe["readouts"]
-    theta = [float(v) for v in re.findall(r"theta\d = (\S+?)[,\n]", joint)]
-    expected, cells = [], []
-    for number in range(1, 11):
-        tree = read_qt(GOLDEN_M1 / "aspects" / f"aspect-{number:02d}.jointspace.qt").tree
-        leaf = tree.locate(np.array([theta]))[0]
-        if leaf >= 0:
-            expected.append(number)
-            lo, hi = (b[leaf] for b in tree.bounds())
-            cells.append(f"cell [{lo[0]:.6g}, {hi[0]:.6g}] x [{lo[1]:.6g}, {hi[1]:.6g}], level {tree.level[leaf]}")
-    assert expected and probe["highlighted"] == [expected]
-    for number, cell in zip(expected, cells):  # the page decoded the same leaf as our codec
-        assert f"aspect {number}: working mode" in joint and cell in joint, (cell, joint)
-    assert workspace.startswith("x = ") and "\n" in workspace
+    for readout, space, variable in ((workspace, "workspace", r"[xy]"), (joint, "jointspace", r"theta\d")):
+        point = [float(v) for v in re.findall(variable + r" = (\S+?)[,\n]", readout)]
+        expected, cells = [], []
+        for number in range(1, 11):
+            tree = read_qt(GOLDEN_M1 / "aspects" / f"aspect-{number:02d}.{space}.qt").tree
+            leaf = tree.locate(np.array([point]))[0]
+            if leaf >= 0:
+                expected.append(number)
+                lo, hi = (b[leaf] for b in tree.bounds())
+                cells.append(f"cell [{lo[0]:.6g}, {hi[0]:.6g}] x [{lo[1]:.6g}, {hi[1]:.6g}], level {tree.level[leaf]}")
+        assert len(point) == 2 and (expected or space == "workspace" and "in no shown aspect" in readout), readout
+        assert probe["highlighted"][["workspace", "jointspace"].index(space)] == [expected], space
+        for number, cell in zip(expected, cells):  # the page decoded the same leaf as our codec
+            assert f"aspect {number}: working mode" in readout and cell in readout, (cell, readout)
+    assert probe["highlighted"][2:] == [[[]], [[]]]  # left: the pairs' panels highlight no aspect
     assert "jointspace.qt: inside, cell [" in joint_pair
     assert "workspace.complement.qt: outside" in work_pair or "workspace.qt: inside" in work_pair
     assert probe["torus"] == [0, 0]  # the aspects' joint space and the joint-space pair

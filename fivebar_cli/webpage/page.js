@@ -869,17 +869,26 @@
   document.body.dataset.ready = "true";
   if (location.hash === "#probe") probe();
 
-  /* Self-check for tests (page opened with #probe): point at the centre of every 2-D panel with
-     real mouse events, then record the read-outs, the highlighted aspects, and whether panning a
-     periodic panel by one period repaints the same image (the torus). */
+  /* Self-check for tests (page opened with #probe): point at the centre of every 2-D panel in turn
+     with real mouse events, as a mouse moving from panel to panel (each left before the next is
+     entered: two panels under the cursor at once would each re-highlight their own aspects on
+     every frame), recording each panel's read-out and the aspects highlighted meanwhile; then
+     whether panning a periodic panel by one period repaints the same image (the torus). */
   function probe() {
     const flat = panels.filter(p => p instanceof Panel2D);
-    for (const p of flat) {
-      const r = p.canvas.getBoundingClientRect();
+    const out = { readouts: [], highlighted: [], torus: [] };
+    const visit = k => {
+      if (k === flat.length) return finish();
+      const p = flat[k], r = p.canvas.getBoundingClientRect();
       p.canvas.dispatchEvent(new MouseEvent("mousemove", { clientX: r.left + p.m.l + p.pw / 2, clientY: r.top + p.m.t + p.ph / 2, bubbles: true }));
-    }
-    frame(() => frame(() => {
-      const out = { readouts: flat.map(p => p.readout.textContent), highlighted: probes.map(f => f()), torus: [] };
+      frame(() => frame(() => {
+        out.readouts.push(p.readout.textContent);
+        out.highlighted.push(probes.map(f => f()));
+        p.canvas.dispatchEvent(new MouseEvent("mouseleave"));
+        visit(k + 1);
+      }));
+    };
+    const finish = () => {
       for (const p of flat.filter(q => q.periodic[0] || q.periodic[1])) {
         p.render();
         const before = p.image.data.slice(), shift = p.root.map((r, j) => p.periodic[j] ? r[1] - r[0] : 0);
@@ -891,6 +900,7 @@
         p.vx0 -= shift[0]; p.vy0 -= shift[1]; p.render();
       }
       document.body.dataset.probe = JSON.stringify(out);
-    }));
+    };
+    visit(0);
   }
 })();
