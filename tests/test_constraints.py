@@ -126,6 +126,25 @@ def test_a_limit_that_alone_empties_the_joint_space_is_named(tmp_path):
                                           "configuration of this five-bar\n")
 
 
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10**6))
+def test_the_emptiness_check_stopping_at_a_certified_cell_is_the_whole_pavings_answer(seed):
+    """`leaves_nothing` stops paving at the first box certified inside; its answer must be the whole
+    paving's (no inside, undetermined or band cell). Random P limits and L0 put designs on both sides:
+    the P limit alone can empty the joint space (test above)."""
+    from fivebar_cli.mechanisms.fivebar.constrained import EMPTY_DEPTH, leaves_nothing, space_test
+    from fivebar_cli.mechanisms.fivebar.boxtests import joint_space_test
+    from fivebar_cli.paving.engine import pave
+
+    rng = np.random.default_rng(seed)
+    lo = float(rng.uniform(-90, 60))
+    m = FiveBar("r", float(rng.uniform(8, 20)), 5.0, 5.0, 8.0, 8.0,
+                constraints=Constraints(limits=(Limit("P", lo, lo + float(rng.uniform(5, 120))),)))
+    space = m.spaces()["jointspace"]
+    whole = pave(space.grid(EMPTY_DEPTH), space_test(m, "jointspace", joint_space_test(m)))
+    assert leaves_nothing(m) == (len(whole.inside) == len(whole.undetermined) == len(whole.band) == 0)
+
+
 def test_the_paper_procedure_refuses_constraints(tmp_path):
     path = tmp_path / "p.yaml"
     path.write_text("name: p\ntype: fivebar\nlengths: {L0: 9, L1: 8, L2: 5, L3: 5, L4: 8}\nlimits: {P: [-90, 90]}\n")

@@ -4,8 +4,8 @@ commands, or to the pose-space ones (`cli/pose_aspects.py`) when the kind in CON
 
 The two commands keep their own options and help; the choice is made from the mechanism file
 before either parses the command line for good: each parses it leniently to find its CONFIG,
-and the file's kind decides. A file that cannot be read goes to the first command, which reports
-it as it always did.
+and the `type` in the file decides (the rest of the file is validated once, by the command chosen).
+A file whose type cannot be read goes to the first command, which reports it as it always did.
 """
 
 from __future__ import annotations
@@ -29,14 +29,17 @@ def _config_of(command: click.Command, info_name: str, args: list[str]) -> Path 
 
 
 def _declares_pose_aspects(path: Path) -> bool:
+    """Whether the file's `type` names a kind with a pose-space aspect model: the type alone is read
+    (the command chosen validates the whole file, once; a file it cannot read goes to `other`)."""
     from fivebar_cli.errors import FivebarError
-    from fivebar_cli.mechanisms.registry import load_config
+    from fivebar_cli.io.schema import read_yaml
+    from fivebar_cli.mechanisms.registry import is_kind, kind_class
 
     try:
-        kind = type(load_config(path))
+        kind = read_yaml(path).get("type")
     except FivebarError:
         return False
-    return kind.pose_aspect_model is not Mechanism.pose_aspect_model
+    return is_kind(kind) and kind_class(kind).pose_aspect_model is not Mechanism.pose_aspect_model
 
 
 class ByKind(click.Command):

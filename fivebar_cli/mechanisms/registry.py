@@ -35,6 +35,12 @@ def kinds() -> list[str]:
     return list(BUILTIN) + sorted(_plugins())
 
 
+def is_kind(kind: object) -> bool:
+    """Whether `kind` is a known `type` (a built-in kind needs no look at the installed packages'
+    entry points: importlib.metadata's import and scan are a tenth of a small analysis's time)."""
+    return isinstance(kind, str) and (kind in BUILTIN or kind in kinds())
+
+
 def kind_class(kind: str) -> type[Mechanism]:
     """The class of a kind (KeyError when unknown)."""
     if kind in BUILTIN:
@@ -46,9 +52,7 @@ def kind_class(kind: str) -> type[Mechanism]:
 def parse(data: dict, source: str) -> Mechanism:
     """A mechanism from the mapping of a YAML file, by its `type`."""
     kind = data.get("type")
-    # (a built-in kind needs no look at the installed packages' entry points: importlib.metadata's
-    # import and scan are a tenth of a small analysis's time)
-    if not (isinstance(kind, str) and (kind in BUILTIN or kind in kinds())):
+    if not is_kind(kind):
         expected = " or ".join(repr(k) for k in kinds())
         if kind is None:
             raise ConfigError(source, "type", f"missing (expected {expected})")

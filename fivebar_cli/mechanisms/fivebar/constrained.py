@@ -35,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.mechanisms.constraint_tests import (  # noqa: F401 (arc_status, restricted: the five-bar's names too)
-    arc_box, arc_status, constraint_status, included_angle_range, meet, plus, restricted,
+    arc_box, arc_status, constraint_status, included_angle_range, meet, paved_empty, plus, restricted,
 )
 from fivebar_cli.mechanisms.constraint_tests import empty_problem as shared_empty_problem
 from fivebar_cli.mechanisms.fivebar import modes, robust, robust_modes
@@ -43,7 +43,6 @@ from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, AngleTables, joint_
 from fivebar_cli.mechanisms.fivebar.constraints import LINKS
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics.ranges import direction_range, triangle_angle_range
-from fivebar_cli.paving.engine import pave
 
 EMPTY_DEPTH = 6  # `empty_problem` paves the joint space this deep to find constraints that leave nothing
 
@@ -265,8 +264,7 @@ def leaves_nothing(m, depth: int = EMPTY_DEPTH) -> bool:
     `depth` deep is certified outside."""
     space = m.spaces()["jointspace"]
     base = (robust.joint_space_test if m.is_interval else joint_space_test)(m)
-    paving = pave(space.grid(depth), space_test(m, "jointspace", base))
-    return len(paving.inside) == 0 and len(paving.undetermined) == 0 and len(paving.band) == 0
+    return paved_empty(space.grid(depth), space_test(m, "jointspace", base))
 
 
 def empty_problem(m) -> tuple[str, str] | None:

@@ -33,14 +33,13 @@ import numpy as np
 
 from fivebar_cli.mechanisms import constraints as shared
 from fivebar_cli.mechanisms.constraint_tests import (
-    arc_box, constraint_status, included_angle_range, meet, plus, restricted,
+    arc_box, constraint_status, included_angle_range, meet, paved_empty, plus, restricted,
 )
 from fivebar_cli.mechanisms.constraint_tests import empty_problem as shared_empty_problem
 from fivebar_cli.mechanisms.constraints import Constraints
 from fivebar_cli.mechanisms.rrr3.boxtests import ETA_REL, Geometry, elbows, signs_of
 from fivebar_cli.numerics.platform import ANGLE_TOL, D2R
 from fivebar_cli.numerics.ranges import cos_sin_ranges, direction_range, triangle_angle_range
-from fivebar_cli.paving.engine import pave
 
 ACTUATED = ("theta1", "theta2", "theta3")
 LIMIT_NAMES = (*ACTUATED, "B1", "B2", "B3")
@@ -103,30 +102,51 @@ def satisfied(m, poses: np.ndarray, mode: str) -> np.ndarray:
 # ---------------------------------------------------------------- certified statuses over boxes of poses
 
 
-def ranges(g: Geometry, c: Constraints, signs, lo: np.ndarray, hi: np.ndarray):
-    """(angles, links): the ranges (radians) of the limited angles and the (lo corner, hi corner)
-    boxes of each link's ends over boxes of poses in working mode `signs` (module docstring)."""
+def leg_ranges(g: Geometry, c: Constraints, lo: np.ndarray, hi: np.ndarray) -> list[dict]:
+    """What `ranges` needs of each leg over boxes of poses that no working mode changes (computed once
+    for all the modes of `modes_status`): the range of |C_i - A_i| (rho), the direction range of
+    C_i - A_i (alpha) and the box of C_i (c_box), and the triangle's angle ranges at A_i (at_a), at
+    B_i (at_b: with a B_i limit) and at C_i (at_c: with obstacles)."""
     lo, hi = g.poses(lo), g.poses(hi)
-    n, eta = len(lo), g.eta
+    eta = g.eta
     limited = {lim.name for lim in c.limits}
-    angles, ends = {}, []
+    legs = []
     for i, (near, far) in enumerate(g.distance_ranges(lo, hi)):
-        l1, l2, s = float(g.l1[i]), float(g.l2[i]), signs[i]
+        l1, l2 = float(g.l1[i]), float(g.l2[i])
         rho = (np.clip(near - eta, g.inner[i], g.outer[i]), np.clip(far + eta, g.inner[i], g.outer[i]))
         t_lo = (lo[:, 2] - g.shift) * D2R + g.angle[i] - ANGLE_TOL
         t_hi = (hi[:, 2] - g.shift) * D2R + g.angle[i] + ANGLE_TOL
         (qx, qy) = (np.multiply(g.radius[i], r) for r in cos_sin_ranges(t_lo, t_hi))
         d_lo = np.column_stack([lo[:, 0] + qx[0] - g.base[i, 0], lo[:, 1] + qy[0] - g.base[i, 1]]) - eta
         d_hi = np.column_stack([hi[:, 0] + qx[1] - g.base[i, 0], hi[:, 1] + qy[1] - g.base[i, 1]]) + eta
-        alpha = direction_range(d_lo[:, 0], d_hi[:, 0], d_lo[:, 1], d_hi[:, 1])
-        theta = plus(alpha, -s, triangle_angle_range(*rho, l1, l2))
-        angles[f"theta{i + 1}"] = theta
-        if f"B{i + 1}" in limited:  # s (pi - the angle at B_i), an exact function of rho_i
-            at_b = included_angle_range(rho, (l1, l1), (l2, l2))
-            angles[f"B{i + 1}"] = plus((np.full(n, math.pi * s),) * 2, -s, at_b)
+        leg = {"alpha": direction_range(d_lo[:, 0], d_hi[:, 0], d_lo[:, 1], d_hi[:, 1]),
+               "at_a": triangle_angle_range(*rho, l1, l2)}
+        if f"B{i + 1}" in limited:  # pi - the angle at B_i, an exact function of rho_i
+            leg["at_b"] = included_angle_range(rho, (l1, l1), (l2, l2))
         if c.obstacles:
-            distal = plus(alpha, s, triangle_angle_range(*rho, l2, l1))
-            c_box = (d_lo + g.base[i], d_hi + g.base[i])
+            leg["at_c"] = triangle_angle_range(*rho, l2, l1)
+            leg["c_box"] = (d_lo + g.base[i], d_hi + g.base[i])
+        legs.append(leg)
+    return legs
+
+
+def ranges(g: Geometry, c: Constraints, signs, lo: np.ndarray, hi: np.ndarray, legs: list[dict] | None = None):
+    """(angles, links): the ranges (radians) of the limited angles and the (lo corner, hi corner)
+    boxes of each link's ends over boxes of poses in working mode `signs` (module docstring), from
+    `leg_ranges` (computed here unless given)."""
+    legs = leg_ranges(g, c, lo, hi) if legs is None else legs
+    n, eta = len(lo), g.eta
+    limited = {lim.name for lim in c.limits}
+    angles, ends = {}, []
+    for i, leg in enumerate(legs):
+        l1, l2, s = float(g.l1[i]), float(g.l2[i]), signs[i]
+        theta = plus(leg["alpha"], -s, leg["at_a"])
+        angles[f"theta{i + 1}"] = theta
+        if f"B{i + 1}" in limited:  # s (pi - the angle at B_i)
+            angles[f"B{i + 1}"] = plus((np.full(n, math.pi * s),) * 2, -s, leg["at_b"])
+        if c.obstacles:
+            distal = plus(leg["alpha"], s, leg["at_c"])
+            c_box = leg["c_box"]
             proximal, back = arc_box(*theta, (l1, l1)), arc_box(*distal, (l2, l2))
             b_box = meet((proximal[0] + g.base[i] - eta, proximal[1] + g.base[i] + eta),
                          (c_box[0] - back[1] - eta, c_box[1] - back[0] + eta))
@@ -136,10 +156,11 @@ def ranges(g: Geometry, c: Constraints, signs, lo: np.ndarray, hi: np.ndarray):
     return {k: v for k, v in angles.items() if k in limited}, links
 
 
-def mode_status(g: Geometry, c: Constraints, signs, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+def mode_status(g: Geometry, c: Constraints, signs, lo: np.ndarray, hi: np.ndarray,
+                legs: list[dict] | None = None) -> np.ndarray:
     """1 / -1 / 0 per box of poses: in working mode `signs`, every constraint holds at every
-    configuration of the box / at each one some constraint fails / cannot tell."""
-    angles, links = ranges(g, c, signs, lo, hi)
+    configuration of the box / at each one some constraint fails / cannot tell (`legs`: as `ranges`)."""
+    angles, links = ranges(g, c, signs, lo, hi, legs)
     if not angles and not links:
         return np.ones(len(lo), np.int8)
     return constraint_status(c, angles, links, obstacle_margin(g, c))
@@ -147,8 +168,10 @@ def mode_status(g: Geometry, c: Constraints, signs, lo: np.ndarray, hi: np.ndarr
 
 def modes_status(g: Geometry, c: Constraints, modes, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """The status of "some working mode of `modes` satisfies every constraint": 1 when one mode's
-    constraints hold on the whole box, -1 when every mode's fail everywhere."""
-    s = np.stack([mode_status(g, c, signs_of(w), lo, hi) for w in modes])
+    constraints hold on the whole box, -1 when every mode's fail everywhere. The legs' ranges that
+    no mode changes are computed once for them all."""
+    legs = leg_ranges(g, c, lo, hi)
+    s = np.stack([mode_status(g, c, signs_of(w), lo, hi, legs) for w in modes])
     return np.where(np.any(s == 1, axis=0), 1, np.where(np.all(s == -1, axis=0), -1, 0)).astype(np.int8)
 
 
@@ -165,8 +188,7 @@ def leaves_nothing(m) -> bool:
     """Whether the workspace is certified empty under the constraints: every cell of a paving of
     about 2^EMPTY_BITS cells is certified outside."""
     space = m.spaces()["workspace"]
-    paving = pave(space.grid(EMPTY_BITS // space.dim), m.box_test("workspace"))
-    return len(paving.inside) == 0 and len(paving.undetermined) == 0 and len(paving.band) == 0
+    return paved_empty(space.grid(EMPTY_BITS // space.dim), m.box_test("workspace"))
 
 
 def empty_problem(m) -> tuple[str, str] | None:
