@@ -77,9 +77,11 @@ def _ends(m, p, b1, b2):
     return {"A1": (zeros, zeros), "A2": a2, "B1": b1, "B2": b2, "P": p}
 
 
-def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray) -> Ranges:
-    """The ranges over boxes of P in a working mode (module docstring)."""
-    su, sv = working
+def workspace_legs(m, lo: np.ndarray, hi: np.ndarray) -> dict:
+    """What `workspace_ranges` needs over boxes of P that no working mode changes (computed once for
+    all of `space_test`'s modes): the ranges of |P - A_i| (s1, s2), of the directions of P - A_i
+    (a1, a2), and of the triangles' angles at A_i (beta1, beta2), at P (gamma1, gamma2) and at B_i
+    (at_B1, at_B2: only with that limit)."""
     bounds, limited = m.bounds, {lim.name for lim in m.constraints.limits}
     delta, _ = robust.margins(m)
     (d1, d2) = robust.leg_ranges(m, lo, hi)
@@ -88,16 +90,31 @@ def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray) -> Ranges:
     s1 = modes._valid_lengths(*d1, p1_in, p1_out, delta)
     s2 = modes._valid_lengths(*d2, p2_in, p2_out, delta)
     wlo, whi = robust.widened(m, lo, hi)
-    a1 = direction_range(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1])
-    a2 = direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1])
-    th1 = plus(a1, -su, _triangle(s1, bounds[1], bounds[3]))  # alpha1 - su beta1
-    th2 = plus(a2, -sv, _triangle(s2, bounds[2], bounds[4]))
-    th3 = plus(a1, su, _triangle(s1, bounds[3], bounds[1]))  # alpha1 + su gamma1
-    th4 = plus(a2, sv, _triangle(s2, bounds[4], bounds[2]))
+    legs = {"a1": direction_range(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1]),
+            "a2": direction_range(wlo[:, 0], whi[:, 0], wlo[:, 1], whi[:, 1]),
+            "beta1": _triangle(s1, bounds[1], bounds[3]), "beta2": _triangle(s2, bounds[2], bounds[4]),
+            "gamma1": _triangle(s1, bounds[3], bounds[1]), "gamma2": _triangle(s2, bounds[4], bounds[2])}
+    for name, s, crank, coupler in (("B1", s1, bounds[1], bounds[3]), ("B2", s2, bounds[2], bounds[4])):
+        if name in limited:  # pi - the angle at B_i, an exact function of |P - A_i|
+            legs[f"at_{name}"] = included_angle_range(s, crank, coupler)
+    return legs
+
+
+def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray, legs: dict | None = None) -> Ranges:
+    """The ranges over boxes of P in a working mode (module docstring), from `workspace_legs`
+    (computed here unless given)."""
+    su, sv = working
+    bounds, limited = m.bounds, {lim.name for lim in m.constraints.limits}
+    legs = workspace_legs(m, lo, hi) if legs is None else legs
+    a1, a2 = legs["a1"], legs["a2"]
+    th1 = plus(a1, -su, legs["beta1"])  # alpha1 - su beta1
+    th2 = plus(a2, -sv, legs["beta2"])
+    th3 = plus(a1, su, legs["gamma1"])  # alpha1 + su gamma1
+    th4 = plus(a2, sv, legs["gamma2"])
     angles = {"theta1": th1, "theta2": th2, "P": (th4[0] - th3[1], th4[1] - th3[0])}
-    for name, sign, s, crank, coupler in (("B1", su, s1, bounds[1], bounds[3]), ("B2", sv, s2, bounds[2], bounds[4])):
-        if name in limited:  # sign (pi - the angle at B_i), an exact function of |P - A_i|
-            angles[name] = plus((np.full(len(lo), np.pi * sign),) * 2, -sign, included_angle_range(s, crank, coupler))
+    for name, sign in (("B1", su), ("B2", sv)):
+        if name in limited:  # sign (pi - the angle at B_i)
+            angles[name] = plus((np.full(len(lo), np.pi * sign),) * 2, -sign, legs[f"at_{name}"])
     if not m.constraints.obstacles:
         return Ranges(angles, None)
     coupler1, coupler2 = arc_box(*th3, bounds[3]), arc_box(*th4, bounds[4])
@@ -107,22 +124,35 @@ def workspace_ranges(m, working, lo: np.ndarray, hi: np.ndarray) -> Ranges:
     return Ranges(angles, _ends(m, (lo, hi), b1, b2))
 
 
-def jointspace_ranges(m, assembly: int, lo: np.ndarray, hi: np.ndarray) -> Ranges:
-    """The ranges over boxes of (th1, th2) in an assembly mode (module docstring); the actuated
-    angles are the box itself (left to the root box)."""
+def jointspace_legs(m, lo: np.ndarray, hi: np.ndarray) -> dict:
+    """What `jointspace_ranges` needs over boxes of (th1, th2) that no assembly mode changes: the
+    angle tables, the coupler triangle, the range of the angle at P (at_p) and, with obstacles, the
+    boxes of B1 and B2."""
     bounds = m.bounds
     tables = AngleTables.of(lo, hi)
     tri = (robust_modes.coupler_triangle if m.is_interval else modes.coupler_triangle)(m, lo, hi, tables)
+    legs = {"tri": tri, "at_p": included_angle_range(tri.d, bounds[3], bounds[4])}
+    if m.constraints.obstacles:
+        trig = tables.box_trig
+        legs["b1"] = arc_box(lo[:, 0], hi[:, 0], bounds[1], trig[0])
+        crank2 = arc_box(lo[:, 1], hi[:, 1], bounds[2], trig[1])
+        legs["b2"] = (crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0])
+    return legs
+
+
+def jointspace_ranges(m, assembly: int, lo: np.ndarray, hi: np.ndarray, legs: dict | None = None) -> Ranges:
+    """The ranges over boxes of (th1, th2) in an assembly mode (module docstring); the actuated
+    angles are the box itself (left to the root box). `legs`: `jointspace_legs` (computed here
+    unless given)."""
+    bounds = m.bounds
+    legs = jointspace_legs(m, lo, hi) if legs is None else legs
+    tri, at_p = legs["tri"], legs["at_p"]
     th3, th4 = modes.coupler_directions(assembly, tri.b, tri.a, tri.e)
-    at_p = included_angle_range(tri.d, bounds[3], bounds[4])
     angles = {"B1": (th3[0] - hi[:, 0], th3[1] - lo[:, 0]), "B2": (th4[0] - hi[:, 1], th4[1] - lo[:, 1]),
               "P": at_p if assembly > 0 else (-at_p[1], -at_p[0])}
     if not m.constraints.obstacles:
         return Ranges(angles, None)
-    trig = tables.box_trig
-    b1 = arc_box(lo[:, 0], hi[:, 0], bounds[1], trig[0])
-    crank2 = arc_box(lo[:, 1], hi[:, 1], bounds[2], trig[1])
-    b2 = (crank2[0] + [bounds[0][0], 0.0], crank2[1] + [bounds[0][1], 0.0])
+    b1, b2 = legs["b1"], legs["b2"]
     via1, via2 = arc_box(*th3, bounds[3]), arc_box(*th4, bounds[4])
     p = meet((b1[0] + via1[0], b1[1] + via1[1]), (b2[0] + via2[0], b2[1] + via2[1]))
     return Ranges(angles, _ends(m, p, b1, b2))
@@ -144,12 +174,12 @@ def status(m, ranges: Ranges) -> np.ndarray:
     return constraint_status(m.constraints, ranges.angles, links, obstacle_margin(m))
 
 
-def workspace_status(m, working, lo, hi) -> np.ndarray:
-    return status(m, workspace_ranges(m, working, lo, hi))
+def workspace_status(m, working, lo, hi, legs: dict | None = None) -> np.ndarray:
+    return status(m, workspace_ranges(m, working, lo, hi, legs))
 
 
-def jointspace_status(m, assembly, lo, hi) -> np.ndarray:
-    return status(m, jointspace_ranges(m, assembly, lo, hi))
+def jointspace_status(m, assembly, lo, hi, legs: dict | None = None) -> np.ndarray:
+    return status(m, jointspace_ranges(m, assembly, lo, hi, legs))
 
 
 # ---------------------------------------------------------------- combined with the existing tests
@@ -160,11 +190,13 @@ def space_test(m, space: str, base):
     (a working mode in the workspace, an assembly mode in the joint space) reaches or assembles
     it within the constraints. 1 needs one mode whose constraints hold on the whole box."""
     keys = modes.WORKING_MODES if space == "workspace" else modes.ASSEMBLY_MODES
-    of = workspace_status if space == "workspace" else jointspace_status
+    of, shared = (workspace_status, workspace_legs) if space == "workspace" else (jointspace_status, jointspace_legs)
 
     def test(lo, hi):
-        def combined(mask):
-            s = np.stack([of(m, key, lo[mask], hi[mask]) for key in keys])
+        def combined(mask):  # (what no mode changes, computed once for all of them)
+            lo_, hi_ = lo[mask], hi[mask]
+            legs = shared(m, lo_, hi_)
+            s = np.stack([of(m, key, lo_, hi_, legs) for key in keys])
             return np.where(np.any(s == 1, axis=0), 1, np.where(np.all(s == -1, axis=0), -1, 0))
 
         return restricted(base(lo, hi), combined)
