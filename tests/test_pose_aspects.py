@@ -275,6 +275,11 @@ def test_bad_input_is_one_line_exit_2(tmp_path):
     one_line(run_cli("locate", CARO, "--pose", "0", "0", "0", "-o", tmp_path), 2, "--pose", "not a valid pose")
     one_line(run_cli("locate", CARO, "--legs", "5", "15", "12", "-o", tmp_path), 2, "--legs", "outside its range")
     one_line(run_cli("locate", CARO, "--pose", "0", "0", "-o", tmp_path), 2, "--pose")
+    # a file of a pose kind goes to the pose command by its type alone, which reports what else is wrong
+    # (it went to the five-bar command, which refused --pose X Y PHI: "unexpected extra argument")
+    typo = tmp_path / "typo.yaml"
+    typo.write_text(CARO.read_text() + "rho_min: 1\n")
+    one_line(run_cli("locate", typo, "--pose", "0", "0", "0", "-o", tmp_path), 2, "typo.yaml", "rho_min", "unknown key")
 
 
 def test_help_of_a_dispatched_command_shows_both_forms():
