@@ -132,7 +132,6 @@ def test_the_emptiness_check_stopping_at_a_certified_cell_is_the_whole_pavings_a
     """`leaves_nothing` stops paving at the first box certified inside; its answer must be the whole
     paving's (no inside, undetermined or band cell). Random P limits and L0 put designs on both sides:
     the P limit alone can empty the joint space (test above)."""
-    from fivebar_cli.mechanisms.fivebar.constrained import EMPTY_DEPTH, leaves_nothing, space_test
     from fivebar_cli.mechanisms.fivebar.boxtests import joint_space_test
     from fivebar_cli.paving.engine import pave
 
@@ -141,8 +140,8 @@ def test_the_emptiness_check_stopping_at_a_certified_cell_is_the_whole_pavings_a
     m = FiveBar("r", float(rng.uniform(8, 20)), 5.0, 5.0, 8.0, 8.0,
                 constraints=Constraints(limits=(Limit("P", lo, lo + float(rng.uniform(5, 120))),)))
     space = m.spaces()["jointspace"]
-    whole = pave(space.grid(EMPTY_DEPTH), space_test(m, "jointspace", joint_space_test(m)))
-    assert leaves_nothing(m) == (len(whole.inside) == len(whole.undetermined) == len(whole.band) == 0)
+    whole = pave(space.grid(constrained.EMPTY_DEPTH), constrained.space_test(m, "jointspace", joint_space_test(m)))
+    assert constrained.leaves_nothing(m) == (len(whole.inside) == len(whole.undetermined) == len(whole.band) == 0)
 
 
 def test_the_paper_procedure_refuses_constraints(tmp_path):
