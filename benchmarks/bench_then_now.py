@@ -6,6 +6,7 @@ does).
 
     python benchmarks/bench_then_now.py                       # suite and aspects 12,14,16, 2 turns
     python benchmarks/bench_then_now.py --rev 0f6e153 --no-suite --aspects 14 --repeat 3
+    python benchmarks/bench_then_now.py --fresh --aspects '' --repeat 1     # the suites as CI runs them
 
 The past revision (default 0f6e153: the main on which issues 18 to 23 were filed, 1201 tests) is
 cloned from this repository into --work and installed in a venv of its own once (as `make install`
@@ -17,6 +18,11 @@ checkout (with this interpreter, which is this checkout's venv under `make bench
   folder, with FIVEBAR_JOBS=1 (the past revision has no workers), wall seconds and max RSS.
 Best of the turns, and the median with 3 turns or more. Not part of `make bench`: it clones,
 installs and runs two test suites (10 minutes or more on 2 cores).
+
+`--fresh` runs the suites as CI does instead: each turn clones both revisions anew (this checkout
+as committed: HEAD) and runs `make install` then `make test` in each, in this environment as it is
+(PYTHONDONTWRITEBYTECODE included where it is set, as on this project's machines): the suite's
+seconds as pytest prints them, and the wall seconds of install and tests together.
 """
 
 from __future__ import annotations
@@ -50,8 +56,9 @@ def past_tree(rev: str, work: Path) -> Path:
     return tree
 
 
-def timed(argv: list[str], cwd: Path, env: dict) -> tuple[float, float, str]:
-    """Run argv to its end: (wall seconds, max RSS MiB of the process, its standard output)."""
+def timed(argv: list[str], cwd: Path, env: dict, failed: tuple[int, ...] = (1,)) -> tuple[float, float, str]:
+    """Run argv to its end: (wall seconds, max RSS MiB of the process, its standard output). An exit
+    status in `failed` (a test failed: pytest's 1, make's 2) still counts; any other is an error."""
     with tempfile.TemporaryFile() as out:
         t0 = time.perf_counter()
         child = subprocess.Popen(argv, cwd=cwd, env=env, stdout=out, stderr=subprocess.STDOUT)
@@ -60,7 +67,7 @@ def timed(argv: list[str], cwd: Path, env: dict) -> tuple[float, float, str]:
         out.seek(0)
         text = out.read().decode(errors="replace")
     code = os.waitstatus_to_exitcode(status)
-    if code not in (0, 1):  # pytest exits 1 when a test fails: its time still counts
+    if code != 0 and code not in failed:
         raise SystemExit(f"{' '.join(argv)} exited {code} in {cwd}:\n{text[-2000:]}")
     return seconds, usage.ru_maxrss / 1024, text
 
@@ -69,11 +76,29 @@ def suite(python: str, tree: Path) -> tuple[float, str]:
     """The test suite's seconds and counts, as pytest prints them."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     _, _, text = timed([python, "-m", "pytest", "-p", "no:cacheprovider"], tree, env)
-    found = SUMMARY.findall(text.splitlines()[-1] if text.strip() else "")
+    return summary(text, tree)
+
+
+def summary(text: str, tree: Path) -> tuple[float, str]:
+    """The seconds and counts of pytest's closing line in `text`."""
+    found = [m for line in text.splitlines()[-5:] for m in SUMMARY.findall(line)]
     if not found:
         raise SystemExit(f"no pytest summary in {tree}:\n{text[-2000:]}")
     counts, seconds = found[-1]
     return float(seconds), counts
+
+
+def fresh_suite(rev: str) -> tuple[float, float, str]:
+    """CI's run of `rev`: a new clone, `make install`, `make test`, in this environment as it is:
+    (the suite's seconds as pytest prints them, wall seconds of install and tests, the counts)."""
+    with tempfile.TemporaryDirectory(prefix="fivebar-fresh-") as work:
+        tree = Path(work) / "clone"
+        subprocess.run(["git", "clone", "--quiet", str(ROOT), str(tree)], check=True)
+        subprocess.run(["git", "-C", str(tree), "checkout", "--quiet", rev], check=True)
+        install, _, _ = timed(["make", "install"], tree, dict(os.environ), failed=())
+        tests, _, text = timed(["make", "test"], tree, dict(os.environ), failed=(2,))
+        seconds, counts = summary(text, tree)
+    return seconds, install + tests, counts
 
 
 def aspects(python: str, tree: Path, depth: int) -> tuple[float, float]:
@@ -90,6 +115,8 @@ def main() -> int:
     parser.add_argument("--rev", default=FILED_ON, help=f"the past revision (default {FILED_ON})")
     parser.add_argument("--aspects", default="12,14,16", help="M1 aspects depths ('' for none)")
     parser.add_argument("--no-suite", action="store_true", help="leave the test suites out")
+    parser.add_argument("--fresh", action="store_true",
+                        help="the suites as CI runs them: new clones, make install, make test (HEAD for now)")
     parser.add_argument("--repeat", type=int, default=2, help="turns of each pair of runs")
     parser.add_argument("--work", type=Path, default=Path(tempfile.gettempdir()) / "fivebar-then",
                         help="where the past revision is cloned and installed")
@@ -107,7 +134,13 @@ def main() -> int:
         for depth in depths:
             for when, (python, tree) in trees.items():
                 rows.setdefault((f"aspects d{depth}", when), []).append(aspects(python, tree, depth))
-        if not args.no_suite:
+        if args.fresh and not args.no_suite:
+            for when, rev in (("then", args.rev), ("now", "HEAD")):
+                seconds, wall, tally = fresh_suite(rev)
+                rows.setdefault(("fresh suite", when), []).append((seconds, None))
+                rows.setdefault(("+ install", when), []).append((wall, None))
+                counts[when] = tally
+        elif not args.no_suite:
             for when, (python, tree) in trees.items():
                 seconds, tally = suite(python, tree)
                 rows.setdefault(("suite", when), []).append((seconds, None))
@@ -116,7 +149,8 @@ def main() -> int:
     medians = args.repeat >= 3
     columns = ["then best", "now best", "now/then"] + (["then median", "now median", "now/then"] if medians else [])
     print(f"{'':12s}" + "".join(f"{c:>12s}" for c in columns) + "   max RSS then -> now")
-    for what in [f"aspects d{d}" for d in depths] + ([] if args.no_suite else ["suite"]):
+    suites = [] if args.no_suite else ["fresh suite", "+ install"] if args.fresh else ["suite"]
+    for what in [f"aspects d{d}" for d in depths] + suites:
         then_runs, now_runs = rows[(what, "then")], rows[(what, "now")]
         t, n = [s for s, _ in then_runs], [s for s, _ in now_runs]
         cells = [f"{min(t):.2f} s", f"{min(n):.2f} s", f"{min(n) / min(t):.2f}x"]
