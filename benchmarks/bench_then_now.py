@@ -42,14 +42,19 @@ FILED_ON = "0f6e153"  # main when issues 18-23 were filed: their "today"
 SUMMARY = re.compile(r"(?P<counts>\d+ (?:failed|passed).*?) in (?P<seconds>[\d.]+)s")
 
 
+def checkout(rev: str, tree: Path) -> None:
+    """This repository at `rev` in `tree` (cloned there unless it already is)."""
+    if not tree.exists():
+        subprocess.run(["git", "clone", "--quiet", str(ROOT), str(tree)], check=True)
+    subprocess.run(["git", "-C", str(tree), "checkout", "--quiet", rev], check=True)
+
+
 def past_tree(rev: str, work: Path) -> Path:
     """A clone of this repository at `rev` with its own venv (made once, reused)."""
     tree = work / rev
     python = tree / ".venv" / "bin" / "python"
     if not (tree / ".venv" / ".bench-installed").exists():
-        if not tree.exists():
-            subprocess.run(["git", "clone", "--quiet", str(ROOT), str(tree)], check=True)
-        subprocess.run(["git", "-C", str(tree), "checkout", "--quiet", rev], check=True)
+        checkout(rev, tree)
         subprocess.run([sys.executable, "-m", "venv", str(tree / ".venv")], check=True)
         subprocess.run([str(python), "-m", "pip", "install", "--quiet", "-e", ".[test]"], cwd=tree, check=True)
         (tree / ".venv" / ".bench-installed").touch()
@@ -92,11 +97,10 @@ def fresh_suite(rev: str) -> tuple[float, float, str]:
     """CI's run of `rev`: a new clone, `make install`, `make test`, in this environment as it is:
     (the suite's seconds as pytest prints them, wall seconds of install and tests, the counts)."""
     with tempfile.TemporaryDirectory(prefix="fivebar-fresh-") as work:
-        tree = Path(work) / "clone"
-        subprocess.run(["git", "clone", "--quiet", str(ROOT), str(tree)], check=True)
-        subprocess.run(["git", "-C", str(tree), "checkout", "--quiet", rev], check=True)
-        install, _, _ = timed(["make", "install"], tree, dict(os.environ), failed=())
-        tests, _, text = timed(["make", "test"], tree, dict(os.environ), failed=(2,))
+        tree, env = Path(work) / "clone", dict(os.environ)
+        checkout(rev, tree)
+        install, _, _ = timed(["make", "install"], tree, env, failed=())
+        tests, _, text = timed(["make", "test"], tree, env, failed=(2,))
         seconds, counts = summary(text, tree)
     return seconds, install + tests, counts
 
@@ -122,11 +126,13 @@ def main() -> int:
                         help="where the past revision is cloned and installed")
     args = parser.parse_args()
     depths = [int(d) for d in args.aspects.split(",") if d.strip()]
-    then = past_tree(args.rev, args.work)
+    # the past revision's own venv serves its aspects and its warm suite (--fresh installs clones of its own)
+    then = past_tree(args.rev, args.work) if depths or not (args.fresh or args.no_suite) else None
     now_rev = subprocess.run(["git", "-C", str(ROOT), "log", "-1", "--format=%h"], capture_output=True,
                              text=True).stdout.strip() or "this checkout"
-    trees = {"then": (str(then / ".venv" / "bin" / "python"), then), "now": (sys.executable, ROOT)}
-    print(f"then: {args.rev} ({then}), now: {now_rev} ({ROOT}); load average {os.getloadavg()[0]:.1f}", flush=True)
+    trees = {"then": (str(then / ".venv" / "bin" / "python"), then), "now": (sys.executable, ROOT)} if then else {}
+    print(f"then: {args.rev} ({then or 'fresh clones'}), now: {now_rev} ({ROOT}); "
+          f"load average {os.getloadavg()[0]:.1f}", flush=True)
 
     rows: dict = {}  # (what, then or now): [(seconds, max RSS MiB or None)] of each turn
     counts: dict = {}  # then or now: the suite's counts, as pytest printed them
