@@ -111,6 +111,54 @@ def test_a_killed_worker_fails_the_wait_instead_of_hanging(wait):
     assert time.monotonic() - start < 20
 
 
+def _pool_queue(name: str):
+    """In a worker: its pool's queue `name` (`inqueue`, `outqueue`: multiprocessing's worker loop's)."""
+    import sys
+
+    frame = sys._getframe()
+    while name not in frame.f_locals:
+        frame = frame.f_back
+    return frame.f_locals[name]
+
+
+def _holds_the_result_lock(seconds: float) -> None:
+    _pool_queue("outqueue")._wlock.acquire()  # as a worker in mid-write of its result does
+    time.sleep(seconds)
+
+
+def _ends_in_time(body) -> bool:
+    """Whether body() returned within 30 s (run in a thread: a hang fails the test, not the run)."""
+    import threading
+
+    done = threading.Thread(target=body, daemon=True)
+    done.start()
+    done.join(30)
+    return not done.is_alive()
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("held", ["result queue's write lock", "task queue's read lock"])
+def test_a_pool_whose_killed_worker_held_a_queue_lock_still_ends(held):
+    """Ending a pool kills its workers. A worker killed while writing its result holds the result
+    queue's lock forever, one killed while it waits for a task the task queue's: multiprocessing's
+    terminate() then waits for them forever (python/cpython#96995; this suite hung on it once in an
+    error test). Both here, deterministically: the `with` ends, with the error that ended it."""
+    def body():
+        with pytest.raises(WorkerLost if held == "task queue's read lock" else ValueError):
+            with Workers(2, 2) as pool:
+                if held == "result queue's write lock":
+                    pool.submit(_holds_the_result_lock, 60)
+                    time.sleep(0.5)
+                    raise ValueError("an error while a worker holds the lock")
+                task = pool.submit(time.sleep, 60)
+                time.sleep(0.5)  # one worker in the task, the other waiting for the next one, holding the lock
+                for p in pool._started:
+                    os.kill(p.pid, signal.SIGKILL)
+                task.get()
+
+    assert _ends_in_time(body)
+
+
 def test_in_process_results_are_made_as_they_are_taken():
     """With one job, `map` computes each result when the caller asks for it (the caller writes and
     drops one aspect's files before the next are made)."""

@@ -20,10 +20,11 @@ one copy each way. The folder goes with the pool; one left by a killed run (its 
 its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is
 full) arrays go through the pipes as before. Workers ignore Ctrl-C and SIGHUP and die on SIGTERM
 (from their fork on, `_forking`): the parent alone reacts to signals, and when it stops (an
-interruption, an error) it terminates its pool. A worker that dies (killed, out of memory) takes
-its task with it, and multiprocessing's pool only replaces it: the parent waits in short turns
-and, between them, checks its workers, so that it fails with one line (`WorkerLost`) instead of
-waiting forever.
+interruption, an error) it terminates its pool (`_terminate`: the workers first, then the queue
+locks a killed one held freed, or multiprocessing's terminate could wait for them forever). A
+worker that dies (killed, out of memory) takes its task with it, and multiprocessing's pool only
+replaces it: the parent waits in short turns and, between them, checks its workers, so that it
+fails with one line (`WorkerLost`) instead of waiting forever.
 """
 
 from __future__ import annotations
@@ -108,7 +109,7 @@ class Workers:
         if self._pool is not None:
             if not self._pool._result_handler.is_alive():  # (WorkerLost: results it can no longer read)
                 self._pool._cache.clear()  # or terminate() refuses to run, and the workers would live on
-            self._pool.terminate()  # what is left to run is not wanted (an error, an interruption)
+            _terminate(self._pool)  # what is left to run is not wanted (an error, an interruption)
             self._pool.join()
             self._release()
 
@@ -187,6 +188,33 @@ class Workers:
                 yield self._wait(results.next)
             except StopIteration:
                 return
+
+
+def _terminate(pool) -> None:
+    """`pool.terminate()`, without CPython's deadlock (python/cpython#96995): terminate kills the
+    workers, then waits for its threads to write to the result queue under the lock the workers
+    write their results under, and to read the task queue under the lock a worker holds while it
+    waits for a task; a worker killed holding one holds it forever (a killed idle worker always
+    held the second, one in mid-write the first). So the workers are stopped here first: none is
+    replaced any more (the pool's worker thread ended), all are killed and reaped, and the locks
+    they shared are freed, whoever held them; terminate then waits for this process's threads only."""
+    from multiprocessing.pool import TERMINATE
+
+    pool._worker_handler._state = TERMINATE
+    pool._change_notifier.put(None)  # (wakes the worker thread, which then ends)
+    pool._worker_handler.join()
+    for p in pool._pool:
+        p.terminate()
+    for p in pool._pool:
+        p.join()
+    # Held by a killed worker, a lock stays held: taking it (if free) and releasing it frees it either way.
+    # This process's threads take the task queue's read lock only in terminate, and the result
+    # queue's write lock for one short write (the task thread's last message): waited for.
+    pool._inqueue._rlock.acquire(False)
+    pool._inqueue._rlock.release()
+    pool._outqueue._wlock.acquire(timeout=TURN)
+    pool._outqueue._wlock.release()
+    pool.terminate()
 
 
 def _advancing(results: Iterable[R], advance: Callable[[int], None]) -> Iterator[R]:
