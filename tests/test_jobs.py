@@ -12,7 +12,7 @@ from multiprocessing.reduction import ForkingPickler
 
 import numpy as np
 import pytest
-from cli_helpers import REPO, ok, one_line, run_cli
+from cli_helpers import ENV, REPO, CliResult, command, default_ctrl_c, ok, one_line, run_cli
 
 from fivebar_cli.analyses.jobs import Workers, WorkerLost, default_jobs, run_tasks, workers
 from fivebar_cli.paving.engine import Paving
@@ -157,6 +157,47 @@ def test_a_pool_whose_killed_worker_held_a_queue_lock_still_ends(held):
                 task.get()
 
     assert _ends_in_time(body)
+
+
+def _children(pid: int) -> set[int]:
+    """The processes `pid` started that still run (Linux: /proc; the pool's workers among them)."""
+    try:
+        return {int(c) for c in open(f"/proc/{pid}/task/{pid}/children").read().split()}
+    except FileNotFoundError:
+        return set()
+
+
+def _runs(pid: int) -> bool:
+    try:
+        return open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
+    except FileNotFoundError:
+        return False
+
+
+@pytest.mark.skipif(not os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children"), reason="Linux's /proc")
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("signum, status, what", [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
+def test_ctrl_c_or_sigterm_while_workers_run_ends_the_run_and_its_workers(tmp_path, signum, status, what):
+    """`aspects --jobs 2` stopped while its pool runs the pavings: one line, the signal's status, at
+    once, no worker left running and nothing written (the suite's other interruption tests run
+    without workers)."""
+    import subprocess
+
+    run = subprocess.Popen(command(["aspects", CONFIGS / "m1.yaml", "--depth", "14", "--jobs", "2", "-o",
+                                    tmp_path / "out", "-q", "--no-plot"]), env=ENV, stdout=subprocess.PIPE,
+                           stderr=subprocess.PIPE, text=True, preexec_fn=default_ctrl_c)
+    deadline = time.monotonic() + 60
+    while len(workers := _children(run.pid)) < 2 and run.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    assert len(workers) >= 2, "the run started no workers"
+    time.sleep(0.2)  # the workers in their first tasks
+    sent = time.monotonic()
+    run.send_signal(signum)
+    out, err = run.communicate(timeout=60)
+    assert time.monotonic() - sent < 10
+    one_line(CliResult(run.returncode, out, err), status, what)
+    assert not [pid for pid in workers if _runs(pid)]
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").rglob("*.qt"))
 
 
 def test_in_process_results_are_made_as_they_are_taken():
