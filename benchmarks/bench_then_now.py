@@ -16,8 +16,11 @@ checkout (with this interpreter, which is this checkout's venv under `make bench
   core), seconds as pytest prints them, and the counts it prints;
 - aspects D: `python -m fivebar_cli aspects configs/m1.yaml --depth D --no-plot --quiet` into a new
   folder, with FIVEBAR_JOBS=1 (the past revision has no workers), wall seconds and max RSS.
-Best of the turns, and the median with 3 turns or more. Not part of `make bench`: it clones,
-installs and runs two test suites (10 minutes or more on 2 cores).
+Best of the turns, and the median with 3 turns or more. With the suites, their test seconds by
+file too (every test's setup, call and teardown as pytest's --durations gives them, summed over the
+workers; each file's least over the turns): the files the past revision had, then against now, and
+the files added since (`--files`: every file, not only the largest). Not part of `make bench`: it
+clones, installs and runs two test suites (10 minutes or more on 2 cores).
 
 `--fresh` runs the suites as CI does instead: each turn clones both revisions anew (this checkout
 as committed: HEAD) and runs `make install` then `make test` in each, in this environment as it is
@@ -40,6 +43,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 FILED_ON = "0f6e153"  # main when issues 18-23 were filed: their "today"
 SUMMARY = re.compile(r"(?P<counts>\d+ (?:failed|passed).*?) in (?P<seconds>[\d.]+)s")
+DURATIONS = ["--durations=0", "--durations-min=0"]  # every test's phases: the seconds by file
+DURATION = re.compile(r"^(?P<seconds>[\d.]+)s (?:setup|call|teardown) +(?P<file>[^:\s]+)::", re.M)
 
 
 def checkout(rev: str, tree: Path) -> None:
@@ -77,11 +82,19 @@ def timed(argv: list[str], cwd: Path, env: dict, failed: tuple[int, ...] = (1,))
     return seconds, usage.ru_maxrss / 1024, text
 
 
-def suite(python: str, tree: Path) -> tuple[float, str]:
-    """The test suite's seconds and counts, as pytest prints them."""
+def suite(python: str, tree: Path) -> tuple[float, str, dict]:
+    """The test suite's seconds and counts, as pytest prints them, and its test seconds by file."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
-    _, _, text = timed([python, "-m", "pytest", "-p", "no:cacheprovider"], tree, env)
-    return summary(text, tree)
+    _, _, text = timed([python, "-m", "pytest", "-p", "no:cacheprovider", *DURATIONS], tree, env)
+    return (*summary(text, tree), by_file(text))
+
+
+def by_file(text: str) -> dict[str, float]:
+    """Test seconds by file in pytest's --durations report: setup, call and teardown summed."""
+    files: dict[str, float] = {}
+    for m in DURATION.finditer(text):
+        files[m["file"]] = files.get(m["file"], 0.0) + float(m["seconds"])
+    return files
 
 
 def summary(text: str, tree: Path) -> tuple[float, str]:
@@ -93,16 +106,18 @@ def summary(text: str, tree: Path) -> tuple[float, str]:
     return float(seconds), counts
 
 
-def fresh_suite(rev: str) -> tuple[float, float, str]:
-    """CI's run of `rev`: a new clone, `make install`, `make test`, in this environment as it is:
-    (the suite's seconds as pytest prints them, wall seconds of install and tests, the counts)."""
+def fresh_suite(rev: str) -> tuple[float, float, str, dict]:
+    """CI's run of `rev`: a new clone, `make install`, `make test`, in this environment as it is
+    (pytest's --durations added): (the suite's seconds as pytest prints them, wall seconds of
+    install and tests, the counts, the test seconds by file)."""
     with tempfile.TemporaryDirectory(prefix="fivebar-fresh-") as work:
         tree, env = Path(work) / "clone", dict(os.environ)
         checkout(rev, tree)
         install, _, _ = timed(["make", "install"], tree, env, failed=())
+        env["PYTEST_ADDOPTS"] = " ".join([env.get("PYTEST_ADDOPTS", ""), *DURATIONS]).strip()
         tests, _, text = timed(["make", "test"], tree, env, failed=(2,))
         seconds, counts = summary(text, tree)
-    return seconds, install + tests, counts
+    return seconds, install + tests, counts, by_file(text)
 
 
 def aspects(python: str, tree: Path, depth: int) -> tuple[float, float]:
@@ -121,6 +136,7 @@ def main() -> int:
     parser.add_argument("--no-suite", action="store_true", help="leave the test suites out")
     parser.add_argument("--fresh", action="store_true",
                         help="the suites as CI runs them: new clones, make install, make test (HEAD for now)")
+    parser.add_argument("--files", action="store_true", help="the suites' test seconds of every file")
     parser.add_argument("--repeat", type=int, default=2, help="turns of each pair of runs")
     parser.add_argument("--work", type=Path, default=Path(tempfile.gettempdir()) / "fivebar-then",
                         help="where the past revision is cloned and installed")
@@ -136,21 +152,24 @@ def main() -> int:
 
     rows: dict = {}  # (what, then or now): [(seconds, max RSS MiB or None)] of each turn
     counts: dict = {}  # then or now: the suite's counts, as pytest printed them
+    files: dict = {"then": {}, "now": {}}  # then or now: test seconds by file, least over the turns
     for _ in range(args.repeat):
         for depth in depths:
             for when, (python, tree) in trees.items():
                 rows.setdefault((f"aspects d{depth}", when), []).append(aspects(python, tree, depth))
         if args.fresh and not args.no_suite:
             for when, rev in (("then", args.rev), ("now", "HEAD")):
-                seconds, wall, tally = fresh_suite(rev)
+                seconds, wall, tally, by = fresh_suite(rev)
                 rows.setdefault(("fresh suite", when), []).append((seconds, None))
                 rows.setdefault(("+ install", when), []).append((wall, None))
                 counts[when] = tally
+                least(files[when], by)
         elif not args.no_suite:
             for when, (python, tree) in trees.items():
-                seconds, tally = suite(python, tree)
+                seconds, tally, by = suite(python, tree)
                 rows.setdefault(("suite", when), []).append((seconds, None))
                 counts[when] = tally
+                least(files[when], by)
 
     medians = args.repeat >= 3
     columns = ["then best", "now best", "now/then"] + (["then median", "now median", "now/then"] if medians else [])
@@ -168,7 +187,27 @@ def main() -> int:
         print(f"{what:12s}" + "".join(f"{c:>12s}" for c in cells) + rss)
     if not args.no_suite:
         print(f"tests: then {counts['then']}; now {counts['now']}")
+        print_files(files["then"], files["now"], every=args.files)
     return 0
+
+
+def least(into: dict[str, float], turn: dict[str, float]) -> None:
+    """Each file's least test seconds so far."""
+    for name, seconds in turn.items():
+        into[name] = min(into.get(name, seconds), seconds)
+
+
+def print_files(then: dict[str, float], now: dict[str, float], every: bool, largest: int = 8) -> None:
+    """Test seconds by file: the files of then (then against now), those added since."""
+    kept, added = sorted(f for f in now if f in then), sorted(f for f in now if f not in then)
+    t, n, a = (sum(d[f] for f in fs) for d, fs in ((then, kept), (now, kept), (now, added)))
+    print("test seconds by file (setup + call + teardown, summed over the workers, least over the turns):")
+    print(f"  the {len(kept)} files of then: {t:.1f} s then, {n:.1f} s now ({n / t if t else 0:.2f}x); "
+          f"the {len(added)} files added since: {a:.1f} s"
+          + (f"; {len(then) - len(kept)} files gone: {sum(then.values()) - t:.1f} s then" if len(then) > len(kept) else ""))
+    shown = sorted(now, key=lambda f: -now[f]) if every else sorted(now, key=lambda f: -now[f])[:largest]
+    for name in shown:
+        print(f"  {name:44s} {f'{then[name]:.1f} s' if name in then else 'new':>9s} -> {now[name]:6.1f} s")
 
 
 if __name__ == "__main__":
