@@ -201,12 +201,12 @@ def print_files(then: dict[str, float], now: dict[str, float], every: bool, larg
     """Test seconds by file: the files of then (then against now), those added since."""
     kept, added = sorted(f for f in now if f in then), sorted(f for f in now if f not in then)
     t, n, a = (sum(d[f] for f in fs) for d, fs in ((then, kept), (now, kept), (now, added)))
+    gone = len(then) - len(kept)
     print("test seconds by file (setup + call + teardown, summed over the workers, least over the turns):")
     print(f"  the {len(kept)} files of then: {t:.1f} s then, {n:.1f} s now ({n / t if t else 0:.2f}x); "
           f"the {len(added)} files added since: {a:.1f} s"
-          + (f"; {len(then) - len(kept)} files gone: {sum(then.values()) - t:.1f} s then" if len(then) > len(kept) else ""))
-    shown = sorted(now, key=lambda f: -now[f]) if every else sorted(now, key=lambda f: -now[f])[:largest]
-    for name in shown:
+          + (f"; {gone} files gone: {sum(then.values()) - t:.1f} s then" if gone else ""))
+    for name in sorted(now, key=lambda f: -now[f])[:None if every else largest]:
         print(f"  {name:44s} {f'{then[name]:.1f} s' if name in then else 'new':>9s} -> {now[name]:6.1f} s")
 
 

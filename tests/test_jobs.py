@@ -174,9 +174,10 @@ def _runs(pid: int) -> bool:
         return False
 
 
-@pytest.mark.skipif(not os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children"), reason="Linux's /proc")
+@pytest.mark.skipif(not os.path.exists(f"/proc/{os.getpid()}/task/{os.getpid()}/children"), reason="Linux /proc")
 @pytest.mark.timeout(120)
-@pytest.mark.parametrize("signum, status, what", [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
+@pytest.mark.parametrize("signum, status, what",
+                         [(signal.SIGINT, 130, "interrupted"), (signal.SIGTERM, 143, "terminated")])
 def test_ctrl_c_or_sigterm_while_workers_run_ends_the_run_and_its_workers(tmp_path, signum, status, what):
     """`aspects --jobs 2` stopped while its pool runs the pavings: one line, the signal's status, at
     once, no worker left running and nothing written (the suite's other interruption tests run

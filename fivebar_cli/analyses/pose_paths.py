@@ -291,8 +291,8 @@ def check_pose(m: Mechanism, pose: np.ndarray, label: str, source: str, sheet: i
     if not free.valid(pose[None, :])[0]:
         joints, exists = model.ikp(pose[None, :], 0)
         if not exists[0]:
-            raise InputError(source, param("pose"), f"{label} is not a valid pose: no joint values reach it (a leg cannot "
-                                               "reach it, or only stretched or folded)")
+            raise InputError(source, param("pose"), f"{label} is not a valid pose: no joint values reach it "
+                                               "(a leg cannot reach it, or only stretched or folded)")
         names = ", ".join(f"{a.name} = {v:.6g} in [{a.lo:g}, {a.hi:g}]" for a, v in zip(model.joint_axes, joints[0]))
         raise InputError(source, param("pose"), f"{label} is not a valid pose: {names} (a joint out of its range)")
     if sheet is not None and not model.valid(pose[None, :], sheet)[0]:
