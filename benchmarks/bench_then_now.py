@@ -202,7 +202,8 @@ def print_files(then: dict[str, float], now: dict[str, float], every: bool, larg
     kept, added = sorted(f for f in now if f in then), sorted(f for f in now if f not in then)
     t, n, a = (sum(d[f] for f in fs) for d, fs in ((then, kept), (now, kept), (now, added)))
     gone = len(then) - len(kept)
-    print("test seconds by file (setup + call + teardown, summed over the workers, least over the turns):")
+    print("test seconds by file (setup + call + teardown, summed over the workers, least over the turns; "
+          "pytest leaves out phases under 5 ms, and files with none):")
     print(f"  the {len(kept)} files of then: {t:.1f} s then, {n:.1f} s now ({n / t if t else 0:.2f}x); "
           f"the {len(added)} files added since: {a:.1f} s"
           + (f"; {gone} files gone: {sum(then.values()) - t:.1f} s then" if gone else ""))
