@@ -194,10 +194,11 @@ def _terminate(pool) -> None:
     """`pool.terminate()`, without CPython's deadlock (python/cpython#96995): terminate kills the
     workers, then waits for its threads to write to the result queue under the lock the workers
     write their results under, and to read the task queue under the lock a worker holds while it
-    waits for a task; a worker killed holding one holds it forever (a killed idle worker always
-    held the second, one in mid-write the first). So the workers are stopped here first: none is
-    replaced any more (the pool's worker thread ended), all are killed and reaped, and the locks
-    they shared are freed, whoever held them; terminate then waits for this process's threads only."""
+    waits for a task; a worker killed holding one holds it forever (the idle worker waiting for
+    the next task holds the second, one in mid-write the first). So the workers are stopped here
+    first: none is replaced any more (the pool's worker thread ended), all are killed and reaped,
+    and the locks they shared are freed, whoever held them; terminate then waits for this process's
+    threads only."""
     from multiprocessing.pool import TERMINATE
 
     pool._worker_handler._state = TERMINATE
