@@ -9,6 +9,7 @@ import os
 import signal
 import time
 from multiprocessing.reduction import ForkingPickler
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -126,6 +127,17 @@ def _holds_the_result_lock(seconds: float) -> None:
     time.sleep(seconds)
 
 
+def _writes_half_a_result(seconds: float) -> None:
+    """A result message cut short: its length (1000 bytes) and 10 bytes of it, as a worker killed in
+    the middle of a long write leaves it."""
+    import struct
+
+    queue = _pool_queue("outqueue")
+    with queue._wlock:
+        os.write(queue._writer.fileno(), struct.pack("!i", 1000) + b"0123456789")
+    time.sleep(seconds)
+
+
 def _ends_in_time(body) -> bool:
     """Whether body() returned within 30 s (run in a thread: a hang fails the test, not the run)."""
     import threading
@@ -137,19 +149,21 @@ def _ends_in_time(body) -> bool:
 
 
 @pytest.mark.timeout(60)
-@pytest.mark.parametrize("held", ["result queue's write lock", "task queue's read lock"])
-def test_a_pool_whose_killed_worker_held_a_queue_lock_still_ends(held):
+@pytest.mark.parametrize("left", ["result queue's write lock held", "task queue's read lock held",
+                                  "result half written"])
+def test_a_pool_whose_killed_worker_left_a_queue_unusable_still_ends(left):
     """Ending a pool kills its workers. A worker killed while writing its result holds the result
-    queue's lock forever, one killed while it waits for a task the task queue's: multiprocessing's
-    terminate() then waits for them forever (python/cpython#96995; this suite hung on it once in an
-    error test). Both here, deterministically: the `with` ends, with the error that ended it."""
+    queue's lock forever (and may leave the result half written), one killed while it waits for a
+    task the task queue's: multiprocessing's terminate() then waits forever (python/cpython#96995;
+    this suite hung on it once in an error test). Each here, deterministically: the `with` ends,
+    with the error that ended it."""
     def body():
-        with pytest.raises(WorkerLost if held == "task queue's read lock" else ValueError):
+        with pytest.raises(WorkerLost if left == "task queue's read lock held" else ValueError):
             with Workers(2, 2) as pool:
-                if held == "result queue's write lock":
-                    pool.submit(_holds_the_result_lock, 60)
+                if left != "task queue's read lock held":
+                    pool.submit(_holds_the_result_lock if left.endswith("held") else _writes_half_a_result, 60)
                     time.sleep(0.5)
-                    raise ValueError("an error while a worker holds the lock")
+                    raise ValueError("an error while a worker is stuck so")
                 task = pool.submit(time.sleep, 60)
                 time.sleep(0.5)  # one worker in the task, the other waiting for the next one, holding the lock
                 for p in pool._started:
@@ -162,14 +176,14 @@ def test_a_pool_whose_killed_worker_held_a_queue_lock_still_ends(held):
 def _children(pid: int) -> set[int]:
     """The processes `pid` started that still run (Linux: /proc; the pool's workers among them)."""
     try:
-        return {int(c) for c in open(f"/proc/{pid}/task/{pid}/children").read().split()}
+        return {int(c) for c in Path(f"/proc/{pid}/task/{pid}/children").read_text().split()}
     except FileNotFoundError:
         return set()
 
 
 def _runs(pid: int) -> bool:
     try:
-        return open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
     except FileNotFoundError:
         return False
 

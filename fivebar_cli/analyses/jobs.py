@@ -20,8 +20,9 @@ one copy each way. The folder goes with the pool; one left by a killed run (its 
 its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is
 full) arrays go through the pipes as before. Workers ignore Ctrl-C and SIGHUP and die on SIGTERM
 (from their fork on, `_forking`): the parent alone reacts to signals, and when it stops (an
-interruption, an error) it terminates its pool (`_terminate`: the workers first, then the queue
-locks a killed one held freed, or multiprocessing's terminate could wait for them forever). A
+interruption, an error) it ends its pool (`_terminate`: the workers first, then the threads and
+pipes, never waiting on a queue a killed worker left held or half written, as multiprocessing's
+terminate can). A
 worker that dies (killed, out of memory) takes its task with it, and multiprocessing's pool only
 replaces it: the parent waits in short turns and, between them, checks its workers, so that it
 fails with one line (`WorkerLost`) instead of waiting forever.
@@ -107,10 +108,7 @@ class Workers:
 
     def __exit__(self, *exc) -> None:
         if self._pool is not None:
-            if not self._pool._result_handler.is_alive():  # (WorkerLost: results it can no longer read)
-                self._pool._cache.clear()  # or terminate() refuses to run, and the workers would live on
             _terminate(self._pool)  # what is left to run is not wanted (an error, an interruption)
-            self._pool.join()
             self._release()
 
     def _release(self) -> None:
@@ -191,31 +189,39 @@ class Workers:
 
 
 def _terminate(pool) -> None:
-    """`pool.terminate()`, without CPython's deadlock (python/cpython#96995): terminate kills the
-    workers, then waits for its threads to write to the result queue under the lock the workers
-    write their results under, and to read the task queue under the lock a worker holds while it
-    waits for a task; a worker killed holding one holds it forever (the idle worker waiting for
-    the next task holds the second, one in mid-write the first). So the workers are stopped here
-    first: none is replaced any more (the pool's worker thread ended), all are killed and reaped,
-    and the locks they shared are freed, whoever held them; terminate then waits for this process's
-    threads only."""
+    """End a pool: its workers killed, its threads ended, its pipes closed, without waiting on a
+    queue a killed worker may have left unusable. (multiprocessing's `terminate()` kills the
+    workers, then waits for its threads to write and read the queues: a worker killed while it held
+    a queue's lock holds it forever, one killed in the middle of a message leaves it half written,
+    and terminate can wait forever (python/cpython#96995; it hung this suite once).)
+    1. The pool's worker thread ends (no worker is replaced any more), and so does the task thread
+       (no task is sent any more; it sends its end-of-results message).
+    2. The workers are killed and reaped.
+    3. With the result queue's write lock (free, or held by a killed worker), this process's ends
+       of the pipes the workers read and wrote are closed: the result thread reads what was sent,
+       to the end of the pipe (a message cut short there ends it like the end message), and a
+       write into a pipe without readers fails instead of blocking.
+    4. The threads are joined, the pool is marked ended (its finaliser would terminate it again)."""
     from multiprocessing.pool import TERMINATE
 
-    pool._worker_handler._state = TERMINATE
-    pool._change_notifier.put(None)  # (wakes the worker thread, which then ends)
+    pool._state = pool._worker_handler._state = pool._task_handler._state = TERMINATE
+    pool._change_notifier.put(None)  # (wakes the worker thread)
     pool._worker_handler.join()
     for p in pool._pool:
         p.terminate()
     for p in pool._pool:
         p.join()
-    # Held by a killed worker, a lock stays held: taking it (if free) and releasing it frees it either way.
-    # This process's threads take the task queue's read lock only in terminate, and the result
-    # queue's write lock for one short write (the task thread's last message): waited for.
-    pool._inqueue._rlock.acquire(False)
-    pool._inqueue._rlock.release()
-    pool._outqueue._wlock.acquire(timeout=TURN)
-    pool._outqueue._wlock.release()
-    pool.terminate()
+    lock = pool._outqueue._wlock
+    taken = lock.acquire(timeout=TURN)  # (the task thread holds it for its last message only)
+    pool._outqueue._writer.close()
+    pool._inqueue._reader.close()
+    if not pool._result_handler.is_alive():  # (WorkerLost: no one reads the results any more)
+        pool._outqueue._reader.close()
+    if taken or not lock._semlock._count():  # not if the task thread holds it (its write then fails)
+        lock.release()
+    pool._task_handler.join()
+    pool._result_handler.join()
+    pool._terminate.cancel()
 
 
 def _advancing(results: Iterable[R], advance: Callable[[int], None]) -> Iterator[R]:
