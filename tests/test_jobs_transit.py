@@ -182,6 +182,7 @@ def test_a_sigkilled_runs_folder_goes_with_the_next_pool():
     folder = proc.stdout.readline().strip()
     proc.kill()
     proc.wait()
+    proc.stdout.close()
     assert os.path.isdir(folder)  # left behind
     deadline = time.monotonic() + 20
     while time.monotonic() < deadline:  # its workers leave once their parent is gone
