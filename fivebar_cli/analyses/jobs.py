@@ -22,10 +22,9 @@ full) arrays go through the pipes as before. Workers ignore Ctrl-C and SIGHUP an
 (from their fork on, `_forking`): the parent alone reacts to signals, and when it stops (an
 interruption, an error) it ends its pool (`_terminate`: the workers first, then the threads and
 pipes, never waiting on a queue a killed worker left held or half written, as multiprocessing's
-terminate can). A
-worker that dies (killed, out of memory) takes its task with it, and multiprocessing's pool only
-replaces it: the parent waits in short turns and, between them, checks its workers, so that it
-fails with one line (`WorkerLost`) instead of waiting forever.
+terminate can). A worker that dies (killed, out of memory) takes its task with it, and
+multiprocessing's pool only replaces it: the parent waits in short turns and, between them, checks
+its workers, so that it fails with one line (`WorkerLost`) instead of waiting forever.
 """
 
 from __future__ import annotations
