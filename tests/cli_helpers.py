@@ -11,12 +11,14 @@ working directory; it is not thread-safe.
 `run_process` starts `python -m fivebar_cli` for the few tests where the process is the point:
 signals, the entry point itself, an address-space limit.
 
-`one_line` checks the failure contract on the result of either; `snapshot` and `check_whole` check
+`one_line` checks the failure contract on the result of either; `csv_rows` reads a table a run
+wrote; `snapshot` and `check_whole` check
 what a run left in its folders (nothing changed, or every file old or complete).
 """
 
 from __future__ import annotations
 
+import csv
 import io
 import os
 import re
@@ -133,6 +135,12 @@ def modules_imported(runs: list[list], prefixes: tuple[str, ...], cwd: Path | st
     r = subprocess.run([sys.executable, "-c", code], cwd=cwd, env=ENV, capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr
     return r.stdout.splitlines()[-1].split()  # (the runs' own output before it)
+
+
+def csv_rows(path: Path) -> list[dict]:
+    """The rows of a CSV file, by column name (the file closed again: no ResourceWarning)."""
+    with open(path, newline="", encoding="utf-8") as fh:
+        return list(csv.DictReader(fh))
 
 
 def ok(result: CliResult) -> CliResult:

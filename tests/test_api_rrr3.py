@@ -11,7 +11,7 @@ import pytest
 import yaml
 
 import fivebar_cli as fb
-from tests.cli_helpers import ok, one_line, run_cli
+from tests.cli_helpers import csv_rows, ok, one_line, run_cli
 
 SYMMETRIC = Path(__file__).resolve().parent.parent / "configs" / "rrr3-symmetric.yaml"
 
@@ -47,7 +47,7 @@ def test_path_in_a_working_mode_as_the_command(narrow, tmp_path):
     motion = fb.path(m, (5, 2.7, 8), (5.5, 3, 12), depth=5, working_mode="+--")
     ok(run_cli("path", narrow, "--pose", 5, 2.7, 8, "--pose", 5.5, 3, 12, "--working-mode", "+--", "--depth", 5,
                "-o", tmp_path, "--no-plot"))
-    rows = list(csv.DictReader((tmp_path / "path.csv").open()))
+    rows = csv_rows(tmp_path / "path.csv")
     assert [tuple(map(float, r.values())) for r in rows] == [tuple(r.values()) for r in motion.rows()]
     # without a working mode: which one is not known; the library names its parameter, the CLI its option
     with pytest.raises(fb.InputError, match=r"8 working modes: say which one \(e.g. `working_mode='\+\+\+'`\)"):

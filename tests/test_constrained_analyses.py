@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import reference_constrained as rc
-from cli_helpers import ok, run_cli
+from cli_helpers import csv_rows, ok, run_cli
 from reference_kinematics import ref_dkp
 from fivebar_cli.analyses.aspects import analyse_aspects
 from fivebar_cli.io.qtfile import read_qt
@@ -45,11 +45,6 @@ def per_mode(folder: Path) -> dict:
             key = (tuple(SIGN[c] for c in row["working_mode"]), SIGN[row["assembly_mode"]])
             out[key] = out.get(key, 0) + 1
     return out
-
-
-def read_rows(path: Path) -> list[dict]:
-    with open(path) as fh:
-        return list(csv.DictReader(fh))
 
 
 @pytest.fixture(scope="module")
@@ -88,7 +83,7 @@ def test_aspects_split_names_what_each_constrained_aspect_comes_from(peer):
     free = rc.counts(M1, {}, (), 0.0, 384)
     split_modes = {k for k in reference if reference[k] > free[k]}
     assert split_modes == {((-1, -1), 1), ((1, 1), -1)}
-    rows = read_rows(folder / "aspects-split.csv")
+    rows = csv_rows(folder / "aspects-split.csv")
     assert list(rows[0]) == ["constrained_aspect", "unconstrained_aspect", "working_mode", "assembly_mode", "parts",
                              "workspace_area", "unconstrained_workspace_area", "workspace_kept", "jointspace_area",
                              "unconstrained_jointspace_area", "jointspace_kept", "certified"]
@@ -106,7 +101,7 @@ def test_aspects_split_names_what_each_constrained_aspect_comes_from(peer):
     assert split == split_modes and all(int(r["parts"]) == len(by_parent[int(r["unconstrained_aspect"])]) for r in rows)
     assert "constraints: the 10 unconstrained aspects give 12: 2 split (into 2, 2 parts), 8 whole" in stdout
     # the aspects' own areas: aspects.csv and aspects-split.csv agree
-    areas = {int(r["aspect"]): r["workspace_area"] for r in read_rows(folder / "aspects.csv")}
+    areas = {int(r["aspect"]): r["workspace_area"] for r in csv_rows(folder / "aspects.csv")}
     assert all(areas[int(r["constrained_aspect"])] == r["workspace_area"] for r in rows)
 
 
@@ -203,7 +198,7 @@ def _far_apart_cells(folder: Path, aspect: int) -> tuple[np.ndarray, np.ndarray]
 
 def test_paths_around_the_disc_are_collision_and_singularity_free_point_by_point(peer):
     folder = peer["obstacle"][0]
-    rows = read_rows(folder / "aspects.csv")
+    rows = csv_rows(folder / "aspects.csv")
     biggest = max(rows, key=lambda r: float(r["jointspace_area"]))
     a, b = _far_apart_cells(folder, int(biggest["aspect"]))
     am = biggest["assembly_mode"]
@@ -268,10 +263,10 @@ def test_atlas_designs_carry_the_specs_constraints(tmp_path):
     spec.write_text("name: atlas-limit\ntype: fivebar-atlas\nlengths: {L0: 9, L1: 8, L2: 5, L3: 5, L4: [8, 8.5, 2]}\n"
                     "limits: {P: [-90, 90]}\ndepth: 8\n")
     ok(run_cli("atlas", spec, "--workers", "0", "-o", tmp_path / "atlas", "--no-plot", "--quiet"))
-    first = read_rows(tmp_path / "atlas" / "atlas.csv")[0]
+    first = csv_rows(tmp_path / "atlas" / "atlas.csv")[0]
     assert (first["aspects"], first["certified"]) == ("12", "true")  # as `fivebar aspects` (the peer's count)
     ok(run_cli("workspace", PASSIVE, "--depth", "8", "-o", tmp_path / "ws", "--no-plot", "--quiet"))
-    ws = read_rows(tmp_path / "ws" / "workspace.csv")[0]
+    ws = csv_rows(tmp_path / "ws" / "workspace.csv")[0]
     assert float(first["workspace_area"]) == pytest.approx(float(ws["inside_area"]), rel=1e-9)
     assert ws["exact_area"] == ""  # no closed form under constraints: the certified area instead
     manifest = json.loads((tmp_path / "atlas" / "atlas.parts" / "manifest.json").read_text())
@@ -285,18 +280,18 @@ def test_tolerance_and_kratio_under_constraints(tmp_path):
     # are certified at once
     ok(run_cli("tolerance", PASSIVE, "--tolerances", "0,0.05", "--depth", "8", "-o", tmp_path / "t", "--no-plot",
                "--quiet"))
-    rows = {(r["tolerance"], r["region"]): r for r in read_rows(tmp_path / "t" / "tolerance.csv")}
+    rows = {(r["tolerance"], r["region"]): r for r in csv_rows(tmp_path / "t" / "tolerance.csv")}
     ok(run_cli("workspace", PASSIVE, "--depth", "8", "-o", tmp_path / "w", "--no-plot", "--quiet"))
-    inside = float(read_rows(tmp_path / "w" / "workspace.csv")[0]["inside_area"])
+    inside = float(csv_rows(tmp_path / "w" / "workspace.csv")[0]["inside_area"])
     nominal = float(rows["0", "workspace"]["nominal_area"])
     assert nominal == pytest.approx(float(rows["0", "workspace"]["robust_area"]), rel=1e-9)
     assert nominal == pytest.approx(inside, rel=0.02)  # the study paves on the widest root box
     assert float(rows["0.05", "workspace"]["robust_area"]) < nominal
     assert sum(1 for key in rows if key[0] == "0" and key[1].startswith("aspect-")) == 12
     ok(run_cli("kratio", OBSTACLE, "--depths", "6", "-o", tmp_path / "k", "--no-plot", "--quiet"))
-    k = {r["space"]: r for r in read_rows(tmp_path / "k" / "kratio.csv")}
+    k = {r["space"]: r for r in csv_rows(tmp_path / "k" / "kratio.csv")}
     ok(run_cli("jointspace", OBSTACLE, "--depth", "6", "-o", tmp_path / "j", "--no-plot", "--quiet"))
-    assert k["jointspace"]["evaluations"] == read_rows(tmp_path / "j" / "jointspace.csv")[0]["evaluations"]
+    assert k["jointspace"]["evaluations"] == csv_rows(tmp_path / "j" / "jointspace.csv")[0]["evaluations"]
     assert k["jointspace"]["paper_procedure_evaluations"] == "" and k["workspace"]["saving_vs_paper"] == ""
 
 

@@ -4,14 +4,13 @@ inside and every centre of the other cells outside, deterministic bytes."""
 
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 import shapely
-from cli_helpers import run_cli
+from cli_helpers import csv_rows, run_cli
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import shape
@@ -58,7 +57,7 @@ def aspects_run(tmp_path_factory):
 def test_every_aspect_has_its_geojson(aspects_run):
     from fivebar_cli.io.qtfile import read_qt
 
-    rows = list(csv.DictReader((aspects_run / "aspects.csv").open()))
+    rows = csv_rows(aspects_run / "aspects.csv")
     holes = 0
     for r in rows:
         k = int(r["aspect"])
@@ -89,7 +88,7 @@ def test_space_geojson(tmp_path, space):
     assert result.status == 0, result.stderr
     assert f"wrote {tmp_path / (space + '.geojson')}" in result.stdout
     props, geometry = read(tmp_path / f"{space}.geojson")
-    row = next(csv.DictReader((tmp_path / f"{space}.csv").open()))
+    row = csv_rows(tmp_path / f"{space}.csv")[0]
     assert props == {"name": "M1", "space": space, "region": "reachable" if space == "workspace" else "assemblable",
                      "depth": 7, "procedure": "exact", "area": pytest.approx(float(row["inside_area"]), rel=1e-9)}
     check_against_cells(read_qt(tmp_path / f"{space}.qt").tree, geometry)

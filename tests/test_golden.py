@@ -68,7 +68,7 @@ def test_golden_file_unchanged(regenerated: Path, name: str):
     if name.endswith(".qt"):
         result = compare(read_qt(old), read_qt(new))
         pytest.fail(f"{name} changed:\n" + "\n".join(result.report(f"golden/{name}", f"new/{name}")))
-    a, b = list(csv.reader(old.open())), list(csv.reader(new.open()))
+    a, b = (list(csv.reader(path.read_text().splitlines())) for path in (old, new))
     bad = [] if len(a) == len(b) and a[0] == b[0] else [(1, "header or row count")]
     for line, (ra, rb) in enumerate(zip(a[1:], b[1:]), start=2):
         if len(ra) != len(rb):

@@ -19,7 +19,7 @@ import signal
 from pathlib import Path
 
 import pytest
-from cli_helpers import PNG_MAGIC, ok, one_line, run_cli, snapshot
+from cli_helpers import csv_rows, ok, one_line, PNG_MAGIC, run_cli, snapshot
 from conftest import CONFIGS, M1_YAML, M2_YAML
 
 from fivebar_cli.cli import cli  # noqa: F401 - the commands imported now, before any test patches what they import
@@ -156,7 +156,7 @@ def test_a_nominal_workspace_rerun_removes_the_band_of_a_tolerance_run(tmp_path)
 def test_refine_of_one_rpr3_region_refines_its_whole_run(tmp_path):
     ok(run_cli("rpr3", "pave", RPR3_GENERAL, "--depth", 3, "-o", "g", "--no-plot", cwd=tmp_path))
     ok(run_cli("refine", "g/singularity-free.plus.qt", "--depth", 4, "--no-plot", cwd=tmp_path))
-    volumes = next(csv.DictReader((tmp_path / "g" / "volumes.csv").open()))
+    volumes = csv_rows(tmp_path / "g" / "volumes.csv")[0]
     assert volumes["depth"] == "4"
     assert {read_qt(p).tree.grid.depth for p in (tmp_path / "g").glob("*.qt")} == {4}
     ok(run_cli("rpr3", "pave", RPR3_GENERAL, "--depth", 4, "-o", "fresh", "--no-plot", cwd=tmp_path))

@@ -36,13 +36,13 @@ def test_readme_command_runs_as_pasted(ran, index):
 def test_the_table_1_figures_are_the_tools():
     """The README's depth-10 table (evaluations, K, the paper's procedure, printed K, saving) is the
     golden kratio.csv, which `fivebar reproduce` writes (tests/test_golden.py)."""
-    import csv
     import re
 
+    from cli_helpers import csv_rows
     from examples import README
 
-    rows = {(r["space"], r["mechanism"]): r for r in csv.DictReader((README.parent / "tests" / "golden" / "kratio.csv")
-                                                                     .open()) if r["depth"] == "10"}
+    rows = {(r["space"], r["mechanism"]): r for r in csv_rows(README.parent / "tests" / "golden" / "kratio.csv")
+            if r["depth"] == "10"}
     shown = re.findall(r"^\| (M[12]) (joint space|workspace) \| (.+) \|$", README.read_text(), re.M)
     assert len(shown) == 4
     for mechanism, space, cells in shown:

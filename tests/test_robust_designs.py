@@ -8,13 +8,12 @@ kinematics at the box's 32 corners and its centre (a necessary condition that ca
 
 from __future__ import annotations
 
-import csv
 import itertools
 from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_helpers import ok, one_line, run_cli
+from cli_helpers import csv_rows, ok, one_line, run_cli
 from reference_kinematics import ref_dkp, ref_ikp
 from test_inscribed import closed_member, sample_disc, sample_square
 from test_path import check_motion, read_path, samples
@@ -62,7 +61,7 @@ def test_robust_shapes_are_smaller_than_nominal_ones(robust_run):
 
 def test_aspects_csv_with_tolerance_has_the_robust_shapes(robust_run):
     folder, robust, _ = robust_run
-    rows = list(csv.DictReader((folder / "aspects.csv").open()))
+    rows = csv_rows(folder / "aspects.csv")
     assert [int(r["aspect"]) for r in rows] == [a.number for a in robust.aspects]
     for r, a in zip(rows, robust.aspects):
         assert [float(r[k]) for k in ("circle_x", "circle_y", "circle_r")] == [a.circle.x, a.circle.y, a.circle.r]
@@ -101,7 +100,7 @@ def test_view_draws_the_circles_squares_and_path_written(tmp_path):
                "--assembly-mode", "+", "--depth", DEPTH, "-o", tmp_path, "--no-plot", "-q"))
     view = gather([tmp_path])
     section = next(s for s in view.sections if s["kind"] == "aspects")
-    rows = list(csv.DictReader((tmp_path / "aspects.csv").open()))
+    rows = csv_rows(tmp_path / "aspects.csv")
     assert len(section["aspects"]) == len(rows) == 10
     for shown, r in zip(section["aspects"], rows):
         assert shown["circle"] == [float(r["circle_x"]), float(r["circle_y"]), float(r["circle_r"])]

@@ -9,7 +9,6 @@ lines meeting in one point).
 
 from __future__ import annotations
 
-import csv
 import math
 from pathlib import Path
 
@@ -19,6 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rpr3_reference as ref
+from cli_helpers import csv_rows
 from fivebar_cli.analyses.spaces import pave_space
 from fivebar_cli.cli import main
 from fivebar_cli.io.qtfile import read_qt
@@ -336,7 +336,7 @@ def test_pave_writes_the_three_pairs_and_the_volumes(octrees):
     header = (d5 / "singularity-free.minus.qt").read_text().splitlines()[:12]
     assert "# region: singularity-free det J < 0" in header and "# axes: x y phi[deg]" in header
     assert "# root: -32.0625 32.0625 -32.0625 25.9375 0.0 60.0" in header
-    row = next(csv.DictReader((d5 / "volumes.csv").open()))
+    row = csv_rows(d5 / "volumes.csv")[0]
     trees = {n: read_qt(d5 / f"{n}.qt").tree for n in ("workspace", "workspace.complement", "singularity-free.plus",
                                                          "singularity-free.minus")}
     assert float(row["reachable"]) == pytest.approx(trees["workspace"].area, rel=1e-9)
@@ -384,7 +384,7 @@ def test_the_generic_workspace_command_paves_the_same_octree(octrees, tmp_path, 
 def test_verify_certifies_the_papers_leg_range(tmp_path, capsys):
     code, out, _ = cli(capsys, "rpr3", "verify", CONFIGS / "rpr3-verify" / "table1-legs-1-1.5.yaml", "-o", tmp_path)
     assert code == 0 and "certified singularity-free" in out
-    row = next(csv.DictReader((tmp_path / "verify.csv").open()))
+    row = csv_rows(tmp_path / "verify.csv")[0]
     assert row["status"] == "certified singularity-free" and row["exit"] == "0"
     assert not (tmp_path / "counterexample.csv").exists()
 
@@ -393,7 +393,7 @@ def test_verify_finds_a_singular_pose_of_the_phi1_rule_and_it_checks_out(tmp_pat
     config = CONFIGS / "rpr3-verify" / "obtuse-phi1-rule.yaml"
     code, out, _ = cli(capsys, "rpr3", "verify", config, "-o", tmp_path, "--no-plot")
     assert code == 1 and "singular pose:" in out
-    rows = list(csv.DictReader((tmp_path / "counterexample.csv").open()))
+    rows = csv_rows(tmp_path / "counterexample.csv")
     assert len(rows) == 1 and list(rows[0]) == ["x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j"]
     r = {k: float(v) for k, v in rows[0].items()}
     pose = np.array([r["x"], r["y"], r["phi_deg"]])
@@ -423,7 +423,7 @@ def test_verify_undecided_at_the_closed_form_limit(tmp_path, capsys):
     # rho_max auto: the reachable set touches the singularity circle; no depth can decide
     code, out, _ = cli(capsys, "rpr3", "verify", CONFIGS / "rpr3-table1.yaml", "--depth", 6, "-o", tmp_path)
     assert code == 3 and "undecided volume" in out
-    row = next(csv.DictReader((tmp_path / "verify.csv").open()))
+    row = csv_rows(tmp_path / "verify.csv")[0]
     assert row["status"] == "undecided" and float(row["undecided_volume"]) > 0
 
 

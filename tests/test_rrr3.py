@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rrr3_reference as ref
-from cli_helpers import REPO, ok, one_line, run_cli
+from cli_helpers import csv_rows, ok, one_line, REPO, run_cli
 
 from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
 from fivebar_cli.analyses.spaces import pave_space
@@ -222,7 +222,7 @@ def test_dkp_finds_every_assembly_mode_of_the_joints_of_a_pose(symmetric_one_mod
     theta = np.round(theta, 6)
     ok(run_cli("dkp", symmetric_one_mode, "--joints", *theta, "--depth", "3", "--budget", "0", "-o", tmp_path,
                "--no-plot"))
-    rows = list(csv.DictReader((tmp_path / "dkp.csv").open()))
+    rows = csv_rows(tmp_path / "dkp.csv")
     found = np.array([[float(r["x"]), float(r["y"]), float(r["phi_deg"])] for r in rows])
     assert np.min(np.abs(found - pose).max(axis=1)) < 1e-4  # the pose the joints came from
     for r, p in zip(rows, found):
@@ -253,7 +253,7 @@ def test_path_is_a_motion_of_valid_poses_of_one_class_and_refuses_two_classes(sy
     m = load_config(symmetric_one_mode)
     ok(run_cli("path", symmetric_one_mode, "--pose", 5, 2.7, 8, "--pose", 5.5, 3, 12, "--working-mode", "+--",
                "--depth", "5", "-o", tmp_path, "--no-plot"))
-    rows = list(csv.DictReader((tmp_path / "path.csv").open()))
+    rows = csv_rows(tmp_path / "path.csv")
     way = np.array([[float(r[k]) for k in ("x", "y", "phi_deg")] for r in rows])
     assert np.allclose(way[0], (5, 2.7, 8)) and np.allclose(way[-1], (5.5, 3, 12))
     t = np.linspace(0, 1, 200)[:, None]
@@ -271,13 +271,13 @@ def test_path_is_a_motion_of_valid_poses_of_one_class_and_refuses_two_classes(sy
 def test_verify_finds_a_valid_singular_pose_of_the_symmetric_robot(tmp_path):
     result = run_cli("verify", SYMMETRIC, "--working-mode", "+-+", "-o", tmp_path, "--no-plot")
     assert result.status == 1, result.stderr
-    row = next(csv.DictReader((tmp_path / "counterexample.csv").open()))
+    row = csv_rows(tmp_path / "counterexample.csv")[0]
     m = load_config(SYMMETRIC)
     pose = np.array([[float(row["x"]), float(row["y"]), float(row["phi_deg"])]])
     assert row["working_mode"] == "+-+" and ref.valid(*args(m), pose)[0]
     scale = np.prod(np.asarray(m.proximal) + np.asarray(m.distal)) * 12.0
     assert abs(ref.det_a(*args(m), pose, (1, -1, 1))[0]) < 1e-6 * scale
-    verdict = next(csv.DictReader((tmp_path / "verify.csv").open()))
+    verdict = csv_rows(tmp_path / "verify.csv")[0]
     assert verdict["status"] == "singular pose found" and verdict["exit"] == "1"
 
 

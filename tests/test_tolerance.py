@@ -8,7 +8,6 @@ any lengths), conftest.py (closed-form nominal areas).
 
 from __future__ import annotations
 
-import csv
 import functools
 import math
 
@@ -17,7 +16,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from cli_helpers import ok, one_line, run_cli
+from cli_helpers import csv_rows, ok, one_line, run_cli
 from conftest import (
     M1_YAML, M2_YAML, jointspace_area_numeric, leaf_bounds, mechanism, unchecked_fivebar, workspace_area_closed_form,
 )
@@ -274,7 +273,7 @@ def test_small_tolerance_keeps_m1s_ten_aspects_certified_and_smaller(tmp_path):
     out = ok(run_cli("aspects", M1_YAML, "--depth", "9", "--tolerance", "0.02", "--no-plot", "-o", tmp_path)).stdout
     assert "M1: 10 robust generalized aspects at depth 9 (certified;" in out
     nominal = analyse_aspects(mechanism("M1"), 9, shapes=False)
-    robust_rows = list(csv.DictReader((tmp_path / "aspects.csv").open()))
+    robust_rows = csv_rows(tmp_path / "aspects.csv")
     assert len(robust_rows) == 10
     for a, row in zip(nominal.aspects, robust_rows):
         assert 0.5 * a.workspace.area < float(row["workspace_area"]) < a.workspace.area
@@ -294,7 +293,7 @@ def test_jointspace_area_quadrature_matches_the_reference():
 
 def test_tolerance_study_rows_are_ordered_and_bracket_the_nominal_areas(tmp_path):
     ok(run_cli("tolerance", M2_YAML, "--tolerances", "0.02,0,0.005", "--depth", "8", "-o", tmp_path, "-q"))
-    rows = list(csv.DictReader((tmp_path / "tolerance.csv").open()))
+    rows = csv_rows(tmp_path / "tolerance.csv")
     assert list(rows[0]) == ["tolerance", "region", "robust_area", "possible_area", "nominal_area"]
     assert (tmp_path / "tolerance-bands.png").stat().st_size > 0 and (tmp_path / "tolerance-aspects.png").exists()
     m = mechanism("M2")
