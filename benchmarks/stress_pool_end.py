@@ -53,7 +53,7 @@ def one_pool(rng: random.Random) -> str:
             if end < 0.3:
                 raise Stop()
             if end < 0.5:
-                os.kill(rng.choice(pool._started).pid, signal.SIGKILL)
+                os.kill(rng.choice(pool._pool.processes).pid, signal.SIGKILL)
             for t in tasks:
                 t.get()
         return "all results"

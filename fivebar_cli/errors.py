@@ -26,6 +26,9 @@ class InputError(FivebarError, ValueError):
         self.source, self.field, self.message = source, field, message
         super().__init__(Text(source, ": ", field, ": ", message) if field else Text(source, ": ", message))
 
+    def __reduce__(self):  # (rebuilt from its three parts: it crosses from a worker process whole)
+        return type(self), (self.source, self.field, self.message)
+
 
 class Param(NamedTuple):
     """A library call's parameter that a message names, with the value it suggests (None: the

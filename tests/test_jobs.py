@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 import time
 from multiprocessing.reduction import ForkingPickler
 
@@ -112,30 +113,24 @@ def test_a_killed_worker_fails_the_wait_instead_of_hanging(wait):
     assert time.monotonic() - start < 20
 
 
-def _pool_queue(name: str):
-    """In a worker: its pool's queue `name` (`inqueue`, `outqueue`: multiprocessing's worker loop's)."""
+def _worker_pipe():
+    """In a worker: its pipe to the parent (`analyses.pool._serve`'s)."""
     import sys
 
     frame = sys._getframe()
-    while name not in frame.f_locals:
+    while "pipe" not in frame.f_locals:
         frame = frame.f_back
-    return frame.f_locals[name]
+    return frame.f_locals["pipe"]
 
 
-def _holds_the_result_lock(seconds: float) -> None:
-    _pool_queue("outqueue")._wlock.acquire()  # as a worker in mid-write of its result does
-    time.sleep(seconds)
-
-
-def _writes_half_a_result(seconds: float) -> None:
+def _writes_half_a_result_and_dies(_) -> None:
     """A result message cut short: its length (1000 bytes) and 10 bytes of it, as a worker killed in
     the middle of a long write leaves it."""
     import struct
 
-    queue = _pool_queue("outqueue")
-    with queue._wlock:
-        os.write(queue._writer.fileno(), struct.pack("!i", 1000) + b"0123456789")
-    time.sleep(seconds)
+    os.write(_worker_pipe().fileno(), struct.pack("!i", 1000) + b"0123456789")
+    time.sleep(0.2)
+    os.kill(os.getpid(), signal.SIGKILL)
 
 
 def _ends_in_time(body) -> bool:
@@ -149,28 +144,100 @@ def _ends_in_time(body) -> bool:
 
 
 @pytest.mark.timeout(60)
-@pytest.mark.parametrize("left", ["result queue's write lock held", "task queue's read lock held",
-                                  "result half written"])
-def test_a_pool_whose_killed_worker_left_a_queue_unusable_still_ends(left):
-    """Ending a pool kills its workers. A worker killed while writing its result holds the result
-    queue's lock forever (and may leave the result half written), one killed while it waits for a
-    task the task queue's: multiprocessing's terminate() then waits forever (python/cpython#96995;
-    this suite hung on it once in an error test). Each here, deterministically: the `with` ends,
-    with the error that ended it."""
+@pytest.mark.parametrize("left", ["a result half written", "a task running, then an error",
+                                  "every worker killed, one waiting for a task"])
+def test_a_pool_whose_workers_were_killed_or_busy_still_ends(left):
+    """Ending a pool kills its workers, whatever they do: multiprocessing's own pool could wait
+    forever there (a queue's lock held or a message half written by a killed worker,
+    python/cpython#96995; this suite hung on it once). Each case, deterministically: the `with`
+    ends within seconds, with the error that ended it."""
     def body():
-        with pytest.raises(WorkerLost if left == "task queue's read lock held" else ValueError):
+        expected = ValueError if left == "a task running, then an error" else WorkerLost
+        with pytest.raises(expected):
             with Workers(2, 2) as pool:
-                if left != "task queue's read lock held":
-                    pool.submit(_holds_the_result_lock if left.endswith("held") else _writes_half_a_result, 60)
-                    time.sleep(0.5)
-                    raise ValueError("an error while a worker is stuck so")
+                if left == "a result half written":
+                    pool.submit(_writes_half_a_result_and_dies, None).get()
                 task = pool.submit(time.sleep, 60)
-                time.sleep(0.5)  # one worker in the task, the other waiting for the next one, holding the lock
-                for p in pool._started:
+                time.sleep(0.5)  # one worker in the task, the other waiting for the next one
+                if left == "a task running, then an error":
+                    raise ValueError("an error while a worker runs")
+                for p in pool._pool.processes:
                     os.kill(p.pid, signal.SIGKILL)
                 task.get()
 
+    start = time.monotonic()
     assert _ends_in_time(body)
+    assert time.monotonic() - start < 10
+
+
+def _never_starts(*_) -> None:
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    time.sleep(600)
+
+
+@pytest.mark.timeout(60)
+def test_ending_a_pool_ends_workers_stuck_before_their_first_task():
+    """Workers stuck in their set-up (here ignoring SIGTERM too) are killed when the pool ends."""
+    import multiprocessing
+
+    from fivebar_cli.analyses.pool import Pool
+
+    pool = Pool(2, multiprocessing.get_context(), _never_starts)
+    start = time.monotonic()
+    pool.end()
+    assert time.monotonic() - start < 10
+    assert all(p.exitcode == -signal.SIGKILL for p in pool.processes)
+
+
+def _bad_input(_) -> None:
+    from fivebar_cli.errors import InputError
+
+    raise InputError("m.yaml", "lengths.L1", "must be positive, got -8")
+
+
+class _Unpicklable(Exception):
+    def __reduce__(self):
+        raise TypeError("not for pickling")
+
+
+def _raises_unpicklable(_) -> None:
+    raise _Unpicklable("a lock inside")
+
+
+def test_a_tasks_error_arrives_whole_with_where_it_was_raised():
+    """A task's error is raised in the caller as itself (an InputError keeps its file, field and
+    message: its one line is the CLI's), its worker's traceback as `__cause__`; an error that
+    cannot be pickled arrives as a FivebarError naming it."""
+    from fivebar_cli.errors import FivebarError, InputError
+
+    with Workers(2, 2) as pool:
+        with pytest.raises(InputError) as bad:
+            pool.submit(_bad_input, None).get()
+        with pytest.raises(FivebarError, match="^_Unpicklable: a lock inside$"):
+            pool.submit(_raises_unpicklable, None).get()
+        assert pool.submit(_square_and_pid, 4).get()[0] == 16  # the pool still works
+    assert (bad.value.source, bad.value.field, bad.value.message) == ("m.yaml", "lengths.L1", "must be positive, got -8")
+    assert str(bad.value) == "m.yaml: lengths.L1: must be positive, got -8"
+    assert "in _bad_input" in str(bad.value.__cause__) and 'raise InputError("m.yaml"' in str(bad.value.__cause__)
+
+
+@pytest.mark.timeout(60)
+def test_when_the_parent_is_killed_its_workers_exit():
+    """A run SIGKILLed (nothing of it runs any more to end its pool) leaves no worker behind: each
+    reads the end of its pipe and exits."""
+    import subprocess
+
+    script = ("import sys, time\nfrom fivebar_cli.analyses.jobs import Workers\nwith Workers(2, 2) as pool:\n"
+              "    print(*[p.pid for p in pool._pool.processes], flush=True)\n    time.sleep(60)\n")
+    run = subprocess.Popen([sys.executable, "-c", script], env=ENV, stdout=subprocess.PIPE, text=True)
+    with run.stdout:
+        children = [psutil.Process(int(pid)) for pid in run.stdout.readline().split()]
+    run.kill()
+    run.wait(10)
+    _, alive = psutil.wait_procs(children, timeout=10)
+    for child in alive:  # (not to outlive the test)
+        child.kill()
+    assert len(children) == 2 and not alive
 
 
 def _children(pid: int) -> list:
@@ -324,63 +391,3 @@ def test_a_worker_killed_during_aspects_is_one_line_and_exit_1(tmp_path, monkeyp
     r = run_cli("aspects", CONFIGS / "m1.yaml", "--depth", "6", "--jobs", "2", "-o", tmp_path / "out", "--no-plot")
     one_line(r, 1, "a worker process ended before its task was done (killed by SIGKILL; out of memory?)")
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").rglob("*.qt"))
-
-
-def _stuck(started, held) -> None:
-    started.set()
-    held.acquire()  # never returns: the parent holds it
-
-
-def test_a_child_forked_while_a_pool_runs_dies_on_sigterm(monkeypatch):
-    """A process forked while a pool runs (a worker, or the pool's replacement of a dead one) takes
-    SIGTERM at its default from its first instruction: stuck before its initializer (here on a lock,
-    with the parent's handler one that does not end it), it would outlive the pool's terminate()."""
-    import multiprocessing
-    import threading
-
-    from fivebar_cli.analyses import jobs
-
-    previous = signal.signal(signal.SIGTERM, lambda signum, frame: None)
-    monkeypatch.setattr(jobs, "_pools", [1])
-    held = threading.Lock()
-    held.acquire()
-    context = multiprocessing.get_context("fork")
-    started = context.Event()
-    child = context.Process(target=_stuck, args=(started, held))
-    try:
-        child.start()
-        assert started.wait(10)
-        child.terminate()
-        child.join(10)
-        assert child.exitcode == -signal.SIGTERM
-    finally:
-        signal.signal(signal.SIGTERM, previous)
-        if child.exitcode is None:
-            child.kill()
-            child.join()
-
-
-def _report_sigterm(queue) -> None:
-    queue.put((signal.SIGTERM in signal.pthread_sigmask(signal.SIG_BLOCK, []), signal.getsignal(signal.SIGTERM)))
-
-
-def test_sigterm_is_held_back_across_a_pools_forks_and_at_its_default_in_the_child(monkeypatch):
-    """While a pool runs, a fork holds SIGTERM back in the forking thread (one sent to the child
-    before it drops the parent's handler would be lost) and lets it through in the child once it is
-    at its default; the parent's own mask is as before."""
-    import multiprocessing
-
-    from fivebar_cli.analyses import jobs
-
-    previous = signal.signal(signal.SIGTERM, lambda signum, frame: None)
-    monkeypatch.setattr(jobs, "_pools", [1])
-    context = multiprocessing.get_context("fork")
-    queue = context.SimpleQueue()
-    try:
-        child = context.Process(target=_report_sigterm, args=(queue,))
-        child.start()
-        child.join(10)
-        assert queue.get() == (False, signal.SIG_DFL)
-        assert signal.SIGTERM not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
-    finally:
-        signal.signal(signal.SIGTERM, previous)

@@ -104,16 +104,13 @@ def test_the_folder_goes_with_its_pool_after_an_error_with_what_was_never_taken(
 
 
 def test_a_pool_that_cannot_start_leaves_no_folder(monkeypatch):
-    import multiprocessing
-
     made = []
 
-    class NoPool:
-        def Pool(self, *args, **kwargs):
-            made.append(jobs._spill[0])
-            raise OSError("no more processes")
+    def no_pool(*args, **kwargs):
+        made.append(jobs._spill[0])
+        raise OSError("no more processes")
 
-    monkeypatch.setattr(multiprocessing, "get_context", lambda method: NoPool())
+    monkeypatch.setattr(jobs, "Pool", no_pool)
     with pytest.raises(OSError, match="no more processes"):
         with Workers(2, 2):
             pass

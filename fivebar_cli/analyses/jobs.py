@@ -18,13 +18,11 @@ receiver reads and removes it (`_array_travels`). Through a pipe of 64 KiB, mega
 hundreds of turns between two processes, each waiting for the other's GIL; through a file, in
 one copy each way. The folder goes with the pool; one left by a killed run (its lock gone with
 its processes) is removed by the next pool (`_clear_stale`). Without /dev/shm (or when it is
-full) arrays go through the pipes as before. Workers ignore Ctrl-C and SIGHUP and die on SIGTERM
-(from their fork on, `_forking`): the parent alone reacts to signals, and when it stops (an
-interruption, an error) it ends its pool (`_terminate`: the workers first, then the threads and
-pipes, never waiting on a queue a killed worker left held or half written, as multiprocessing's
-terminate can). A worker that dies (killed, out of memory) takes its task with it, and
-multiprocessing's pool only replaces it: the parent waits in short turns and, between them, checks
-its workers, so that it fails with one line (`WorkerLost`) instead of waiting forever.
+full) arrays go through the pipes as before. The processes themselves are `analyses.pool`'s (a
+pipe of its own to each worker, no lock shared between them): workers ignore Ctrl-C and SIGHUP
+and die on SIGTERM, so the parent alone reacts to signals; when it stops (an interruption, an
+error) it kills its workers and the run ends at once. A worker that dies (killed, out of memory)
+fails every unfinished task with one line (`WorkerLost`) instead of a wait forever.
 """
 
 from __future__ import annotations
@@ -42,17 +40,13 @@ from typing import Callable, Iterable, Iterator, TypeVar
 
 import numpy as np
 
-from fivebar_cli.errors import FivebarError
+from fivebar_cli.analyses.pool import TURN, Pool, WorkerLost
 from fivebar_cli.paving.engine import Paving
 from fivebar_cli.paving.tree import Tree
 
 T = TypeVar("T")
 R = TypeVar("R")
-TURN = 0.25  # seconds a wait for a result lasts before the workers are checked (a result ends it at once)
-
-
-class WorkerLost(FivebarError):
-    """A worker process ended before its task was done (the task is lost with it)."""
+__all__ = ["Texts", "WorkerLost", "Workers", "default_jobs", "run_tasks", "workers"]
 
 
 def default_jobs() -> int:
@@ -85,7 +79,7 @@ class Workers:
 
     def __init__(self, jobs: int | None, tasks: int):
         self.n = workers(jobs, tasks)
-        self._pool = None
+        self._pool: Pool | None = None
         self._finished: queue.SimpleQueue = queue.SimpleQueue()  # ids of tasks done, as they finish
         self._seen: set[int] = set()  # those taken from the queue
         self._ids = itertools.count()
@@ -95,11 +89,8 @@ class Workers:
             method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
             self._spill, self._lock = _spill_folder() or (None, None)
             self._outer, _spill[0] = _spill[0], self._spill
-            _pools[0] += 1
             try:
-                self._pool = multiprocessing.get_context(method).Pool(self.n, initializer=_start_worker,
-                                                                      initargs=(self._spill,))
-                self._started = list(self._pool._pool)  # the pool's processes (it would replace a dead one)
+                self._pool = Pool(self.n, multiprocessing.get_context(method), _start_worker, (self._spill,))
             except BaseException:
                 self._release()
                 raise
@@ -107,13 +98,12 @@ class Workers:
 
     def __exit__(self, *exc) -> None:
         if self._pool is not None:
-            _terminate(self._pool)  # what is left to run is not wanted (an error, an interruption)
+            self._pool.end()  # what is left to run is not wanted (an error, an interruption)
             self._release()
 
     def _release(self) -> None:
         """Remove the pool's folder, with the arrays of tasks never run or results never taken."""
         _spill[0] = self._outer
-        _pools[0] -= 1
         if self._spill is not None:
             shutil.rmtree(self._spill, ignore_errors=True)
             os.close(self._lock)
@@ -126,12 +116,11 @@ class Workers:
         take the costliest tasks first (the last ones to finish are then small)."""
         if self._pool is None:
             results = (fn(item) for item in items)
-        elif cost is None:
-            results = self._each(self._pool.imap(fn, items, chunksize=1))
         else:
             items = list(items)
+            order = range(len(items)) if cost is None else sorted(range(len(items)), key=lambda k: -cost(items[k]))
             tasks = [None] * len(items)
-            for k in sorted(range(len(items)), key=lambda k: -cost(items[k])):
+            for k in order:
                 tasks[k] = self.submit(fn, items[k])
             results = (task.get() for task in tasks)
         return _advancing(results, advance)
@@ -143,84 +132,23 @@ class Workers:
             task._result = _Done(fn(item))
             self._finished.put(task.id)
         else:
-            done = lambda _: self._finished.put(task.id)  # noqa: E731 (run by the pool's result thread)
-            task._result = self._pool.apply_async(fn, (item,), callback=done, error_callback=done)
-            task._wait = self._wait
+            task._result = self._pool.submit(fn, item, lambda: self._finished.put(task.id))
         return task
 
     def completed(self, tasks: list["Task"]) -> Iterator[int]:
-        """The indices in `tasks` of submitted tasks, each once, in the order they finish."""
+        """The indices in `tasks` of submitted tasks, each once, in the order they finish
+        (WorkerLost once a worker died: the others may never finish)."""
         waiting = {t.id: k for k, t in enumerate(tasks)}
         while waiting:
             for done in [i for i in waiting if i in self._seen]:
                 yield waiting.pop(done)
-            if waiting:
-                self._seen.add(self._wait(lambda turn: self._finished.get(timeout=turn)))
-
-    def _wait(self, take: Callable[[float], R]) -> R:
-        """`take(TURN)` until it gives a result (it raises queue.Empty or a TimeoutError when none
-        came in a turn), checking between turns that the workers and the pool's result thread live."""
-        while True:
-            try:
-                return take(TURN)
-            except (queue.Empty, multiprocessing.TimeoutError):
-                self._check()
-
-    def _check(self) -> None:
-        """WorkerLost if a worker died (its task would never finish) or the thread that takes the
-        results stopped (a result it could not read: its file in /dev/shm removed by someone else)."""
-        ended = next((p.exitcode for p in self._started if p.exitcode is not None), None)
-        if ended is not None:
-            how = f"killed by {signal.Signals(-ended).name}" if ended < 0 else f"exit status {ended}"
-            raise WorkerLost(f"a worker process ended before its task was done ({how}; out of memory?): "
-                             "run again, or with fewer jobs")
-        if not self._pool._result_handler.is_alive():
-            raise WorkerLost("the workers' results could no longer be read (their files in /dev/shm removed?): "
-                             "run again, or with fewer jobs")
-
-    def _each(self, results) -> Iterator:
-        """An `imap` iterator's results, waited for in turns (`_wait`)."""
-        while True:
-            try:
-                yield self._wait(results.next)
-            except StopIteration:
-                return
-
-
-def _terminate(pool) -> None:
-    """End a pool: its workers killed, its threads ended, its pipes closed, without waiting on a
-    queue a killed worker may have left unusable. (multiprocessing's `terminate()` kills the
-    workers, then waits for its threads to write and read the queues: a worker killed while it held
-    a queue's lock holds it forever, one killed in the middle of a message leaves it half written,
-    and terminate can wait forever (python/cpython#96995; it hung this suite once).)
-    1. The pool's worker thread ends (no worker is replaced any more), and so does the task thread
-       (no task is sent any more; it sends its end-of-results message).
-    2. The workers are killed and reaped.
-    3. With the result queue's write lock (free, or held by a killed worker), this process's ends
-       of the pipes the workers read and wrote are closed: the result thread reads what was sent,
-       to the end of the pipe (a message cut short there ends it like the end message), and a
-       write into a pipe without readers fails instead of blocking.
-    4. The threads are joined, the pool is marked ended (its finaliser would terminate it again)."""
-    from multiprocessing.pool import TERMINATE
-
-    pool._state = pool._worker_handler._state = pool._task_handler._state = TERMINATE
-    pool._change_notifier.put(None)  # (wakes the worker thread)
-    pool._worker_handler.join()
-    for p in pool._pool:
-        p.terminate()
-    for p in pool._pool:
-        p.join()
-    lock = pool._outqueue._wlock
-    taken = lock.acquire(timeout=TURN)  # (the task thread holds it for its last message only)
-    pool._outqueue._writer.close()
-    pool._inqueue._reader.close()
-    if not pool._result_handler.is_alive():  # (WorkerLost: no one reads the results any more)
-        pool._outqueue._reader.close()
-    if taken or not lock._semlock._count():  # not if the task thread holds it (its write then fails)
-        lock.release()
-    pool._task_handler.join()
-    pool._result_handler.join()
-    pool._terminate.cancel()
+            while waiting and not self._seen.intersection(waiting):
+                if self._pool is not None and self._pool.lost is not None:
+                    raise self._pool.lost
+                try:
+                    self._seen.add(self._finished.get(timeout=TURN))  # (in turns: signals are handled)
+                except queue.Empty:
+                    pass
 
 
 def _advancing(results: Iterable[R], advance: Callable[[int], None]) -> Iterator[R]:
@@ -234,50 +162,20 @@ class Task:
 
     def __init__(self, key: int):
         self.id = key
-        self._result = None
-        self._wait = None  # a pool's turns of waiting (`Workers._wait`); None for a task run here
+        self._result = None  # the pool's `Outcome`, or `_Done` for a task run here
 
     def get(self):
-        return self._result.get() if self._wait is None else self._wait(self._result.get)
+        return self._result.get()
 
 
 class _Done:
-    """The result of a task run in this process (what `get` of a pool's result gives)."""
+    """The result of a task run in this process (what a pool's `Outcome` gives)."""
 
     def __init__(self, value):
         self.value = value
 
     def get(self):
         return self.value
-
-
-_pools = [0]  # the pools this process runs now
-
-
-def _forking() -> None:
-    """Before a fork while a pool runs, in the forking thread: SIGTERM held back (blocked) until
-    the child has it at its default (`_forked_child`). A SIGTERM that reached the child while it
-    still had the parent's Python handler would only set a flag that the handler's replacement
-    then drops: the child lives on, idle, and the pool's `terminate()` waits for it forever (seen
-    when a WorkerLost terminated a pool just after it had forked a replacement worker)."""
-    if _pools[0]:
-        signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGTERM})
-
-
-def _forked_parent() -> None:
-    if _pools[0]:
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGTERM})
-
-
-def _forked_child() -> None:
-    """SIGTERM at its default, then let through: one sent meanwhile ends the child now."""
-    if _pools[0]:
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGTERM})
-
-
-if hasattr(os, "register_at_fork"):  # (not on Windows: workers are spawned there)
-    os.register_at_fork(before=_forking, after_in_parent=_forked_parent, after_in_child=_forked_child)
 
 
 def _start_worker(spill: str | None) -> None:
