@@ -104,13 +104,14 @@ class Pool:
         """Start fn(item) on the first worker free; `callback()` (on the pool's thread) once it is done."""
         outcome = Outcome(ForkingPickler.dumps((fn, item)), callback)
         with self._lock:
-            if self.lost is None:
+            lost = self.lost
+            if lost is None:
                 self._pending.append(outcome)
                 self._unfinished.add(outcome)
-        if self.lost is not None:
-            outcome.settle(error=self.lost)
-        else:
+        if lost is None:
             self._wake_there.send_bytes(b"")
+        else:
+            outcome.settle(error=lost)
         return outcome
 
     def end(self) -> None:
