@@ -189,6 +189,51 @@ def test_ending_a_pool_ends_workers_stuck_before_their_first_task():
     assert all(p.exitcode == -signal.SIGKILL for p in pool.processes)
 
 
+def _signalled_before_its_set_up(previous_setup) -> None:
+    """A worker's set-up that first receives SIGTERM (as from a `kill` of the process group at the
+    moment it was forked), then sets its handlers."""
+    os.kill(os.getpid(), signal.SIGTERM)
+    previous_setup()
+
+
+def _own_handlers(_) -> tuple:
+    blocked = signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    return (sorted(int(s) for s in blocked if s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)),
+            signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM))
+
+
+@pytest.mark.timeout(60)
+def test_signals_reach_a_worker_only_once_its_handlers_are_set():
+    """A worker starts with the parent's handlers (the CLI's raise: a traceback in the worker):
+    Ctrl-C, SIGTERM and SIGHUP are held back from its start until its set-up has run. A SIGTERM
+    sent before then ends it as its own handler says (killed, no traceback); the others then run
+    with the signals let through, and the parent's mask is as before."""
+    import multiprocessing
+
+    from fivebar_cli.analyses import jobs
+    from fivebar_cli.analyses.pool import Pool
+
+    def raising(signum, frame):
+        raise RuntimeError("the parent's handler ran in a worker")
+
+    previous = signal.signal(signal.SIGTERM, raising)
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    try:
+        doomed = Pool(1, multiprocessing.get_context("fork"), _signalled_before_its_set_up,
+                      (lambda: jobs._start_worker(None),))
+        deadline = time.monotonic() + 10
+        while doomed.lost is None and time.monotonic() < deadline:  # (the pool reaps it: not joined here too)
+            time.sleep(0.01)
+        doomed.end()
+        assert "(killed by SIGTERM;" in str(doomed.lost)
+        with Workers(2, 2) as pool:
+            reports = [task.get() for task in [pool.submit(_own_handlers, k) for k in range(2)]]
+        assert reports == [([], signal.SIG_IGN, signal.SIG_DFL)] * 2
+        assert signal.pthread_sigmask(signal.SIG_BLOCK, []) == mask
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def _bad_input(_) -> None:
     from fivebar_cli.errors import InputError
 
@@ -216,7 +261,8 @@ def test_a_tasks_error_arrives_whole_with_where_it_was_raised():
         with pytest.raises(FivebarError, match="^_Unpicklable: a lock inside$"):
             pool.submit(_raises_unpicklable, None).get()
         assert pool.submit(_square_and_pid, 4).get()[0] == 16  # the pool still works
-    assert (bad.value.source, bad.value.field, bad.value.message) == ("m.yaml", "lengths.L1", "must be positive, got -8")
+    parts = ("m.yaml", "lengths.L1", "must be positive, got -8")
+    assert (bad.value.source, bad.value.field, bad.value.message) == parts
     assert str(bad.value) == "m.yaml: lengths.L1: must be positive, got -8"
     assert "in _bad_input" in str(bad.value.__cause__) and 'raise InputError("m.yaml"' in str(bad.value.__cause__)
 

@@ -14,7 +14,8 @@ whole one), and ending the pool is to kill the workers, wake the thread and join
 - Tasks start in the order they are submitted, each on the first worker free.
 - A worker that dies, killed or out of memory, is never replaced: every task not yet done fails
   at once with `WorkerLost`, and so does every later one.
-- Workers ignore nothing by themselves: `initializer(*initargs)` sets them up (signals, folders).
+- Workers ignore nothing by themselves: `initializer(*initargs)` sets them up (signals, folders);
+  Ctrl-C, SIGTERM and SIGHUP are held back from a worker's start until it has (`_held_back`).
   Forked workers close the ends of the pipes they inherit but do not use, so when this process
   dies (SIGKILL) each worker reads EOF and exits.
 """
@@ -26,6 +27,7 @@ import pickle
 import signal
 import threading
 import traceback
+from contextlib import contextmanager
 from multiprocessing import connection
 from multiprocessing.reduction import ForkingPickler
 from typing import Callable
@@ -33,6 +35,9 @@ from typing import Callable
 from fivebar_cli.errors import FivebarError
 
 TURN = 0.25  # seconds a wait lasts before it is taken up again (signal handlers run between turns)
+# held back from a fork until the worker has set its own handlers (`_serve`): before that, the
+# parent's handler (the CLI's, which raises) would run in the worker and print a traceback there
+HELD = {getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)}
 UNREADABLE = ("the workers' results could no longer be read (their files in /dev/shm removed?): "
               "run again, or with fewer jobs")
 
@@ -83,7 +88,8 @@ class Pool:
                 self._pipes.append(here)
                 process = context.Process(target=_serve, daemon=True,
                                           args=(there, self._pipes if inherit else [], initializer, initargs))
-                process.start()
+                with _held_back():
+                    process.start()
                 self.processes.append(process)
                 there.close()  # (before the next fork: only its worker holds it, so its death ends the pipe)
         except BaseException:
@@ -201,6 +207,8 @@ def _serve(pipe, inherited: list, initializer: Callable, initargs: tuple) -> Non
     for other in inherited:  # this process's copies of the parent's ends (forked): its death must end them
         other.close()
     initializer(*initargs)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, HELD)  # (one sent meanwhile acts now, as the worker's handlers say)
     while True:
         try:
             data = pipe.recv_bytes()
@@ -216,6 +224,20 @@ def _serve(pipe, inherited: list, initializer: Callable, initargs: tuple) -> Non
             pipe.send_bytes(reply)
         except OSError:
             return
+
+
+@contextmanager
+def _held_back():
+    """HELD signals blocked in this thread while it starts a worker (which starts with them blocked,
+    forked or spawned, and lets them through once its handlers are set); here, delivered after."""
+    if not hasattr(signal, "pthread_sigmask"):  # (Windows)
+        yield
+        return
+    before = signal.pthread_sigmask(signal.SIG_BLOCK, HELD)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, before)
 
 
 def _failure(exc: BaseException):
