@@ -422,7 +422,7 @@ class HalfBuilt:
     def __del__(self):
         self.expr
 kept = HalfBuilt()
-sys.argv = ["fivebar", "aspects", sys.argv[1], "--depth", "4", "-o", sys.argv[2]]
+sys.argv = ["fivebar", "aspects", sys.argv[1], "--depth", "4", "-o", sys.argv[2], "--no-plot"]
 from fivebar_cli.cli.main import main
 main(held=%s)
 """
