@@ -234,6 +234,28 @@ def test_signals_reach_a_worker_only_once_its_handlers_are_set():
         signal.signal(signal.SIGTERM, previous)
 
 
+def _large(x: int) -> np.ndarray:
+    return np.full(100_000, x)  # 800 kB: through /dev/shm while a pool runs
+
+
+@pytest.mark.timeout(120)
+def test_spawned_workers_as_where_fork_is_missing(monkeypatch):
+    """Where the platform cannot fork (macOS's default, Windows), workers are spawned: fresh
+    interpreters that import the task's module. The same results in order, large arrays through
+    the pool's folder, a task's error, the signals let through once the handlers are set."""
+    from fivebar_cli.analyses import jobs
+
+    monkeypatch.setattr(jobs.multiprocessing, "get_all_start_methods", lambda: ["spawn"])
+    with Workers(2, 4) as pool:
+        assert all(p._popen.method == "spawn" for p in pool._pool.processes)
+        arrays = list(pool.map(_large, [1, 2, 3]))
+        reports = [task.get() for task in [pool.submit(_own_handlers, k) for k in range(2)]]
+        with pytest.raises(ValueError, match="task 3 fails"):
+            pool.submit(_fails, 3).get()
+    assert [(a.shape, int(a[0]), int(a[-1])) for a in arrays] == [((100_000,), k, k) for k in (1, 2, 3)]
+    assert reports == [([], signal.SIG_IGN, signal.SIG_DFL)] * 2
+
+
 def _bad_input(_) -> None:
     from fivebar_cli.errors import InputError
 
