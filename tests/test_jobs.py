@@ -14,6 +14,8 @@ from multiprocessing.reduction import ForkingPickler
 import numpy as np
 import psutil
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from cli_helpers import ENV, REPO, CliResult, command, default_ctrl_c, ok, one_line, run_cli
 
 from fivebar_cli.analyses.jobs import Workers, WorkerLost, default_jobs, run_tasks, workers
@@ -254,6 +256,31 @@ def test_spawned_workers_as_where_fork_is_missing(monkeypatch):
             pool.submit(_fails, 3).get()
     assert [(a.shape, int(a[0]), int(a[-1])) for a in arrays] == [((100_000,), k, k) for k in (1, 2, 3)]
     assert reports == [([], signal.SIG_IGN, signal.SIG_DFL)] * 2
+
+
+def _made_or_failed(spec: tuple[int, bool]) -> np.ndarray:
+    size, fails = spec
+    if fails:
+        raise ValueError(f"a task of {size} fails")
+    return np.arange(size)  # 9,000 or more: 64 KiB or more, through the pool's folder
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(st.sampled_from([1, 100, 9_000, 20_000]), st.booleans()), min_size=1, max_size=8))
+def test_any_tasks_give_on_workers_what_they_give_in_process(specs):
+    """Whatever the tasks (small and large results, failures anywhere), two workers give each task
+    what the task gives called here, and `completed` names each task once."""
+    def outcome(get) -> list | str:
+        try:
+            return get().tolist()
+        except ValueError as exc:
+            return str(exc)
+
+    with Workers(2, 2) as pool:  # (two workers even for one task)
+        tasks = [pool.submit(_made_or_failed, spec) for spec in specs]
+        assert sorted(pool.completed(tasks)) == list(range(len(specs)))
+        found = [outcome(task.get) for task in tasks]
+    assert found == [outcome(lambda: _made_or_failed(spec)) for spec in specs]
 
 
 def _bad_input(_) -> None:
