@@ -14,9 +14,9 @@ whole one), and ending the pool is to kill the workers, wake the thread and join
 - Tasks start in the order they are submitted, each on the first worker free.
 - A worker that dies, killed or out of memory, is never replaced: every task not yet done fails
   at once with `WorkerLost`, and so does every later one.
-- Workers ignore nothing by themselves: `initializer(*initargs)` sets them up (signals, folders);
-  Ctrl-C, SIGTERM and SIGHUP are held back from a worker's start until it has (`_held_back`).
-  Forked workers close the ends of the pipes they inherit but do not use, so when this process
+- `initializer(*initargs)` sets each worker up (its signal handlers, its folders); Ctrl-C,
+  SIGTERM and SIGHUP are held back from a worker's start until that is done (`_held_back`).
+- Forked workers close the ends of the pipes they inherit but do not use, so when this process
   dies (SIGKILL) each worker reads EOF and exits.
 """
 
@@ -35,7 +35,7 @@ from typing import Callable
 from fivebar_cli.errors import FivebarError
 
 TURN = 0.25  # seconds a wait lasts before it is taken up again (signal handlers run between turns)
-# held back from a fork until the worker has set its own handlers (`_serve`): before that, the
+# held back from a worker's start until it has set its own handlers (`_serve`): before that, the
 # parent's handler (the CLI's, which raises) would run in the worker and print a traceback there
 HELD = {getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)}
 UNREADABLE = ("the workers' results could no longer be read (their files in /dev/shm removed?): "
