@@ -99,8 +99,7 @@ class Pool:
             raise
         self._wake_here, self._wake_there = context.Pipe(duplex=False)  # (after the forks: no worker holds it)
         self._lock = threading.Lock()
-        self._pending: collections.deque[Outcome] = collections.deque()
-        self._unfinished: set[Outcome] = set()
+        self._pending: collections.deque[Outcome] = collections.deque()  # submitted, not yet sent to a worker
         self._ending = False
         self.lost: WorkerLost | None = None
         self._thread = threading.Thread(target=self._hand_out, name="fivebar-pool", daemon=True)
@@ -113,7 +112,6 @@ class Pool:
             lost = self.lost
             if lost is None:
                 self._pending.append(outcome)
-                self._unfinished.add(outcome)
         if lost is None:
             self._wake_there.send_bytes(b"")
         else:
@@ -139,14 +137,14 @@ class Pool:
         """The pool's thread: send each pending task to a free worker, take the results back as
         they come; a worker that ends fails every unfinished task (`_lose`)."""
         free = list(reversed(range(len(self.processes))))
-        busy: dict[int, Outcome] = {}
+        busy: dict[int, Outcome] = {}  # worker -> the task it runs (with the pending ones: the unfinished)
         ends = {process.sentinel for process in self.processes}
         try:
             while not self._ending:
                 with self._lock:
                     sends = [(free.pop(), self._pending.popleft()) for _ in range(min(len(free), len(self._pending)))]
+                busy.update(sends)  # (all of them before any is sent: a send that fails loses none)
                 for k, outcome in sends:
-                    busy[k] = outcome
                     self._pipes[k].send_bytes(outcome.data)
                     outcome.data = None
                 ready = connection.wait([self._wake_here, *(self._pipes[k] for k in busy), *ends])
@@ -157,17 +155,15 @@ class Pool:
                     free.append(k)
                     self._finish(busy.pop(k), data)
                 if any(r in ends for r in ready) and not self._ending:
-                    self._lose()
+                    self._lose(busy)
                     return
         except (EOFError, OSError):  # a pipe that ended (in the middle of a message): its worker died
             if not self._ending:
-                self._lose()
+                self._lose(busy)
         except BaseException as exc:  # noqa: BLE001 - never leave a caller waiting
-            self._lose(f"the pool's thread failed ({type(exc).__name__}: {exc})")
+            self._lose(busy, f"the pool's thread failed ({type(exc).__name__}: {exc})")
 
     def _finish(self, outcome: Outcome, data: bytes) -> None:
-        with self._lock:
-            self._unfinished.discard(outcome)
         try:
             ok, value, where = pickle.loads(data)
         except Exception:  # noqa: BLE001 - e.g. a result's array file removed by someone else
@@ -179,9 +175,10 @@ class Pool:
             value.__cause__ = RemoteTraceback(where)
             outcome.settle(error=value)
 
-    def _lose(self, why: str | None = None) -> None:
-        """Fail every unfinished task, and every later one, with WorkerLost: a worker ended (`why`
-        None: the first one found ended, with how it ended) or the thread failed (`why`)."""
+    def _lose(self, busy: dict[int, Outcome], why: str | None = None) -> None:
+        """Fail every unfinished task (those `busy` workers run, those pending), and every later
+        one, with WorkerLost: a worker ended (`why` None: the first one found ended, with how it
+        ended) or the thread failed (`why`)."""
         if why is None:
             ended = connection.wait([process.sentinel for process in self.processes], TURN)
             exitcode = None
@@ -195,8 +192,9 @@ class Pool:
             why = f"a worker process ended before its task was done ({how}; out of memory?)"
         with self._lock:
             self.lost = WorkerLost(f"{why}: run again, or with fewer jobs")
-            unfinished, self._unfinished = self._unfinished, set()
+            unfinished = [*busy.values(), *self._pending]
             self._pending.clear()
+        busy.clear()
         for outcome in unfinished:
             outcome.settle(error=self.lost)
 
