@@ -18,6 +18,8 @@ whole one), and ending the pool is to kill the workers, wake the thread and join
   SIGTERM and SIGHUP are held back from a worker's start until that is done (`_held_back`).
 - Forked workers close the ends of the pipes they inherit but do not use, so when this process
   dies (SIGKILL) each worker reads EOF and exits.
+- Spawned workers do not import this process's main module again (`main_left_out`): a script
+  that runs an analysis at its top level, without `if __name__ == "__main__":`, runs once.
 """
 
 from __future__ import annotations
@@ -25,7 +27,9 @@ from __future__ import annotations
 import collections
 import pickle
 import signal
+import sys
 import threading
+import types
 import traceback
 from contextlib import contextmanager
 from multiprocessing import connection
@@ -88,7 +92,7 @@ class Pool:
                 self._pipes.append(here)
                 process = context.Process(target=_serve, daemon=True,
                                           args=(there, self._pipes if inherit else [], initializer, initargs))
-                with _held_back():
+                with _held_back(), main_left_out(not inherit):
                     process.start()
                 self.processes.append(process)
                 there.close()  # (before the next fork: only its worker holds it, so its death ends the pipe)
@@ -236,6 +240,29 @@ def _held_back():
         yield
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, before)
+
+
+@contextmanager
+def main_left_out(spawning: bool = True):
+    """Worker processes started meanwhile (`spawning`: by spawn or forkserver) do not import this
+    process's main module. multiprocessing has each one import it again (so that functions defined
+    there can be unpickled), which runs a script's top level once more in every worker: a script
+    calling `fb.aspects(..., jobs=2)` or `fb.atlas(..., workers=2)` without `if __name__ ==
+    "__main__":` would start its analysis again there, and fail with a wall of tracebacks. Workers
+    of fivebar run fivebar's functions only, so `__main__` is a stand-in with neither file nor
+    spec meanwhile (as in a notebook, or `python -c`). Nothing changes where there is no such file."""
+    main = sys.modules.get("__main__")
+    if not spawning or main is None or (getattr(main, "__spec__", None) is None
+                                        and getattr(main, "__file__", None) is None):
+        yield
+        return
+    stand_in = types.ModuleType("__main__")
+    sys.modules["__main__"] = stand_in
+    try:
+        yield
+    finally:
+        if sys.modules.get("__main__") is stand_in:
+            sys.modules["__main__"] = main
 
 
 def _failure(exc: BaseException):

@@ -22,6 +22,7 @@ from typing import Iterator
 
 from fivebar_cli.analyses.atlas.parts import manifest
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
+from fivebar_cli.analyses.pool import main_left_out
 from fivebar_cli.errors import FivebarError, InputError, deferred_interrupts, param
 
 CONNECT_TIMEOUT = "10s"
@@ -83,13 +84,15 @@ def local_cluster(workers: int) -> Iterator[DaskRunner]:
     trimming: `MALLOC_TRIM`), closed on the way out (a second Ctrl-C then waits until it is closed).
 
     Its worker processes ignore Ctrl-C from birth (`_workers_ignore_ctrl_c`); this process keeps
-    its handler all along, so a Ctrl-C during start-up stops the run too.
+    its handler all along, so a Ctrl-C during start-up stops the run too. They do not import this
+    process's main module (`main_left_out`, while the cluster lives: the workers Dask starts again
+    too), so a script without `if __name__ == "__main__":` is not run again in each.
     """
     import dask
     from dask.distributed import Client, LocalCluster
 
     cluster = None
-    with _quiet_dask(), _workers_ignore_ctrl_c() as started:
+    with _quiet_dask(), main_left_out(), _workers_ignore_ctrl_c() as started:
         try:
             with dask.config.set({MALLOC_TRIM: None}):
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
