@@ -108,6 +108,8 @@ def test_locate_and_path_on_m1(tmp_path, m1_aspects):
                "-o", str(tmp_path / "cli"), "--no-plot", "-q"))
     assert (tmp_path / "api" / "path.csv").read_bytes() == (tmp_path / "cli" / "path.csv").read_bytes()
     assert math.isclose(p.length, float(np.sum(np.hypot(*np.diff(p.points[:, :2], axis=0).T))))
+    plain = fb.path(m, (4, 5), [6, 8], working_mode="++", depth=10)  # a plain pair: a pose, in `working_mode`
+    assert np.array_equal(plain.points, p.points) and plain.length == p.length
     with pytest.raises(fb.FivebarError, match="no:|different"):
         fb.path(m, {"pose": (4, 5), "working_mode": "++"}, {"pose": (4, 5), "working_mode": "--"}, depth=8)
 

@@ -60,6 +60,11 @@ def test_dkp_is_the_command_and_every_pose_has_the_legs(tmp_path, caro):
     (lambda: fb.path("rpr3-caro", 1, 2, joints=(14.98, 15.38, 12), legs=(14.98, 15.38, 12), depth=5), "`legs`"),
     (lambda: fb.locate("rpr3-caro", legs=(1, 15, 12), depth=2), "`legs`"),
     (lambda: fb.locate("rpr3-caro", pose=(500, 0, 0), depth=2), "`pose`"),
+    (lambda: fb.locate("rpr3-caro", pose=(8, -9), depth=2), "`pose`"),
+    (lambda: fb.locate("rpr3-caro", legs=[(15, 15, 12), (15, "x", 12)], depth=2), "`legs`"),
+    (lambda: fb.path("rpr3-caro", (8, -9), (1, 2, 3), depth=5), "`start`"),
+    (lambda: fb.path("rpr3-caro", (8, -9, -5.6), {"pose": (1, 2, 3)}, depth=5), "`goal`"),
+    (lambda: fb.path("rpr3-caro", (8, -9, float("inf")), (1, 2, 3), depth=5), "`start`"),
     (lambda: fb.compare(REPO / "tests/golden/M1/workspace.qt", REPO / "tests/golden/M2/workspace.qt"), "root"),
 ])
 def test_bad_input_names_the_field(call, field):

@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -233,7 +234,7 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     is found at this depth, with the reason).
 
     Five-bar and 2-RPR: each endpoint is `{"joints": (th1, th2)}` (in the assembly mode
-    `assembly_mode`) or `{"pose": (x, y), "working_mode": "++"}`; with `allow_serial` the motion
+    `assembly_mode`), `{"pose": (x, y), "working_mode": "++"}` or a plain pose `(x, y)`; with `allow_serial` the motion
     may cross serial singularities, never parallel ones; `working_mode` is that of every pose
     endpoint that names none. 3-RPR, 3-RRR: each endpoint is a pose (x, y, phi_deg), for a 3-RRR
     in `working_mode` ('+-+': needed, as `fivebar path --working-mode`); or, with `joints` (`legs`,
@@ -258,20 +259,39 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
         from fivebar_cli.api.pose_space import pose_path
 
         return pose_path(m, start, goal, depth, working_mode, joints, legs, folder, source)
-    from fivebar_cli.analyses.paths import Endpoint, find_path, path_columns, path_points, resolve
+    from fivebar_cli.analyses.paths import find_path, path_columns, path_points, resolve
 
     check_depth(depth, MAX_ASPECT_DEPTH)
     if joints is not None or legs is not None:
         raise InputError(source, param("joints" if joints is not None else "legs"), f"{article(m.kind)}'s endpoints "
                          "give their own joints: {'joints': (th1, th2)}")
     check_serial(m, allow_serial, source)
-    endpoints = [Endpoint("pose", tuple(e["pose"]), e.get("working_mode", working_mode)) if "pose" in e
-                 else Endpoint("joints", tuple(e["joints"])) for e in (start, goal)]
+    endpoints = [_endpoint(e, which, working_mode, source) for e, which in ((start, "start"), (goal, "goal"))]
     first, last = resolve(m, endpoints, assembly_mode, source)
     trees = Path(folder) if folder is not None else None
     result = find_path(m, depth, first, last, allow_serial, trees, max_depth=MAX_ASPECT_DEPTH)
     return Path_(m, depth, path_columns(m), path_points(result), result.length, result, _path_notes(result, trees),
                  trees)
+
+
+def _endpoint(e, which: str, working_mode: str | None, source):
+    """A five-bar's or 2-RPR's endpoint `e` as `path` takes it: `{"pose": (x, y), "working_mode":
+    "++"}` (`working_mode`: the call's when it names none), `{"joints": (th1, th2)}`, or a plain
+    `(x, y)`: a pose, in the call's `working_mode`. InputError naming `which` (start or goal) else."""
+    from fivebar_cli.analyses.paths import Endpoint
+
+    kinds = [k for k in ("pose", "joints") if k in e] if isinstance(e, Mapping) else ["pose"]
+    value = (e[kinds[0]] if isinstance(e, Mapping) else e) if len(kinds) == 1 else None
+    try:
+        pair = () if isinstance(value, (str, bytes)) else tuple(float(v) for v in value)
+    except (TypeError, ValueError):
+        pair = ()
+    if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
+        raise InputError(str(source), param(which), f"expected (x, y), {{'pose': (x, y), 'working_mode': '++'}} "
+                         f"or {{'joints': (th1, th2)}}, got {e!r}")
+    if kinds[0] == "joints":
+        return Endpoint("joints", pair)
+    return Endpoint("pose", pair, e.get("working_mode", working_mode) if isinstance(e, Mapping) else working_mode)
 
 
 def check_serial(m: Mechanism, allow_serial: bool, source) -> None:

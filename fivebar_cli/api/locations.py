@@ -4,6 +4,7 @@ singularity-free motion joins each pair (`analyses.locate.decide`, the answer `p
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -148,14 +149,23 @@ def _where(row: dict, depth: int) -> str:
             + deeper(depth, MAX_ASPECT_DEPTH) + ")")
 
 
-def _points(value) -> list[tuple[float, ...]]:
-    """One point (x, y) or several [(x, y), ...] as a list of tuples (None: none)."""
+def _points(value, which: str, axes, source: str) -> list[tuple[float, ...]]:
+    """One point or several [(...), ...] as a list of tuples of finite numbers, one per axis of
+    `axes` (None: none); InputError naming `which` (pose, joints or legs) else."""
     import numpy as np
 
     if value is None:
         return []
-    a = np.asarray(value, dtype=float)
-    return [tuple(map(float, p)) for p in (a[None, :] if a.ndim == 1 else a)]
+    try:
+        a = None if isinstance(value, (str, bytes, Mapping)) else np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        a = None
+    if a is not None and a.ndim == 1:
+        a = a[None, :]
+    if a is None or a.ndim != 2 or a.shape[1] != len(axes) or not np.all(np.isfinite(a)):
+        names = ", ".join(axis.name for axis in axes)
+        raise InputError(str(source), param(which), f"expected ({names}) or a list of them, got {value!r}")
+    return [tuple(map(float, p)) for p in a]
 
 
 def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
@@ -194,9 +204,11 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     check_depth(depth, MAX_ASPECT_DEPTH)
     if legs is not None:
         raise InputError(source, param("legs"), f"{article(m.kind)} has no legs to give: give joints")
-    places = [("pose", p) for p in _points(pose)] + [("joints", j) for j in _points(joints)]
+    spaces = m.spaces()
+    places = ([("pose", p) for p in _points(pose, "pose", spaces["workspace"].axes, source)]
+              + [("joints", j) for j in _points(joints, "joints", spaces["jointspace"].axes, source)])
     if not places:
-        raise InputError(m.name, "pose", "give pose or joints (or both)")
+        raise InputError(source, param("pose"), "give pose or joints (or both)")
     from fivebar_cli.analyses.aspect_files import load_aspects
     from fivebar_cli.analyses.locate import aspect_of, configurations, row
 
@@ -241,7 +253,7 @@ def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_
     space = m.spaces()[model.space]
     sheets = working_sheets(m, working_mode)
     locations = [(kind, p) for kind, value in (("pose", pose), ("legs", legs), ("joints", joints))
-                 for p in _points(value)]
+                 for p in _points(value, kind, space.axes if kind == "pose" else model.joint_axes, source)]
     if not locations:
         raise InputError(source, param("pose"), "give pose, joints or legs (or several)")
     for kind, value in locations:  # bad input named before anything is computed

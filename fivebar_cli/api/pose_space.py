@@ -130,7 +130,7 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
         labels = (f"assembly mode {start}", f"assembly mode {goal}")
     else:
         sheet = motion_sheet(m, working_mode)
-        ends = [wrap_pose(space, np.asarray(p, float)) for p in (start, goal)]
+        ends = [wrap_pose(space, _pose(p, which, space, source)) for p, which in ((start, "start"), (goal, "goal"))]
         sheets = (sheet, sheet)
         labels = tuple(f"pose ({numbers(p)})" for p in (start, goal))
     saved = saved_pose_aspects(m, folder, depth)
@@ -143,3 +143,18 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
         notes.append(f"  aspect trees read from {folder}")
     return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
                  motion.length, motion, tuple(notes), Path(folder) if saved is not None else None, labels)
+
+
+def _pose(p, which: str, space, source: str):
+    """`path`'s endpoint `p` as a pose of `space` (finite numbers, one per axis); InputError naming
+    `which` (start or goal) else."""
+    import numpy as np
+
+    try:
+        pose = None if isinstance(p, (str, bytes, dict)) else np.asarray(p, float)
+    except (TypeError, ValueError):
+        pose = None
+    axes = ", ".join(a.name for a in space.axes)
+    if pose is None or pose.shape != (len(space.axes),) or not np.all(np.isfinite(pose)):
+        raise InputError(str(source), param(which), f"expected a pose ({axes}), got {p!r}")
+    return pose
