@@ -18,13 +18,15 @@ class FivebarError(Exception):
 
 
 class InputError(FivebarError, ValueError):
-    """Bad input (a file, a field, an option): `source: field: message`, exit status 2."""
+    """Bad input (a file, a field, an option): `source: field: message`, exit status 2 (no
+    source: a call's own parameter, `field: message`)."""
 
     exit_status = 2
 
     def __init__(self, source: str, field: str, message: str):
         self.source, self.field, self.message = source, field, message
-        super().__init__(Text(source, ": ", field, ": ", message) if field else Text(source, ": ", message))
+        parts = [part for part in (source, field) if part]
+        super().__init__(Text(*(piece for part in parts for piece in (part, ": ")), message))
 
     def __reduce__(self):  # (rebuilt from its three parts: it crosses from a worker process whole)
         return type(self), (self.source, self.field, self.message)

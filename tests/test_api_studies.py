@@ -135,6 +135,20 @@ def test_verify_is_the_command_as_a_value(tmp_path):
     (lambda: fb.kratio(["m1"], []), "`depths`"),
     (lambda: fb.path("m1", {"joints": (0, 1)}, {"joints": (1, 1)}, depth=17), "`depth`"),
     (lambda: fb.path("rpr2", {"pose": (0, 8)}, {"pose": (1, 7)}, allow_serial=True), "`allow_serial`"),
+    (lambda: fb.pave("m1", "workspace", 1.5), "`depth`"),  # (a float depth paved on without end)
+    (lambda: fb.pave("m1", "workspace", 21), "`depth`"),
+    (lambda: fb.refine(fb.pave("m1", "workspace", 4), 3), "`depth`"),
+    (lambda: fb.refine(fb.pave("m1", "workspace", 4), 5.0), "`depth`"),
+    (lambda: fb.aspects("m1", float("nan")), "`depth`"),
+    (lambda: fb.aspects("m1", 17), "`depth`"),
+    (lambda: fb.rpr3.pave("rpr3-general", 13), "`depth`"),
+    (lambda: fb.aspects("m1", 4, jobs=0), "`jobs`"),
+    (lambda: fb.aspects("m1", 4, jobs=-1), "`jobs`"),  # ("every core" elsewhere: never one process silently)
+    (lambda: fb.tolerance("m1", [0.01], 4, jobs=2.0), "`jobs`"),
+    (lambda: fb.rpr3.pave("rpr3-general", 2, jobs="2"), "`jobs`"),
+    (lambda: fb.atlas({"type": "fivebar-atlas", "name": "t", "depth": 3, "lengths": {"L0": 9, "L1": 8, "L2": 5,
+                                                                                   "L3": 5, "L4": 8}}, workers=-1),
+     "`workers`"),  # (a local cluster of -1 workers waited forever)
     (lambda: fb.locate("m1", depth=6), "`pose`"),
     (lambda: fb.locate("m1", pose=(4, 5, 6), depth=6), "`pose`"),
     (lambda: fb.locate("m1", pose=(4, float("nan")), depth=6), "`pose`"),
@@ -153,6 +167,14 @@ def test_bad_input_names_the_field(call, field):
     with pytest.raises(fb.InputError) as caught:
         call()
     assert caught.value.field == field
+
+
+def test_a_calls_own_parameter_is_named_without_a_source():
+    with pytest.raises(fb.InputError) as caught:
+        fb.aspects("m1", 4, jobs=0)
+    assert str(caught.value) == "`jobs`: must be an integer of at least 1 (None: one per core), got 0"
+    with pytest.raises(TypeError, match="aspects: expected what fb.aspects gives"):
+        fb.locate("m1", pose=(4, 5), aspects="m1-aspects")
 
 
 def test_docstring_examples_run():

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import itertools
 import multiprocessing
+import numbers
 import os
 import queue
 import shutil
@@ -41,6 +42,7 @@ from typing import Callable, Iterable, Iterator, TypeVar
 import numpy as np
 
 from fivebar_cli.analyses.pool import TURN, Pool, WorkerLost
+from fivebar_cli.errors import InputError, param
 from fivebar_cli.paving.engine import Paving
 from fivebar_cli.paving.tree import Tree
 
@@ -58,8 +60,12 @@ def default_jobs() -> int:
 
 
 def workers(jobs: int | None, tasks: int) -> int:
-    """How many processes `jobs` gives for this many tasks (1: run them in this process)."""
-    return max(1, min(default_jobs() if jobs is None else jobs, tasks))
+    """How many processes `jobs` gives for this many tasks (1: run them in this process); `jobs`
+    is None (one per core) or at least 1 (InputError: 0 or -1, "every core" in some libraries,
+    would otherwise run in one process without a word)."""
+    if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or jobs < 1):
+        raise InputError("", param("jobs"), f"must be an integer of at least 1 (None: one per core), got {jobs!r}")
+    return max(1, min(default_jobs() if jobs is None else int(jobs), tasks))
 
 
 def run_tasks(fn: Callable[[T], R], items: Iterable[T], jobs: int | None = 1,

@@ -7,6 +7,7 @@ MAX_DEPTH = 20  # one 2-D paving: beyond this the boundary cells alone need seve
 MAX_ASPECT_DEPTH = 16  # aspects pave six regions and label them: about 0.2 GiB at 14, x4 per two levels
 MAX_VERIFY_DEPTH = 17  # verify only splits what it cannot decide; 3 x 17 bits index an octree cell
 MAX_POSE_DEPTH = 9  # octree aspects: about 4x the time and memory per level (depth 8: 40 s, 0.7 GiB; 9: ~3 GiB)
+MAX_OCTREE_DEPTH = 12  # an octree's boundary surface has ~4^d cells: about 0.1 GiB per million
 MAX_PLANE_DEPTH = MAX_ASPECT_DEPTH  # quadtree aspects over poses (a single orientation): as the five-bar's
 
 

@@ -8,7 +8,7 @@ import math
 from collections.abc import Mapping
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, check_depth
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
@@ -113,6 +113,7 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     """
     from fivebar_cli.analyses import spaces
 
+    check_depth(depth, MAX_DEPTH)
     m = widened(_mechanism(mech), tolerance or 0.0, source_name(mech))
     if space not in m.spaces():
         raise InputError(m.name, "space", f"{space!r} is not a space of {article(m.kind)} "
@@ -135,14 +136,17 @@ def refine(paving, depth: int, *, advance=None) -> Paving:
     from fivebar_cli.analyses import spaces
     from fivebar_cli.paving import engine
 
+    check_depth(depth, MAX_DEPTH)
     if isinstance(paving, Paving):
+        if depth < paving.depth:
+            raise InputError(paving.mechanism.name, param("depth"), f"{depth} is below the paving's depth {paving.depth}")
         test = spaces._test(paving.mechanism, paving.space, paving.procedure, paving.region)
         p = engine.refine(paving.inside, paving.outside, test, depth, per_level(advance), paving.paving.band)
         return Paving(paving.mechanism, paving.space, depth, paving.procedure, paving.region, p,
                       paving.evaluations + p.evaluations)
     saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(paving)
     if depth < saved.inside.tree.grid.depth:
-        raise InputError(saved.source, "depth", f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
+        raise InputError(saved.source, param("depth"), f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
     p = spaces.refine_saved(saved, depth, per_level(advance))
     return Paving(saved.mechanism, saved.space, depth, saved.procedure, saved.region, p,
                   saved.evaluations + p.evaluations, saved.stem)
@@ -194,6 +198,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
         return Aspects(m, depth, analysis, found)
     from fivebar_cli.analyses.aspects import analyse_aspects, signs_text
 
+    check_depth(depth, MAX_ASPECT_DEPTH)
     analysis = analyse_aspects(m, depth, step, budget, shapes=shapes, jobs=jobs)
     fates, split, free = (), None, None
     if compare and m.is_interval:
@@ -324,8 +329,8 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
           tolerance: float | None = None, restart: bool = False, advance=None) -> Table:
     """An atlas of five-bar designs (the `fivebar-atlas` spec: a YAML file or a mapping): one row
     per design of the metrics of `atlas.csv`. The parts are kept in `folder` (a temporary folder
-    when None), so a run resumes; `workers` local Dask processes (0: in this process), or an
-    existing `scheduler` address."""
+    when None), so a run resumes; `workers` local Dask processes (0: in this process; None: one
+    per core), or an existing `scheduler` address."""
     import dataclasses
     import tempfile
     from contextlib import nullcontext
@@ -334,6 +339,9 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     from fivebar_cli.io.layout import ATLAS_CSV
     from fivebar_cli.analyses.atlas.spec import check_tolerance, parse_spec, read_spec
 
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
+        raise InputError("", param("workers"), f"must be an integer of at least 0 (0: in this process; None: one per "
+                         f"core), got {workers!r}")
     s = parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) else read_spec(spec)
     if depth is not None:
         s = dataclasses.replace(s, depth=depth)
@@ -349,11 +357,15 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
 
 
 def atlas_runner(workers: int | None, scheduler: str | None, needed: int):
-    """The context of an atlas runner: in this process, a local Dask cluster (no more workers than
-    the `needed` batches), or an existing one."""
+    """The context of an atlas runner: in this process, a local Dask cluster of `workers` processes
+    (None: one per core; no more than the `needed` batches), or an existing one."""
     from contextlib import nullcontext
 
     from fivebar_cli.analyses.atlas.engine import in_process
+    from fivebar_cli.analyses.jobs import default_jobs
+
+    if workers is None and scheduler is None:
+        workers = default_jobs()
 
     if scheduler is not None and needed:
         from fivebar_cli.analyses.atlas.cluster import existing_cluster

@@ -197,6 +197,8 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     >>> [(r["working_mode"], r["aspect"]) for r in fb.locate(fb.load("rpr2"), pose=(0, 8), depth=6).rows()]
     [('++', 1)]
     """
+    if aspects is not None and not isinstance(aspects, Aspects):
+        raise TypeError(f"aspects: expected what fb.aspects gives (Aspects), got {type(aspects).__name__}")
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
     if m.pose_aspect_model() is not None:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import os
 import time
 
 import click
@@ -19,14 +18,6 @@ from fivebar_cli.cli.options import (
 )
 from fivebar_cli.io.layout import ATLAS_CSV, ATLAS_PNG
 from fivebar_cli.io.outputs import output_set
-
-
-def default_workers() -> int:
-    """The cores this process may run on."""
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        return os.cpu_count() or 1
 
 
 @click.command(short_help="Sweep five-bar designs into an atlas of metrics (Dask, resumable).")
@@ -80,7 +71,6 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
         spec = dataclasses.replace(spec, tolerance=check_tolerance(tolerance, spec.grid, str(spec_path), param("tolerance")))
     folder = prepare_out(out, spec.name)
     plan = plan_atlas(spec, folder, restart)
-    workers = default_workers() if workers is None and scheduler is None else workers
     robust = f", tolerance {spec.tolerance:g}" if spec.tolerance > 0 else ""
     report(quiet, f"{spec.name}: {plural(spec.size, 'design')} at depth {spec.depth}{robust}, "
            f"{plural(plan.batches, 'batch', 'batches')} of {spec.batch_size}: {plan.batches - len(plan.todo)} done "

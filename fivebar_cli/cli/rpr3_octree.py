@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from fivebar_cli.api import rpr3 as api
-from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH
+from fivebar_cli.analyses.limits import MAX_OCTREE_DEPTH, MAX_VERIFY_DEPTH
 from fivebar_cli.cli.options import (
     common_options, figure, jobs_option, option_errors, prepare_out, progress, report, save_files, wrote,
 )
@@ -17,7 +17,6 @@ from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, VERIFY_CSV, VERIFY_FILES
 from fivebar_cli.io.outputs import output_set
 
 CONFIG = click.Path(path_type=Path)
-MAX_OCTREE_DEPTH = 12  # an octree's boundary surface has ~4^d cells: about 0.1 GiB per million
 
 
 @click.command("pave", short_help="Certified octree of the workspace and its singularity-free parts.")
