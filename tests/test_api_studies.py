@@ -142,6 +142,8 @@ def test_verify_is_the_command_as_a_value(tmp_path):
     (lambda: fb.aspects("m1", float("nan")), "`depth`"),
     (lambda: fb.aspects("m1", 17), "`depth`"),
     (lambda: fb.rpr3.pave("rpr3-general", 13), "`depth`"),
+    (lambda: fb.rpr3.verify("rpr3-verify/table1-legs-1-1.5", 18), "`depth`"),
+    (lambda: fb.rpr3.verify("rpr3-verify/table1-legs-1-1.5", 2.5), "`depth`"),
     (lambda: fb.aspects("m1", 4, jobs=0), "`jobs`"),
     (lambda: fb.aspects("m1", 4, jobs=-1), "`jobs`"),  # ("every core" elsewhere: never one process silently)
     (lambda: fb.tolerance("m1", [0.01], 4, jobs=2.0), "`jobs`"),

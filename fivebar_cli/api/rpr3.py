@@ -492,9 +492,11 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
     >>> fb.rpr3.verify("rpr3-verify/table1-legs-1-1.5").rows()[0]["status"]
     'certified singularity-free'
     """
+    from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
     from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify as run
     from fivebar_cli.api.calls import per_level
 
+    check_depth(depth, MAX_VERIFY_DEPTH)
     m = bounded(mech)
     result = run(m, depth, on_level=per_level(advance))
     a, b = m.leg_limits()
