@@ -151,6 +151,12 @@ def test_verify_is_the_command_as_a_value(tmp_path):
     (lambda: fb.atlas({"type": "fivebar-atlas", "name": "t", "depth": 3, "lengths": {"L0": 9, "L1": 8, "L2": 5,
                                                                                    "L3": 5, "L4": 8}}, workers=-1),
      "`workers`"),  # (a local cluster of -1 workers waited forever)
+    (lambda: fb.atlas({"type": "fivebar-atlas", "name": "t", "depth": 3, "lengths": {"L0": 9, "L1": 8, "L2": 5,
+                                                                                   "L3": 5, "L4": 8}}, depth=17),
+     "`depth`"),
+    (lambda: fb.atlas({"type": "fivebar-atlas", "name": "t", "depth": 3, "lengths": {"L0": 9, "L1": 8, "L2": 5,
+                                                                                   "L3": 5, "L4": 8}}, tolerance=5),
+     "`tolerance`"),
     (lambda: fb.locate("m1", depth=6), "`pose`"),
     (lambda: fb.locate("m1", pose=(4, 5, 6), depth=6), "`pose`"),
     (lambda: fb.locate("m1", pose=(4, float("nan")), depth=6), "`pose`"),

@@ -331,22 +331,16 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     per design of the metrics of `atlas.csv`. The parts are kept in `folder` (a temporary folder
     when None), so a run resumes; `workers` local Dask processes (0: in this process; None: one
     per core), or an existing `scheduler` address."""
-    import dataclasses
     import tempfile
     from contextlib import nullcontext
 
     from fivebar_cli.analyses.atlas.engine import compute_plan, plan_atlas
     from fivebar_cli.io.layout import ATLAS_CSV
-    from fivebar_cli.analyses.atlas.spec import check_tolerance, parse_spec, read_spec
 
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
         raise InputError("", param("workers"), f"must be an integer of at least 0 (0: in this process; None: one per "
                          f"core), got {workers!r}")
-    s = parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) else read_spec(spec)
-    if depth is not None:
-        s = dataclasses.replace(s, depth=depth)
-    if tolerance is not None:
-        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, s.name, param("tolerance")))
+    s = atlas_spec(spec, depth, tolerance)
     with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
         plan = plan_atlas(s, Path(where), restart)
         with atlas_runner(workers, scheduler, len(plan.todo)) as runner:
@@ -354,6 +348,24 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
         path, table = plan.parts.assemble(Path(where) / ATLAS_CSV)
     columns = tuple(table)
     return Table(f"Atlas {s.name}", columns, tuple(zip(*(table[c] for c in columns))))
+
+
+def atlas_spec(spec, depth: int | None = None, tolerance: float | None = None):
+    """An atlas spec (`fivebar-atlas`: a YAML file or a mapping) with `depth` and `tolerance`, when
+    given, in place of its own; InputError for a depth out of range or a tolerance that would make
+    a length reach 0."""
+    import dataclasses
+
+    from fivebar_cli.analyses.atlas.spec import check_tolerance, parse_spec, read_spec
+
+    s = parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) else read_spec(spec)
+    if depth is not None:
+        check_depth(depth, MAX_ASPECT_DEPTH)
+        s = dataclasses.replace(s, depth=depth)
+    if tolerance is not None:
+        source = s.name if isinstance(spec, Mapping) else str(spec)
+        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, source, param("tolerance")))
+    return s
 
 
 def atlas_runner(workers: int | None, scheduler: str | None, needed: int):

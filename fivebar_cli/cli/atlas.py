@@ -2,16 +2,13 @@
 
 from __future__ import annotations
 
-import dataclasses
 import time
 
 import click
 
 from fivebar_cli.analyses.atlas.engine import compute_plan, in_process, plan_atlas
-from fivebar_cli.api.calls import atlas_runner
+from fivebar_cli.api.calls import atlas_runner, atlas_spec
 from fivebar_cli.analyses.atlas.cluster import check_address
-from fivebar_cli.analyses.atlas.spec import check_tolerance, read_spec
-from fivebar_cli.errors import param
 from fivebar_cli.cli.numbers import Number
 from fivebar_cli.cli.options import (
     CONFIG, MAX_ASPECT_DEPTH, common_options, figure, option_errors, plural, prepare_out, progress, report, wrote,
@@ -64,11 +61,7 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
         raise click.UsageError("give --workers or --scheduler, not both")
     if scheduler is not None:
         scheduler = check_address(scheduler)
-    spec = read_spec(spec_path)
-    if depth is not None:
-        spec = dataclasses.replace(spec, depth=depth)
-    if tolerance is not None:
-        spec = dataclasses.replace(spec, tolerance=check_tolerance(tolerance, spec.grid, str(spec_path), param("tolerance")))
+    spec = atlas_spec(spec_path, depth, tolerance)
     folder = prepare_out(out, spec.name)
     plan = plan_atlas(spec, folder, restart)
     robust = f", tolerance {spec.tolerance:g}" if spec.tolerance > 0 else ""
