@@ -76,3 +76,23 @@ def test_reproduce_reads_the_shipped_examples_outside_the_repository(tmp_path, m
     assert f"fivebar rpr3 area {shipped.as_posix()}/rpr3-equilateral.yaml" in result.stdout
     assert (tmp_path / "out" / "rpr3-equilateral" / "area.csv").read_bytes() == \
         (REPO / "tests" / "golden" / "rpr3-equilateral" / "area.csv").read_bytes()
+
+
+def test_commands_take_an_examples_name_where_no_such_file_exists(tmp_path):
+    """`fivebar aspects rpr3-caro` from any folder is `fivebar aspects .../rpr3-caro.yaml` (the
+    pose-space command: the name is resolved before the kind is read; it went to the five-bar's
+    command and failed with an internal error), `fivebar workspace m1` likewise (it said "no such
+    file"); a file of that name in the folder comes first."""
+    configs = REPO / "configs"
+    for by_name, by_file, name in [
+        (("aspects", "rpr3-caro", "--depth", "3"), ("aspects", configs / "rpr3-caro.yaml", "--depth", "3"), "aspects.csv"),
+        (("workspace", "m1", "--depth", "5"), ("workspace", configs / "m1.yaml", "--depth", "5"), "workspace.qt"),
+        (("dkp", "rpr3-caro", "--joints", "14.98", "15.38", "12", "--depth", "3"),
+         ("dkp", configs / "rpr3-caro.yaml", "--joints", "14.98", "15.38", "12", "--depth", "3"), "dkp.csv"),
+    ]:
+        ok(run_cli(*by_name, "-o", "name", "--no-plot", "-q", cwd=tmp_path))
+        ok(run_cli(*by_file, "-o", "file", "--no-plot", "-q", cwd=tmp_path))
+        assert (tmp_path / "name" / name).read_bytes() == (tmp_path / "file" / name).read_bytes()
+    shutil.copy(configs / "m2.yaml", tmp_path / "m1")  # a file named m1 here: it is the one read
+    ok(run_cli("workspace", "m1", "--depth", "5", "-o", "local", "--no-plot", "-q", cwd=tmp_path))
+    assert "M2" in (tmp_path / "local" / "workspace.qt").read_text().split("\n", 3)[1]

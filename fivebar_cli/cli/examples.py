@@ -19,8 +19,10 @@ def examples(copy_to, quiet):
     """The mechanisms of both papers, shipped with the package (the repository's configs/): M1 and
     M2 (five-bars), with joint limits and an obstacle, the 3-RPR designs, the 2-RPR and the atlas
     specs. Prints each example's name and file; with --copy DIR, copies them into DIR (files of
-    the same name are replaced). They work from any folder after a plain `pip install`: in
-    Python, `fivebar_cli.load("m1")`; `fivebar reproduce` uses them when ./configs does not exist.
+    the same name are replaced). They work from any folder after a plain `pip install`: every
+    command takes an example's name for its CONFIG (`fivebar aspects m1`; a file of that name in
+    the folder comes first); in Python, `fivebar_cli.load("m1")`; `fivebar reproduce` uses them
+    when ./configs does not exist.
 
     \b
     Examples:

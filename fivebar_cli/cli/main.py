@@ -98,6 +98,9 @@ def cli() -> None:
       fivebar verify configs/rrr3-symmetric.yaml --working-mode +-+ -o out/rrr3-symmetric  # exit 1: a singular pose
       fivebar view out/m1
       fivebar reproduce -o out/check --no-plot
+
+    A CONFIG is a mechanism file (YAML), or the name of a shipped example where no such file
+    exists (`fivebar examples` lists them): `fivebar aspects m1 --depth 10` from any folder.
     """
 
 

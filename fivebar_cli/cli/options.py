@@ -21,7 +21,20 @@ from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
 
 
-CONFIG = click.Path(path_type=Path, dir_okay=False)
+class ConfigPath(click.Path):
+    """A mechanism file (YAML), or where no such file exists the name of a shipped example
+    (`fivebar examples`: `fivebar aspects m1` after a plain `pip install`), as `fb.load` takes
+    it. Resolved here, before a command looks at the file: `cli/dispatch.py` reads its kind."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and value and not Path(value).exists():
+            from fivebar_cli.api.calls import examples
+
+            value = str(examples().get(value, value))
+        return super().convert(value, param, ctx)
+
+
+CONFIG = ConfigPath(path_type=Path, dir_okay=False)
 STDOUT = "-"  # `-o -`: a single-file output written to standard output
 STDOUT_META = "fivebar.data_on_stdout"  # click context meta: the report then goes to standard error
 

@@ -18,11 +18,10 @@ from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH
 from fivebar_cli.analyses.pose_aspects import working_sheets
 from fivebar_cli.api.pose_space import DEFAULT_POSE_DEPTH, pose_mechanism
 from fivebar_cli.cli.numbers import NUMBER
-from fivebar_cli.cli.options import budget_option, option_errors
+from fivebar_cli.cli.options import CONFIG, budget_option, option_errors  # noqa: F401 - CONFIG: the pose commands
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import load_config
 
-CONFIG = click.Path(path_type=Path, dir_okay=False)
 
 
 def load_pose_kind(config_path, poses: bool = False, depth: int | None = None) -> Mechanism:

@@ -11,13 +11,12 @@ import click
 from fivebar_cli.api import rpr3 as api
 from fivebar_cli.cli.numbers import NUMBER
 from fivebar_cli.cli.options import (
-    common_options, data_on_stdout, figure, option_errors, prepare_out, progress, report, wrote,
+    CONFIG, common_options, data_on_stdout, figure, option_errors, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.io.files import csv_text, write_csv
 from fivebar_cli.io.layout import AREA_CSV, AREA_FILES, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, sweep_files
 from fivebar_cli.io.outputs import output_set
 
-CONFIG = click.Path(path_type=Path)
 
 
 def save_study(folder: Path, name: str, files, command: str, table, study, no_plot: bool, extra=()) -> list[Path]:

@@ -10,13 +10,12 @@ import click
 from fivebar_cli.api import rpr3 as api
 from fivebar_cli.analyses.limits import MAX_OCTREE_DEPTH, MAX_VERIFY_DEPTH
 from fivebar_cli.cli.options import (
-    common_options, figure, jobs_option, option_errors, prepare_out, progress, report, save_files, wrote,
+    CONFIG, common_options, figure, jobs_option, option_errors, prepare_out, progress, report, save_files, wrote,
 )
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, VERIFY_CSV, VERIFY_FILES
 from fivebar_cli.io.outputs import output_set
 
-CONFIG = click.Path(path_type=Path)
 
 
 @click.command("pave", short_help="Certified octree of the workspace and its singularity-free parts.")
