@@ -329,3 +329,12 @@ def test_fate_verdicts():
     assert fate_text(Fate(3, (), 1.5, 0.0)) == "vanishes (no robust cell at this depth)"
     assert fate_text(Fate(3, (4, 5), 1.5, 1.0)) == "splits into robust aspects 4, 5"
     assert fate_text(Fate(3, (4,), 2.0, 1.0)) == "shrinks to 50% (robust aspect 4)"
+
+
+def test_a_depth_too_small_for_any_aspect_draws_its_figures_without_a_warning(tmp_path):
+    """At depth 1 no aspect is found: the aspects' figure has no curve, and no legend (matplotlib
+    warned "No artists with labels found" on stderr)."""
+    r = ok(run_cli("tolerance", M1_YAML, "--tolerances", "0,0.1", "--depth", 1, "-o", tmp_path, "-q"))
+    assert r.stderr == ""
+    assert {row["region"] for row in csv_rows(tmp_path / "tolerance.csv")} == {"workspace", "jointspace"}  # no aspect
+    assert (tmp_path / "tolerance-aspects.png").read_bytes().startswith(b"\x89PNG")

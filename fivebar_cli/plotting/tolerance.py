@@ -49,7 +49,8 @@ def figure_aspect_areas(study):
     ax.set_ylabel("robust workspace area / nominal")
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=7, ncol=2)
+    if study.nominal.aspects:  # (none found at a small depth: no legend, not matplotlib's warning)
+        ax.legend(fontsize=7, ncol=2)
     ax.set_title(f"{study.mechanism.name}: aspects under tolerances (depth {study.depth})", fontsize=10)
     fig.tight_layout()
     return fig
