@@ -135,6 +135,27 @@ def test_rpr2_and_3rpr(tmp_path):
     assert where["aspect"] == caro[1].number and where["class"] == caro[1].modes
 
 
+@pytest.mark.parametrize("name, depth", [("rpr2", 5), ("rpr3-caro", 3)])
+def test_aspects_save_with_figures_writes_the_commands_files(tmp_path, name, depth):
+    """`save(folder, figures=True)` writes the files `fivebar aspects` writes, figures included, the
+    same bytes (a title naming a parameter spells it as Python does: `depth`, not --depth); on the
+    backend in use (a figure drawn by the library never switches it)."""
+    import matplotlib
+
+    backend = matplotlib.get_backend()
+    a = fb.aspects(name, depth)
+    written = a.save(tmp_path / "api", figures=True)
+    assert matplotlib.get_backend() == backend
+    ok(run_cli("aspects", REPO / "configs" / f"{name}.yaml", "--depth", depth, "-o", tmp_path / "cli", "-q"))
+    files = sorted(p.relative_to(tmp_path / "cli") for p in (tmp_path / "cli").rglob("*") if p.is_file()
+                   and ".fivebar" not in p.parts)
+    assert sorted(p.relative_to(tmp_path / "api") for p in written) == files
+    assert sum(f.suffix == ".png" for f in files) >= 2
+    for f in files:
+        if f.suffix != ".png" or type(a.headline) is str:
+            assert (tmp_path / "api" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
+
+
 def test_rpr3_studies_equal_the_golden_tables():
     """(The synthesis is `fivebar rpr3 synthesize`'s one call: its golden table is tested through it.)"""
     area = fb.rpr3.area("rpr3-equilateral")

@@ -315,24 +315,49 @@ class Aspects:
             from fivebar_cli.analyses.aspect_files import aspect_header, aspect_rows
         return _rows(aspect_header(self.mechanism), aspect_rows(self.analysis))
 
-    def save(self, folder: str | Path) -> list[Path]:
-        """The files `fivebar aspects` writes (without figures): aspects.csv, the adjacency table,
-        the aspect trees (and GeoJSON, or PLY surfaces for octrees)."""
+    def save(self, folder: str | Path, figures: bool = False, jobs: int | None = 1) -> list[Path]:
+        """The files `fivebar aspects` writes: aspects.csv, the adjacency table, the aspect trees
+        (and GeoJSON, or PLY surfaces for octrees), with `figures` its figures too (on the backend
+        in use); the aspects' files made on `jobs` processes (the same bytes for any)."""
         from fivebar_cli.analyses.aspect_files import aspect_set
 
         with aspect_set(Path(folder)):
-            return self.write(Path(folder))
+            return self.write(Path(folder), jobs, figures)
 
-    def write(self, folder: Path, jobs: int | None = 1) -> list[Path]:
-        """The files, inside an output set the caller opened (the command adds its figures to it);
-        the aspects' files are made on `jobs` processes (the same bytes for any)."""
+    def write(self, folder: Path, jobs: int | None = 1, figures: bool = False, spelled=str) -> list[Path]:
+        """`save`'s files, inside an output set the caller opened; `spelled(text)`: a text as the
+        figures' titles write it (the command line: the parameters it names as its options)."""
         from fivebar_cli.analyses.aspect_files import write_aspects
         from fivebar_cli.analyses.aspect_split import write_split
         from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
 
         if self._pose_kind():
-            return write_pose_aspects(folder, self.analysis)
-        return write_aspects(folder, self.analysis, jobs) + write_split(folder, None if self.split is None else list(self.split))
+            paths = write_pose_aspects(folder, self.analysis)
+        else:
+            paths = write_aspects(folder, self.analysis, jobs) + write_split(folder, None if self.split is None
+                                                                             else list(self.split))
+        return paths + (self._figures(folder, spelled) if figures else [])
+
+    def _figures(self, folder: Path, spelled) -> list[Path]:
+        """A five-bar's or 2-RPR's workspace figure (every aspect, its largest circle and square)
+        and one joint-space figure per assembly mode; over poses, the slices and the map."""
+        from fivebar_cli.io.layout import ASPECTS_MAP_PNG, ASPECTS_SLICES_PNG, ASPECTS_WORKSPACE_PNG
+        from fivebar_cli.io.layout import aspects_jointspace_figure
+        from fivebar_cli.plotting.saving import draw_and_save
+
+        a = self.analysis
+        if self._pose_kind():
+            from fivebar_cli.plotting.pose_aspects import figure_aspect_map, figure_aspect_slices
+
+            headline = spelled(self.headline)
+            return [draw_and_save(lambda: figure_aspect_slices(a, headline), folder / ASPECTS_SLICES_PNG),
+                    draw_and_save(lambda: figure_aspect_map(a, headline), folder / ASPECTS_MAP_PNG)]
+        from fivebar_cli.analyses.aspects import signs_text
+        from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
+
+        return [draw_and_save(lambda: figure_aspects_workspace(a), folder / ASPECTS_WORKSPACE_PNG),
+                *(draw_and_save(lambda: figure_aspects_jointspace(a, am), folder / aspects_jointspace_figure(signs_text(am)))
+                  for am in a.model.assembly_modes)]
 
     def plot(self, ax=None):
         """Every aspect's certified workspace cells in its colour, with its number (a 3-D space: the

@@ -5,14 +5,13 @@ from __future__ import annotations
 import click
 
 from fivebar_cli.analyses.aspect_files import aspect_set
-from fivebar_cli.analyses.aspects import region_count, signs_text
+from fivebar_cli.analyses.aspects import region_count
 from fivebar_cli.api.calls import aspects as find_aspects
 from fivebar_cli.api.calls import comparisons
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, budget_option, common_options, depth_option, figure, jobs_option, load_with_aspects,
+    CONFIG, MAX_ASPECT_DEPTH, budget_option, common_options, depth_option, jobs_option, load_with_aspects, offscreen,
     option_errors, prepare_out, progress, report, tolerance_option, wrote,
 )
-from fivebar_cli.io.layout import ASPECTS_WORKSPACE_PNG, aspects_jointspace_figure
 
 
 @click.command(short_help="Generalized aspects, their matching and crossings (figs. 7-10).")
@@ -62,16 +61,10 @@ def aspects(config_path, depth, budget, tolerance, jobs, out, no_plot, quiet):
     robust = m.is_interval
     with progress(quiet, region_count(m) * comparisons(m) + 1, f"aspects depth {depth}") as advance:
         result = find_aspects(m, depth, budget=budget, compare=True, advance=advance, jobs=jobs)
-    analysis = result.analysis
+    if not no_plot:
+        offscreen()
     with aspect_set(folder):
-        paths = result.write(folder, jobs)
-        if not no_plot:
-            from fivebar_cli.plotting.aspects import figure_aspects_jointspace, figure_aspects_workspace
-
-            paths.append(figure(lambda: figure_aspects_workspace(analysis), folder / ASPECTS_WORKSPACE_PNG))
-            for am in analysis.model.assembly_modes:
-                paths.append(figure(lambda: figure_aspects_jointspace(analysis, am),
-                                    folder / aspects_jointspace_figure(signs_text(am))))
+        paths = result.write(folder, jobs, figures=not no_plot)
     report(quiet, result.headline)
     for line in result.lines():
         report(quiet, line)

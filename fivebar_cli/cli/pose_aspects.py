@@ -8,10 +8,9 @@ import click
 from fivebar_cli.analyses.aspect_files import aspect_set
 from fivebar_cli.api.calls import aspects as fb_aspects
 from fivebar_cli.cli.options import (
-    as_flags, common_options, figure, jobs_option, option_errors, prepare_out, progress, report, wrote,
+    as_flags, common_options, jobs_option, offscreen, option_errors, prepare_out, progress, report, wrote,
 )
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_budget_option, pose_depth_option
-from fivebar_cli.io.layout import ASPECTS_MAP_PNG, ASPECTS_SLICES_PNG
 
 
 @click.command("aspects", short_help="Generalized aspects over a space of poses, with a certified count.")
@@ -50,15 +49,10 @@ def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
     folder = prepare_out(out, m.name)
     with progress(quiet, len(m.pose_aspect_model().classes) + 1, f"aspects depth {depth}") as advance:
         result = fb_aspects(m, depth, budget=budget, advance=advance, jobs=jobs)
-    analysis = result.analysis
+    if not no_plot:
+        offscreen()
     with aspect_set(folder):
-        paths = result.write(folder)
-        if not no_plot:
-            from fivebar_cli.plotting.pose_aspects import figure_aspect_map, figure_aspect_slices
-
-            headline = as_flags(result.headline)
-            paths.append(figure(lambda: figure_aspect_slices(analysis, headline), folder / ASPECTS_SLICES_PNG))
-            paths.append(figure(lambda: figure_aspect_map(analysis, headline), folder / ASPECTS_MAP_PNG))
+        paths = result.write(folder, figures=not no_plot, spelled=as_flags)
     report(quiet, result.headline)
     for line in result.lines():
         report(quiet, line)
