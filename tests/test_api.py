@@ -156,6 +156,22 @@ def test_aspects_save_with_figures_writes_the_commands_files(tmp_path, name, dep
             assert (tmp_path / "api" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
 
 
+def test_rpr3_studies_save_the_commands_files(tmp_path):
+    """`save(folder, figures=True)` of a 3-RPR study writes what its command writes, the same bytes
+    (its output set's manifest too), the singular pose found by `verify` included."""
+    for k, (study, args) in enumerate([(fb.rpr3.area("rpr3-equilateral"), ("area", "rpr3-equilateral")),
+                                       (fb.rpr3.verify("rpr3-verify/obtuse-phi1-rule"),
+                                        ("verify", "rpr3-verify/obtuse-phi1-rule"))]):
+        written = study.save(tmp_path / f"api{k}", figures=True)
+        assert run_cli("rpr3", *args, "-o", tmp_path / f"cli{k}", "-q").status == study.rows()[0].get("exit", 0)
+        files = sorted(p.relative_to(tmp_path / f"cli{k}") for p in (tmp_path / f"cli{k}").rglob("*") if p.is_file())
+        assert sorted(p.relative_to(tmp_path / f"api{k}") for p in written) == [f for f in files if f.parent.name != ".fivebar"]
+        assert any(f.suffix == ".png" for f in files) and any(f.parent.name == ".fivebar" for f in files)
+        for f in files:
+            assert (tmp_path / f"api{k}" / f).read_bytes() == (tmp_path / f"cli{k}" / f).read_bytes(), f
+    assert "counterexample.csv" in {p.name for p in written}
+
+
 def test_rpr3_studies_equal_the_golden_tables():
     """(The synthesis is `fivebar rpr3 synthesize`'s one call: its golden table is tested through it.)"""
     area = fb.rpr3.area("rpr3-equilateral")

@@ -14,7 +14,10 @@ import numpy as np
 
 from fivebar_cli.api.values import Table
 from fivebar_cli.errors import InputError
-from fivebar_cli.io.layout import AREA_FILES, COUNTEREXAMPLE_PNG, SYNTHESIS_FILES
+from fivebar_cli.io.layout import (
+    AREA_CSV, AREA_FILES, COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, VERIFY_CSV,
+    VERIFY_FILES,
+)
 
 AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
 SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n")
@@ -25,9 +28,23 @@ DEFAULT_ANGLES = (30.0, 60.0, 90.0, 120.0, 150.0)
 
 @dataclass(frozen=True, repr=False)
 class Study(Table):
-    """A table with the lines the command prints (`notes`) and its figures (`drawings`: (file, make))."""
+    """A table with the lines the command prints (`notes`), its figures (`drawings`: (file, make))
+    and where `save` writes them as the command does (`output`: the output set's name, the
+    patterns it owns, the command, the table's file name)."""
 
     drawings: tuple = field(default=(), compare=False)
+    output: tuple = field(default=(), compare=False)
+
+    def tables(self) -> list[tuple]:
+        """The CSVs the command writes: (file name, columns, data), this table's first."""
+        return [(self.output[-1], self.columns, self.data)]
+
+    def save(self, folder, figures: bool = False) -> list:
+        """The command's files in `folder` as one output set (not `Table.save`'s one CSV file): its
+        CSVs and, with `figures`, its PNG figures (drawn on the backend in use)."""
+        from fivebar_cli.api.values import save_command_files
+
+        return save_command_files(folder, self.output[:-1], self.tables(), self.drawings, figures)
 
 
 def similar(mech):
@@ -96,8 +113,8 @@ def area(mech) -> Study:
         title = f"{m.name}: singularity-free workspace, k = {m.k:g}, phi = {', '.join(f'{p:g}' for p in phis)} deg"
         return construction(m, phis, m.rho_min, rho_max, title)
 
-    return Study(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
-                 ((AREA_FILES[1], construction_figure),))
+    return Study(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes), ((AREA_FILES[1], construction_figure),),
+                 ("rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV))
 
 
 # ---------------------------------------------------------------- sweeps
@@ -123,8 +140,9 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
     check_span(span)
     run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
     header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
-    return Study(f"Sweep over {over}", tuple(header), tuple(rows), tuple(notes),
-                 tuple(zip(sweep_files(over)[1:], drawings)))
+    files = sweep_files(over)
+    return Study(f"Sweep over {over}", tuple(header), tuple(rows), tuple(notes), tuple(zip(files[1:], drawings)),
+                 (f"rpr3-sweep-{over}", files, f"fivebar rpr3 sweep --over {over}", files[0]))
 
 
 def check_span(span) -> None:
@@ -291,8 +309,9 @@ def synthesize(mech) -> Study:
     else:
         notes.append(f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
                      f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
-    return Synthesis(f"Synthesis {m.name}", SYNTHESIS_HEADER, rows, tuple(notes),
-                     _synthesis_drawings(m, cases), comparison, len(before))
+    return Synthesis(f"Synthesis {m.name}", SYNTHESIS_HEADER, rows, tuple(notes), _synthesis_drawings(m, cases),
+                     ("rpr3-synthesize", SYNTHESIS_FILES, "fivebar rpr3 synthesize", SYNTHESIS_CSV), comparison,
+                     len(before))
 
 
 @dataclass(frozen=True, repr=False)
@@ -302,6 +321,11 @@ class Synthesis(Study):
 
     comparison: Table | None = None
     printed: int = 0
+
+    def tables(self) -> list[tuple]:
+        """synthesis.csv, and the paper's Table 1 beside ours on its setup."""
+        extra = [] if self.comparison is None else [(TABLE1_CSV, self.comparison.columns, self.comparison.data)]
+        return super().tables() + extra
 
 
 def _synthesis_drawings(m, cases) -> tuple:
@@ -522,7 +546,8 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
         notes.append("  " + result.undecided_line())
     row = (m.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
            result.undecided_volume, result.root_volume)
-    return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes), drawings, result, counterexample)
+    return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes), drawings,
+                        ("rpr3-verify", VERIFY_FILES, "fivebar rpr3 verify", VERIFY_CSV), result, counterexample)
 
 
 @dataclass(frozen=True, repr=False)
@@ -532,6 +557,13 @@ class Verification(Study):
 
     result: object = field(default=None, compare=False)
     counterexample: Table | None = None
+
+    def tables(self) -> list[tuple]:
+        """verify.csv, and the singular pose found (a counterexample of an earlier run is removed
+        when none is found: the set owns it)."""
+        extra = [] if self.counterexample is None else [(COUNTEREXAMPLE_CSV, self.counterexample.columns,
+                                                         self.counterexample.data)]
+        return super().tables() + extra
 
     @property
     def status(self) -> str:

@@ -65,18 +65,11 @@ class Report:
     def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
         """The command's files in `folder` as one output set: the CSVs and, with `figures`, its PNG
         figures (drawn on the backend in use); returns the paths written."""
-        from fivebar_cli.io.files import write_csv
-        from fivebar_cli.io.outputs import output_set
-        from fivebar_cli.plotting.saving import draw_and_save
+        from fivebar_cli.api.values import save_command_files
 
-        folder = Path(folder)
-        name, owns, command, table = self.output
-        with output_set(folder, name, owns, command):
-            paths = [write_csv(folder / table, self.columns, self.data)]
-            paths += [write_csv(folder / file, columns, data) for file, columns, data in self.tables]
-            if figures:
-                paths += [draw_and_save(make, folder / file) for file, make in self.drawings]
-        return paths
+        *output, table = self.output
+        return save_command_files(folder, tuple(output), [(table, self.columns, self.data), *self.tables],
+                                  self.drawings, figures)
 
 
 # ---------------------------------------------------------------- tolerance

@@ -29,6 +29,22 @@ def axes_of(ax):
     return plt.subplots()[1]
 
 
+def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool = False) -> list[Path]:
+    """A command's files in `folder` as one output set (`output`: its name, the patterns it owns,
+    the command): its tables as CSV ((file name, columns, data) each) and, with `figures`, its
+    figures ((file name, make) each, drawn on the backend in use); returns the paths written."""
+    from fivebar_cli.io.files import write_csv
+    from fivebar_cli.io.outputs import output_set
+    from fivebar_cli.plotting.saving import draw_and_save
+
+    folder = Path(folder)
+    with output_set(folder, *output):
+        paths = [write_csv(folder / file, columns, data) for file, columns, data in tables]
+        if figures:
+            paths += [draw_and_save(make, folder / file) for file, make in drawings]
+    return paths
+
+
 def _rows(header, rows) -> list[dict]:
     return [dict(zip(header, row)) for row in rows]
 

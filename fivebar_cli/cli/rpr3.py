@@ -11,22 +11,10 @@ import click
 from fivebar_cli.api import rpr3 as api
 from fivebar_cli.cli.numbers import NUMBER
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, data_on_stdout, figure, option_errors, prepare_out, progress, report, wrote,
+    CONFIG, common_options, data_on_stdout, option_errors, prepare_out, progress, report, save_files, wrote,
 )
-from fivebar_cli.io.files import csv_text, write_csv
-from fivebar_cli.io.layout import AREA_CSV, AREA_FILES, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, sweep_files
-from fivebar_cli.io.outputs import output_set
-
-
-
-def save_study(folder: Path, name: str, files, command: str, table, study, no_plot: bool, extra=()) -> list[Path]:
-    """A study's table and (unless --no-plot) its figures, as one output set."""
-    with output_set(folder, name, files, command):
-        paths = [write_csv(folder / table, study.columns, study.data)]
-        paths += [write_csv(folder / file, t.columns, t.data) for file, t in extra]
-        if not no_plot:
-            paths += [figure(make, folder / file) for file, make in study.drawings]
-    return paths
+from fivebar_cli.io.files import csv_text
+from fivebar_cli.io.layout import AREA_CSV
 
 
 @click.group()
@@ -74,7 +62,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
     if stdout:
         click.echo(csv_text(study.columns, study.data), nl=False)
         return
-    wrote(quiet, save_study(folder, "rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV, study, no_plot))
+    wrote(quiet, save_files(study, folder, no_plot))
 
 
 # ---------------------------------------------------------------- sweeps
@@ -121,8 +109,7 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
     if stdout:
         click.echo(csv_text(study.columns, study.data), nl=False)
         return
-    wrote(quiet, save_study(folder, f"rpr3-sweep-{over}", sweep_files(over), f"fivebar rpr3 sweep --over {over}",
-                            sweep_files(over)[0], study, no_plot))
+    wrote(quiet, save_files(study, folder, no_plot))
 
 
 # ---------------------------------------------------------------- synthesis
@@ -152,6 +139,4 @@ def synthesize_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -
     folder = prepare_out(out, mech.name)
     for line in study.notes[study.printed:]:
         report(quiet, line)
-    extra = [(TABLE1_CSV, study.comparison)] if study.comparison is not None else []
-    wrote(quiet, save_study(folder, "rpr3-synthesize", SYNTHESIS_FILES, "fivebar rpr3 synthesize", SYNTHESIS_CSV,
-                            study, no_plot, extra))
+    wrote(quiet, save_files(study, folder, no_plot))

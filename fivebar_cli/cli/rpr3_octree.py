@@ -10,11 +10,8 @@ import click
 from fivebar_cli.api import rpr3 as api
 from fivebar_cli.analyses.limits import MAX_OCTREE_DEPTH, MAX_VERIFY_DEPTH
 from fivebar_cli.cli.options import (
-    CONFIG, common_options, figure, jobs_option, option_errors, prepare_out, progress, report, save_files, wrote,
+    CONFIG, common_options, jobs_option, option_errors, prepare_out, progress, report, save_files, wrote,
 )
-from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, VERIFY_CSV, VERIFY_FILES
-from fivebar_cli.io.outputs import output_set
 
 
 
@@ -82,14 +79,6 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     study = api.verify(mech, depth)
     for line in study.notes:
         report(quiet, line)
-    # a counterexample of an earlier run is removed when none is found (the set owns it)
-    with output_set(folder, "rpr3-verify", VERIFY_FILES, "fivebar rpr3 verify"):
-        paths = [write_csv(folder / VERIFY_CSV, study.columns, study.data)]
-        if study.counterexample is not None:
-            t = study.counterexample
-            paths.append(write_csv(folder / COUNTEREXAMPLE_CSV, t.columns, t.data))
-        if not no_plot:
-            paths += [figure(make, folder / file) for file, make in study.drawings]
-    wrote(quiet, paths)
+    wrote(quiet, save_files(study, folder, no_plot))
     if study.result.exit_code:
         raise click.exceptions.Exit(study.result.exit_code)
