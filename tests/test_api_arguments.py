@@ -1,0 +1,79 @@
+"""Any value where a public call takes a depth, a count of processes, a point or an endpoint: the call
+gives a result, or a FivebarError (an InputError naming that parameter when the value is the fault),
+never another error and never a run without end (hypothesis). A float depth paved on without end,
+`workers=-1` waited forever, `jobs=-1` ran in one process without a word, and bad poses raised
+broadcasting, index or type errors from deep inside.
+
+Values that are valid but costly (a depth of 12, four worker processes, a Dask cluster) are left to
+the other tests: here each valid call is small.
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import fivebar_cli as fb
+
+SPEC = {"type": "fivebar-atlas", "name": "t", "depth": 2, "lengths": {"L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}
+
+numbers = st.one_of(st.integers(-10**12, 10**12), st.floats(allow_nan=True, allow_infinity=True), st.booleans())
+anything = st.one_of(numbers, st.none(), st.text(max_size=3), st.tuples(), st.tuples(numbers),
+                     st.tuples(numbers, numbers), st.tuples(numbers, numbers, numbers),
+                     st.lists(st.tuples(numbers, numbers), max_size=2), st.dictionaries(st.text(max_size=4), numbers, max_size=2))
+
+
+def _int(v) -> int | None:
+    return v if isinstance(v, int) and not isinstance(v, bool) else None
+
+
+def depth(limit: int):
+    return lambda v: _int(v) is not None and 0 <= v <= limit
+
+
+def point(n: int):
+    """n finite numbers (a pose or an endpoint; a bool among them is a number, as in numpy), or for
+    locate a list of such."""
+    def ok(v) -> bool:
+        one = isinstance(v, tuple) and len(v) == n and all(isinstance(x, (int, float)) and math.isfinite(x) for x in v)
+        return one or isinstance(v, list) and len(v) > 0 and all(ok(x) for x in v)
+    return ok
+
+
+# (parameter, call, the values it may take, which of them are too costly here)
+CALLS = [
+    ("depth", lambda v: fb.pave("m1", "workspace", v), depth(20), lambda v: v > 6),
+    ("depth", lambda v: fb.refine(fb.pave("rpr2", "workspace", 2), v), depth(20), lambda v: v > 6),
+    ("depth", lambda v: fb.aspects("rpr2", v), depth(16), lambda v: v > 6),
+    ("depth", lambda v: fb.rpr3.pave("rpr3-general", v), depth(12), lambda v: v > 3),
+    ("depth", lambda v: fb.rpr3.verify("rpr3-verify/table1-legs-1-1.5", v), depth(17), lambda v: False),
+    ("jobs", lambda v: fb.aspects("rpr2", 3, jobs=v), lambda v: v is None or _int(v) is not None and v >= 1,
+     lambda v: v is not None and v > 2),
+    ("workers", lambda v: fb.atlas(SPEC, workers=v), lambda v: v is None or _int(v) is not None and v >= 0,
+     lambda v: v is None or v > 0),  # (a Dask cluster: test_atlas_dask)
+    ("pose", lambda v: fb.locate("rpr2", pose=v, depth=3), point(2), lambda v: False),
+    ("pose", lambda v: fb.locate("rpr3-caro", pose=v, depth=2), point(3), lambda v: False),
+    ("start", lambda v: fb.path("rpr2", v, (0, 8), working_mode="++", depth=4), point(2), lambda v: False),
+    ("goal", lambda v: fb.path("rpr3-caro", (8, -9, -5.6), v, depth=3), point(3), lambda v: False),
+]
+
+
+@pytest.mark.parametrize("k", range(len(CALLS)), ids=[f"{c[0]}-{k}" for k, c in enumerate(CALLS)])
+@settings(max_examples=30, deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.filter_too_much, HealthCheck.too_slow])
+@given(value=anything)
+def test_any_value_gives_a_result_or_an_error_naming_the_parameter(k, value):
+    name, call, valid, costly = CALLS[k]
+    if valid(value) and costly(value):
+        return
+    try:
+        call(value)
+    except fb.InputError as e:
+        assert valid(value) or e.field.strip("`") == name, (value, str(e))  # a bad value is named
+    except fb.FivebarError:
+        assert valid(value), value  # (a valid one may give no motion, a pose no aspect holds, ...)
+    else:
+        assert valid(value), f"{name}={value!r} was taken"
