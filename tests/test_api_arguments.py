@@ -1,8 +1,9 @@
-"""Any value where a public call takes a depth, a count of processes, a point or an endpoint: the call
-gives a result, or a FivebarError (an InputError naming that parameter when the value is the fault),
-never another error and never a run without end (hypothesis). A float depth paved on without end,
-`workers=-1` waited forever, `jobs=-1` ran in one process without a word, and bad poses raised
-broadcasting, index or type errors from deep inside.
+"""Any value where a public call takes a depth, a count (processes, a budget, samples), a point or an
+endpoint: the call gives a result, or a FivebarError (an InputError naming that parameter when the
+value is the fault), never another error and never a run without end (hypothesis). A float depth
+paved on without end, `workers=-1` waited forever, `jobs=-1` ran in one process without a word, a
+budget of -1 or 1.5 and `steps=0` were taken for something else, and bad poses raised broadcasting,
+index or type errors from deep inside.
 
 Values that are valid but costly (a depth of 12, four worker processes, a Dask cluster) are left to
 the other tests: here each valid call is small.
@@ -18,12 +19,14 @@ from hypothesis import strategies as st
 
 import fivebar_cli as fb
 
-SPEC = {"type": "fivebar-atlas", "name": "t", "depth": 2, "lengths": {"L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}
+SPEC = {"type": "fivebar-atlas", "name": "t", "depth": 2,
+        "lengths": {"L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}
 
 numbers = st.one_of(st.integers(-10**12, 10**12), st.floats(allow_nan=True, allow_infinity=True), st.booleans())
 anything = st.one_of(numbers, st.none(), st.text(max_size=3), st.tuples(), st.tuples(numbers),
                      st.tuples(numbers, numbers), st.tuples(numbers, numbers, numbers),
-                     st.lists(st.tuples(numbers, numbers), max_size=2), st.dictionaries(st.text(max_size=4), numbers, max_size=2))
+                     st.lists(st.tuples(numbers, numbers), max_size=2),
+                     st.dictionaries(st.text(max_size=4), numbers, max_size=2))
 
 
 def _int(v) -> int | None:
@@ -54,6 +57,10 @@ CALLS = [
      lambda v: v is not None and v > 2),
     ("workers", lambda v: fb.atlas(SPEC, workers=v), lambda v: v is None or _int(v) is not None and v >= 0,
      lambda v: v is None or v > 0),  # (a Dask cluster: test_atlas_dask)
+    ("budget", lambda v: fb.aspects("rpr2", 3, budget=v), lambda v: v is None or _int(v) is not None and v >= 0,
+     lambda v: False),
+    ("steps", lambda v: fb.rpr3.sweep("rpr3-equilateral", "rho_min", steps=v),
+     lambda v: v is None or _int(v) is not None and 2 <= v <= 20001, lambda v: v is None or v > 50),
     ("pose", lambda v: fb.locate("rpr2", pose=v, depth=3), point(2), lambda v: False),
     ("pose", lambda v: fb.locate("rpr3-caro", pose=v, depth=2), point(3), lambda v: False),
     ("start", lambda v: fb.path("rpr2", v, (0, 8), working_mode="++", depth=4), point(2), lambda v: False),

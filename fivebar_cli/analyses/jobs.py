@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import itertools
 import multiprocessing
-import numbers
 import os
 import queue
 import shutil
@@ -41,8 +40,8 @@ from typing import Callable, Iterable, Iterator, TypeVar
 
 import numpy as np
 
+from fivebar_cli.analyses.limits import check_count
 from fivebar_cli.analyses.pool import TURN, Pool, WorkerLost
-from fivebar_cli.errors import InputError, param
 from fivebar_cli.paving.engine import Paving
 from fivebar_cli.paving.tree import Tree
 
@@ -63,8 +62,7 @@ def workers(jobs: int | None, tasks: int) -> int:
     """How many processes `jobs` gives for this many tasks (1: run them in this process); `jobs`
     is None (one per core) or at least 1 (InputError: 0 or -1, "every core" in some libraries,
     would otherwise run in one process without a word)."""
-    if jobs is not None and (isinstance(jobs, bool) or not isinstance(jobs, numbers.Integral) or jobs < 1):
-        raise InputError("", param("jobs"), f"must be an integer of at least 1 (None: one per core), got {jobs!r}")
+    check_count(jobs, "jobs", 1, none="None: one per core")
     return max(1, min(default_jobs() if jobs is None else int(jobs), tasks))
 
 

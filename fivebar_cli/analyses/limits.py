@@ -1,5 +1,8 @@
 """The library's depth limits (the API checks them, the command line's options take them as their
-ranges): beyond them a run would need more memory than a workstation has; `check_depth` is the check."""
+ranges): beyond them a run would need more memory than a workstation has; `check_depth` is the check,
+`check_count` the one of the other whole numbers a call takes (a budget, processes, samples)."""
+
+import numbers
 
 from fivebar_cli.errors import InputError, param
 
@@ -15,3 +18,16 @@ def check_depth(depth, limit: int, field: str = "depth") -> None:
     """A depth is an integer in 0..limit (InputError naming `field` otherwise)."""
     if isinstance(depth, bool) or not isinstance(depth, int) or not 0 <= depth <= limit:
         raise InputError("", param(field), f"must be an integer in 0..{limit}, got {depth!r}")
+
+
+def check_count(value, field: str, least: int = 0, most: int | None = None, none: str = "") -> None:
+    """A count (box evaluations, worker processes, samples) is an integer of at least `least` (and
+    at most `most`), or None where `none` says what None means (InputError naming `field` otherwise:
+    a float, a bool or -1 would otherwise be taken for something else without a word)."""
+    if value is None and none:
+        return
+    if (isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least
+            or most is not None and value > most):
+        span = f"of at least {least}" if most is None else f"in {least}..{most}"
+        raise InputError("", param(field), f"must be an integer {span}" + (f" ({none})" if none else "")
+                         + f", got {value!r}")

@@ -8,7 +8,7 @@ import math
 from collections.abc import Mapping
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, check_depth
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, check_count, check_depth
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
@@ -185,6 +185,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 
     m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source_name(mech)), m_name(mech))
+    check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     step = advance or (lambda n=1: None)
     if m.pose_aspect_model() is not None:
@@ -337,9 +338,7 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     from fivebar_cli.analyses.atlas.engine import compute_plan, plan_atlas
     from fivebar_cli.io.layout import ATLAS_CSV
 
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
-        raise InputError("", param("workers"), f"must be an integer of at least 0 (0: in this process; None: one per "
-                         f"core), got {workers!r}")
+    check_count(workers, "workers", 0, none="0: in this process; None: one per core")
     s = atlas_spec(spec, depth, tolerance)
     with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
         plan = plan_atlas(s, Path(where), restart)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH, check_depth
+from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH, check_count, check_depth
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism
 
@@ -86,6 +86,7 @@ def pose_aspects_for(m: Mechanism, folder, depth: int, budget: int | None = None
     saved = saved_pose_aspects(m, folder, depth)
     if saved is not None:
         return saved, f"read from {folder}"
+    check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     return analyse_pose_aspects(m, depth, advance or (lambda n=1: None), budget).aspects, "computed"
 

@@ -8,10 +8,12 @@ rpr3 ...` prints and whose `drawings` are the command's figures as (file name, m
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from fivebar_cli.analyses.limits import check_count
 from fivebar_cli.api.values import Table
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.layout import (
@@ -24,6 +26,7 @@ SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_
 VERIFY_HEADER = ("name", "status", "exit", "depth", "max_depth", "evaluations", "undecided_volume", "root_volume")
 COUNTEREXAMPLE_HEADER = ("x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j")
 DEFAULT_ANGLES = (30.0, 60.0, 90.0, 120.0, 150.0)
+MAX_STEPS = 20001  # samples of a sweep (each a design of its own)
 
 
 @dataclass(frozen=True, repr=False)
@@ -138,6 +141,7 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
         raise InputError("", "over", f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
     check_span(span)
+    check_count(steps, "steps", 2, MAX_STEPS, none="None: the paper's")
     run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
     header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
     files = sweep_files(over)
@@ -147,6 +151,9 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
 
 def check_span(span) -> None:
     """A swept interval (lo, hi): finite, at most 1e6 in magnitude, lo < hi (InputError on `range`)."""
+    if span is not None and (isinstance(span, (str, bytes)) or len(span) != 2
+                             or not all(isinstance(v, numbers.Real) for v in span)):
+        raise InputError("", "range", f"expected (LO, HI), two numbers, got {span!r}")
     if span is not None and not all(abs(v) <= 1e6 for v in span):
         raise InputError("", "range", f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}")
     if span is not None and not span[0] < span[1]:

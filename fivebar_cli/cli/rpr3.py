@@ -75,7 +75,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
 @click.option("--range", "span", type=(NUMBER, NUMBER), default=None, metavar="LO HI",
               help="Swept interval [default: phi 0.5 179.5; rho_min 0 up to where rho_max auto is finite; "
                    "t2 -5 t1+5].")
-@click.option("--steps", type=click.IntRange(2, 20001), default=None,
+@click.option("--steps", type=click.IntRange(2, api.MAX_STEPS), default=None,
               help="Number of samples [default: phi 359, rho_min 201, t2 233].")
 @click.option("--angles", default="30,60,90,120,150", show_default=True,
               help="Orientations (degrees) of the t2 sweep, comma separated.")
