@@ -76,6 +76,7 @@ def test_kratio_is_the_command_as_a_value(tmp_path):
     m1 = {(r["space"], r["depth"]): r for r in rows if r["mechanism"] == "M1"}
     assert (m1["jointspace", 5]["paper_printed_percent"], m1["workspace", 5]["paper_printed_percent"]) == (99, 72)
     assert all(r["paper_procedure_evaluations"] == "" for r in rows if r["mechanism"] != "M1")
+    assert fb.kratio("m1", 5).rows() == [r for r in rows if r["mechanism"] == "M1" and r["depth"] == 5]  # one of each
 
 
 def test_path_saves_the_commands_files(tmp_path):
@@ -133,6 +134,8 @@ def test_verify_is_the_command_as_a_value(tmp_path):
     (lambda: fb.kratio("rpr3-caro", [5]), "type"),
     (lambda: fb.kratio(["m1"], [21]), "`depths`"),
     (lambda: fb.kratio(["m1"], []), "`depths`"),
+    (lambda: fb.kratio(["m1"], 3.5), "`depths`"),
+    (lambda: fb.kratio(["m1"], None), "`depths`"),
     (lambda: fb.path("m1", {"joints": (0, 1)}, {"joints": (1, 1)}, depth=17), "`depth`"),
     (lambda: fb.path("rpr2", {"pose": (0, 8)}, {"pose": (1, 7)}, allow_serial=True), "`allow_serial`"),
     (lambda: fb.pave("m1", "workspace", 1.5), "`depth`"),  # (a float depth paved on without end)

@@ -8,6 +8,7 @@ the command prints (`notes`) and `save(folder, figures=True)`, which writes the 
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -204,7 +205,7 @@ def kratio(mechs, depths=DEFAULT_DEPTHS, *, advance=None) -> Report:
     ----------
     mechs : sequence of (Mechanism, str, Path or Mapping), or one of them
         Mechanisms with a 2-D space (five-bar, 2-RPR).
-    depths : sequence of int
+    depths : int or sequence of int
         Depths in 0..20.
     advance : callable, optional
         `advance(n=1)`, told of each row done.
@@ -226,7 +227,10 @@ def kratio(mechs, depths=DEFAULT_DEPTHS, *, advance=None) -> Report:
     from fivebar_cli.io.layout import KRATIO_CSV, KRATIO_FILES, KRATIO_PNG
 
     ms = [kratio_mechanism(m) for m in ([mechs] if isinstance(mechs, (str, Path, Mechanism, Mapping)) else mechs)]
-    depths = list(depths)
+    try:
+        depths = [depths] if isinstance(depths, numbers.Integral) else list(depths)  # (one depth, as one mechanism)
+    except TypeError:
+        raise InputError("", param("depths"), f"expected a depth or a sequence of depths, got {depths!r}") from None
     if not depths:
         raise InputError("", param("depths"), "give at least one depth")
     for d in depths:
