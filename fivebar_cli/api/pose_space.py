@@ -6,6 +6,8 @@ motion between two poses or two assembly modes (`pose_path`). It imports no othe
 
 from __future__ import annotations
 
+import math
+from numbers import Real
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH, check_count, check_depth
@@ -59,6 +61,10 @@ def joint_poses(m: Mechanism, joints, field: str = "joints"):
     from fivebar_cli.analyses.dkp import solve
 
     model = m.pose_aspect_model()
+    names = ", ".join(axis.name for axis in model.joint_axes)
+    if (isinstance(joints, (str, bytes)) or not hasattr(joints, "__len__")
+            or not all(isinstance(j, Real) and math.isfinite(j) for j in joints)):
+        raise InputError("", param(field), f"expected ({names}), finite numbers, got {joints!r}")
     if len(joints) != len(model.joint_axes):
         raise InputError("", param(field), f"expected {len(model.joint_axes)} joint values, got {len(joints)}")
     check_joints(m, joints, field)
