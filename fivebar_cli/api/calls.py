@@ -4,12 +4,11 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, check_count, check_depth
-from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table, motion_where
+from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
 
@@ -288,13 +287,11 @@ def _endpoint(e, which: str, working_mode: str | None, source):
 
     kinds = [k for k in ("pose", "joints") if k in e] if isinstance(e, Mapping) else ["pose"]
     value = (e[kinds[0]] if isinstance(e, Mapping) else e) if len(kinds) == 1 else None
-    try:
-        pair = () if isinstance(value, (str, bytes)) else tuple(float(v) for v in value)
-    except (TypeError, ValueError):
-        pair = ()
-    if len(pair) != 2 or not all(math.isfinite(v) for v in pair):
+    point = finite_points(value, 2)
+    if point is None:
         raise InputError(str(source), param(which), f"expected (x, y), {{'pose': (x, y), 'working_mode': '++'}} "
                          f"or {{'joints': (th1, th2)}}, got {e!r}")
+    pair = tuple(map(float, point[0]))
     if kinds[0] == "joints":
         return Endpoint("joints", pair)
     return Endpoint("pose", pair, e.get("working_mode", working_mode) if isinstance(e, Mapping) else working_mode)

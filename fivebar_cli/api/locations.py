@@ -4,14 +4,13 @@ singularity-free motion joins each pair (`analyses.locate.decide`, the answer `p
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
 from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, source_name, with_aspects
 from fivebar_cli.api.pose_space import check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism
-from fivebar_cli.api.values import Aspects
+from fivebar_cli.api.values import Aspects, finite_points
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
 
@@ -152,17 +151,10 @@ def _where(row: dict, depth: int) -> str:
 def _points(value, which: str, axes, source: str) -> list[tuple[float, ...]]:
     """One point or several [(...), ...] as a list of tuples of finite numbers, one per axis of
     `axes` (None: none); InputError naming `which` (pose, joints or legs) else."""
-    import numpy as np
-
     if value is None:
         return []
-    try:
-        a = None if isinstance(value, (str, bytes, Mapping)) else np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        a = None
-    if a is not None and a.ndim == 1:
-        a = a[None, :]
-    if a is None or a.ndim != 2 or a.shape[1] != len(axes) or not np.all(np.isfinite(a)):
+    a = finite_points(value, len(axes), many=True)
+    if a is None:
         names = ", ".join(axis.name for axis in axes)
         raise InputError(str(source), param(which), f"expected ({names}) or a list of them, got {value!r}")
     return [tuple(map(float, p)) for p in a]

@@ -6,11 +6,10 @@ motion between two poses or two assembly modes (`pose_path`). It imports no othe
 
 from __future__ import annotations
 
-import math
-from numbers import Real
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH, check_count, check_depth
+from fivebar_cli.api.values import finite_points
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism
 
@@ -61,14 +60,12 @@ def joint_poses(m: Mechanism, joints, field: str = "joints"):
     from fivebar_cli.analyses.dkp import solve
 
     model = m.pose_aspect_model()
-    names = ", ".join(axis.name for axis in model.joint_axes)
-    if (isinstance(joints, (str, bytes)) or not hasattr(joints, "__len__")
-            or not all(isinstance(j, Real) and math.isfinite(j) for j in joints)):
+    values = finite_points(joints, len(model.joint_axes))
+    if values is None:
+        names = ", ".join(axis.name for axis in model.joint_axes)
         raise InputError("", param(field), f"expected ({names}), finite numbers, got {joints!r}")
-    if len(joints) != len(model.joint_axes):
-        raise InputError("", param(field), f"expected {len(model.joint_axes)} joint values, got {len(joints)}")
-    check_joints(m, joints, field)
-    result = solve(model, m.spaces()[model.space], [float(j) for j in joints])
+    check_joints(m, values[0], field)
+    result = solve(model, m.spaces()[model.space], [float(j) for j in values[0]])
     if not result.solutions and result.certified:
         raise InputError("", param(field), f"({numbers(joints)}) give no pose within the space of poses (certified: "
                          "every box of poses is proven to hold none)")
@@ -155,13 +152,8 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
 def _pose(p, which: str, space, source: str):
     """`path`'s endpoint `p` as a pose of `space` (finite numbers, one per axis); InputError naming
     `which` (start or goal) else."""
-    import numpy as np
-
-    try:
-        pose = None if isinstance(p, (str, bytes, dict)) else np.asarray(p, float)
-    except (TypeError, ValueError):
-        pose = None
-    axes = ", ".join(a.name for a in space.axes)
-    if pose is None or pose.shape != (len(space.axes),) or not np.all(np.isfinite(pose)):
+    pose = finite_points(p, len(space.axes))
+    if pose is None:
+        axes = ", ".join(a.name for a in space.axes)
         raise InputError(str(source), param(which), f"expected a pose ({axes}), got {p!r}")
-    return pose
+    return pose[0]

@@ -29,6 +29,28 @@ def axes_of(ax):
     return plt.subplots()[1]
 
 
+def finite_points(value, n: int, many: bool = False) -> np.ndarray | None:
+    """`value` read as one point of `n` finite numbers (with `many`, also a list of such points):
+    a (k, n) float array, or None when it is not one (a string, a mapping, ragged or non-numeric
+    values, NaN or infinity, another length). The one reading of the poses, joints and endpoints
+    the calls take, each of which names its own parameter when it gets None."""
+    from collections.abc import Mapping
+
+    if isinstance(value, (str, bytes, Mapping)):
+        return None
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return None
+    if a.ndim == 1:
+        a = a[None, :]
+    elif not many:
+        return None
+    if a.ndim != 2 or a.shape[1] != n or not np.all(np.isfinite(a)):
+        return None
+    return a
+
+
 def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool = False) -> list[Path]:
     """A command's files in `folder` as one output set (`output`: its name, the patterns it owns,
     the command): its tables as CSV ((file name, columns, data) each) and, with `figures`, its
