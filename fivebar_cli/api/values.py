@@ -353,28 +353,24 @@ class Aspects:
             from fivebar_cli.analyses.aspect_files import aspect_header, aspect_rows
         return _rows(aspect_header(self.mechanism), aspect_rows(self.analysis))
 
-    def save(self, folder: str | Path, figures: bool = False, jobs: int | None = 1) -> list[Path]:
+    def save(self, folder: str | Path, figures: bool = False, jobs: int | None = 1, spelled=str) -> list[Path]:
         """The files `fivebar aspects` writes: aspects.csv, the adjacency table, the aspect trees
         (and GeoJSON, or PLY surfaces for octrees), with `figures` its figures too (on the backend
-        in use); the aspects' files made on `jobs` processes (the same bytes for any)."""
-        from fivebar_cli.analyses.aspect_files import aspect_set
-
-        with aspect_set(Path(folder)):
-            return self.write(Path(folder), jobs, figures)
-
-    def write(self, folder: Path, jobs: int | None = 1, figures: bool = False, spelled=str) -> list[Path]:
-        """`save`'s files, inside an output set the caller opened; `spelled(text)`: a text as the
-        figures' titles write it (the command line: the parameters it names as its options)."""
-        from fivebar_cli.analyses.aspect_files import write_aspects
+        in use); the aspects' files made on `jobs` processes (the same bytes for any);
+        `spelled(text)`: a text as the figures' titles write it (the command line: the parameters
+        it names as its options)."""
+        from fivebar_cli.analyses.aspect_files import aspect_set, write_aspects
         from fivebar_cli.analyses.aspect_split import write_split
         from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
 
-        if self._pose_kind():
-            paths = write_pose_aspects(folder, self.analysis)
-        else:
-            paths = write_aspects(folder, self.analysis, jobs) + write_split(folder, None if self.split is None
-                                                                             else list(self.split))
-        return paths + (self._figures(folder, spelled) if figures else [])
+        folder = Path(folder)
+        with aspect_set(folder):
+            if self._pose_kind():
+                paths = write_pose_aspects(folder, self.analysis)
+            else:
+                paths = write_aspects(folder, self.analysis, jobs) + write_split(folder, None if self.split is None
+                                                                                 else list(self.split))
+            return paths + (self._figures(folder, spelled) if figures else [])
 
     def _figures(self, folder: Path, spelled) -> list[Path]:
         """A five-bar's or 2-RPR's workspace figure (every aspect, its largest circle and square)

@@ -4,13 +4,12 @@ from __future__ import annotations
 
 import click
 
-from fivebar_cli.analyses.aspect_files import aspect_set
 from fivebar_cli.analyses.aspects import region_count
 from fivebar_cli.api.calls import aspects as find_aspects
 from fivebar_cli.api.calls import comparisons
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, budget_option, common_options, depth_option, jobs_option, load_with_aspects, offscreen,
-    option_errors, prepare_out, progress, report, tolerance_option, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, budget_option, common_options, depth_option, jobs_option, load_with_aspects,
+    option_errors, prepare_out, progress, report, save_files, tolerance_option, wrote,
 )
 
 
@@ -61,10 +60,7 @@ def aspects(config_path, depth, budget, tolerance, jobs, out, no_plot, quiet):
     robust = m.is_interval
     with progress(quiet, region_count(m) * comparisons(m) + 1, f"aspects depth {depth}") as advance:
         result = find_aspects(m, depth, budget=budget, compare=True, advance=advance, jobs=jobs)
-    if not no_plot:
-        offscreen()
-    with aspect_set(folder):
-        paths = result.write(folder, jobs, figures=not no_plot)
+    paths = save_files(result, folder, no_plot, jobs=jobs)
     report(quiet, result.headline)
     for line in result.lines():
         report(quiet, line)

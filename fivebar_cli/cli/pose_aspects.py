@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import click
 
-from fivebar_cli.analyses.aspect_files import aspect_set
 from fivebar_cli.api.calls import aspects as fb_aspects
 from fivebar_cli.cli.options import (
-    as_flags, common_options, jobs_option, offscreen, option_errors, prepare_out, progress, report, wrote,
+    as_flags, common_options, jobs_option, option_errors, prepare_out, progress, report, save_files, wrote,
 )
 from fivebar_cli.cli.poses import CONFIG, load_pose_kind, pose_budget_option, pose_depth_option
 
@@ -49,10 +48,7 @@ def pose_aspects(config_path, depth, budget, jobs, out, no_plot, quiet):
     folder = prepare_out(out, m.name)
     with progress(quiet, len(m.pose_aspect_model().classes) + 1, f"aspects depth {depth}") as advance:
         result = fb_aspects(m, depth, budget=budget, advance=advance, jobs=jobs)
-    if not no_plot:
-        offscreen()
-    with aspect_set(folder):
-        paths = result.write(folder, figures=not no_plot, spelled=as_flags)
+    paths = save_files(result, folder, no_plot, spelled=as_flags)
     report(quiet, result.headline)
     for line in result.lines():
         report(quiet, line)
