@@ -151,12 +151,14 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
 
 def check_span(span) -> None:
     """A swept interval (lo, hi): finite, at most 1e6 in magnitude, lo < hi (InputError on `range`)."""
-    if span is not None and (isinstance(span, (str, bytes)) or len(span) != 2
-                             or not all(isinstance(v, numbers.Real) for v in span)):
+    if span is None:
+        return
+    if (isinstance(span, (str, bytes)) or not hasattr(span, "__len__") or len(span) != 2
+            or not all(isinstance(v, numbers.Real) for v in span)):
         raise InputError("", "range", f"expected (LO, HI), two numbers, got {span!r}")
-    if span is not None and not all(abs(v) <= 1e6 for v in span):
+    if not all(abs(v) <= 1e6 for v in span):
         raise InputError("", "range", f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}")
-    if span is not None and not span[0] < span[1]:
+    if not span[0] < span[1]:
         raise InputError("", "range", f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}")
 
 
