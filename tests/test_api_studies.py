@@ -49,7 +49,7 @@ def test_tolerance_is_the_command_as_a_value(tmp_path):
     rows = t.rows()
     assert csv_text(t.columns, [list(r.values()) for r in rows]) == (tmp_path / "cli" / "tolerance.csv").read_text()
     assert [(r["tolerance"], r["region"]) for r in rows[:2]] == [(0.0, "workspace"), (0.0, "jointspace")]
-    assert repr(t) == f"<Tolerance M1, depth 5: {len(rows)} rows>"
+    assert repr(t) == f"<Tolerance M1, depth 5: {len(rows)} rows of {', '.join(t.columns)}>"
     exact = fb.load("m1").exact_measure("workspace")
     for r in rows:
         if r["region"] == "workspace":

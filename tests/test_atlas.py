@@ -232,15 +232,37 @@ def test_parts_of_another_atlas_are_refused_then_discarded_with_restart(atlas_ru
 
 
 def test_library_run_matches_the_cli(atlas_run, spec_file, tmp_path):
-    out, _ = atlas_run
-    from fivebar_cli.analyses.atlas.spec import read_spec
+    """The engine (plan, compute, assemble) and the API (`fb.atlas_plan`, `run`, `save`) give the
+    command's bytes, figure and manifest included, and the lines it prints; planned again, the
+    finished folder has nothing left, and its run computes nothing and reads the same atlas."""
+    import fivebar_cli as fb
+    from fivebar_cli.cli.options import as_flags
 
+    out, result = atlas_run
     spec = read_spec(spec_file)
-    plan = plan_atlas(spec, tmp_path)
+    plan = plan_atlas(spec, tmp_path / "engine")
     done = []
     path = run_plan(plan, advance=done.append)
     assert path.read_bytes() == (out / "atlas.csv").read_bytes() and sum(done) == 12
     assert batch_text(spec, 4) == (out / "atlas.parts" / "part-00000004.csv").read_text()
+
+    plan = fb.atlas_plan(spec_file, tmp_path / "api")
+    assert (plan.batches, plan.batches_done, plan.designs_todo) == (12, 0, 12)
+    assert plan.summary == result.stdout.splitlines()[0] and repr(plan) == f"<AtlasPlan {plan.summary}>"
+    steps = []
+    atlas = plan.run(advance=steps.append)
+    assert sum(steps) == 12 and len(atlas) == 12 and atlas.columns == tuple(HEADER.split(","))
+    assert sorted(p.name for p in atlas.save(tmp_path / "api", figures=True)) == ["atlas.csv", "atlas.png"]
+    for name in ("atlas.csv", "atlas.png", ".fivebar/atlas.json"):
+        assert (tmp_path / "api" / name).read_bytes() == (out / name).read_bytes(), name
+    assert [as_flags(line) for line in atlas.notes] == [line for line in result.stdout.splitlines()
+                                                        if line.startswith("  ") and "can be assembled" in line]
+    assert any("`depth`" in line for line in atlas.notes)  # the library names its parameter
+
+    again = fb.atlas_plan(spec_file, tmp_path / "api")
+    assert (again.batches_done, again.designs_todo) == (12, 0) and again.summary.endswith("12 done before, 0 to compute")
+    steps = []
+    assert again.run(advance=steps.append) == atlas and steps == []
 
 
 # ---------------------------------------------------------------- figures

@@ -207,19 +207,22 @@ def test_ctrl_c_during_the_start_up_of_a_local_cluster(spec_file, tmp_path):
 # A script as users write them, analyses at its top level (no `if __name__ == "__main__":`), with
 # fivebar's own workers spawned as on macOS and Windows, and a local cluster (whose workers Dask spawns)
 UNGUARDED = """\
-import multiprocessing, sys
+import logging, multiprocessing, sys
 print("top of the script", flush=True)
 multiprocessing.get_all_start_methods = lambda: ["spawn"]
 import fivebar_cli as fb
 print(repr(fb.aspects(fb.load(sys.argv[1]), 6, jobs=2).rows()), flush=True)
-fb.atlas(sys.argv[2], "out", workers=2)
+logging.getLogger("fivebar_cli").addHandler(logging.StreamHandler(sys.stdout))
+logging.getLogger("fivebar_cli").setLevel(logging.INFO)
+fb.atlas(sys.argv[2], "out", workers=2).save("out")
 """
 
 
 def test_a_script_without_a_main_guard_runs_once(spec_file, reference, tmp_path):
     """Spawned workers import the main module again, which runs a script's top level in each (the
     script's analyses started again there failed with a wall of tracebacks): fivebar's workers leave
-    it out. The script runs once, and its results are those of this process."""
+    it out. The script runs once, and its results are those of this process; the cluster the atlas
+    runs on is told through `logging`, to the script's handler."""
     import fivebar_cli as fb
     from conftest import M1_YAML
 
@@ -229,7 +232,8 @@ def test_a_script_without_a_main_guard_runs_once(spec_file, reference, tmp_path)
                        capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, r.stderr[-3000:]
     assert r.stderr == ""
-    assert r.stdout.splitlines() == ["top of the script", repr(fb.aspects(fb.load(M1_YAML), 6, jobs=1).rows())]
+    assert r.stdout.splitlines() == ["top of the script", repr(fb.aspects(fb.load(M1_YAML), 6, jobs=1).rows()),
+                                     "on a local cluster of 2 worker processes (2 workers connected)"]  # (logged)
     assert (tmp_path / "out" / "atlas.csv").read_bytes() == reference
 
 

@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, check_count, check_depth
-from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, Table, finite_points, motion_where
+from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
 
@@ -320,70 +320,7 @@ def _path_notes(result, trees) -> tuple[str, ...]:
     return tuple(notes)
 
 
-# ---------------------------------------------------------------- atlas and view
-
-
-def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None = None, depth: int | None = None,
-          tolerance: float | None = None, restart: bool = False, advance=None) -> Table:
-    """An atlas of five-bar designs (the `fivebar-atlas` spec: a YAML file or a mapping): one row
-    per design of the metrics of `atlas.csv`. The parts are kept in `folder` (a temporary folder
-    when None), so a run resumes; `workers` local Dask processes (0: in this process; None: one
-    per core), or an existing `scheduler` address."""
-    import tempfile
-    from contextlib import nullcontext
-
-    from fivebar_cli.analyses.atlas.engine import compute_plan, plan_atlas
-    from fivebar_cli.io.layout import ATLAS_CSV
-
-    check_count(workers, "workers", 0, none="0: in this process; None: one per core")
-    s = atlas_spec(spec, depth, tolerance)
-    with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
-        plan = plan_atlas(s, Path(where), restart)
-        with atlas_runner(workers, scheduler, len(plan.todo)) as runner:
-            compute_plan(plan, runner, advance or (lambda n=1: None))
-        path, table = plan.parts.assemble(Path(where) / ATLAS_CSV)
-    columns = tuple(table)
-    return Table(f"Atlas {s.name}", columns, tuple(zip(*(table[c] for c in columns))))
-
-
-def atlas_spec(spec, depth: int | None = None, tolerance: float | None = None):
-    """An atlas spec (`fivebar-atlas`: a YAML file or a mapping) with `depth` and `tolerance`, when
-    given, in place of its own; InputError for a depth out of range or a tolerance that would make
-    a length reach 0."""
-    import dataclasses
-
-    from fivebar_cli.analyses.atlas.spec import check_tolerance, parse_spec, read_spec
-
-    s = parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) else read_spec(spec)
-    if depth is not None:
-        check_depth(depth, MAX_ASPECT_DEPTH)
-        s = dataclasses.replace(s, depth=depth)
-    if tolerance is not None:
-        source = s.name if isinstance(spec, Mapping) else str(spec)
-        s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, source, param("tolerance")))
-    return s
-
-
-def atlas_runner(workers: int | None, scheduler: str | None, needed: int):
-    """The context of an atlas runner: in this process, a local Dask cluster of `workers` processes
-    (None: one per core; no more than the `needed` batches), or an existing one."""
-    from contextlib import nullcontext
-
-    from fivebar_cli.analyses.atlas.engine import in_process
-    from fivebar_cli.analyses.jobs import default_jobs
-
-    if workers is None and scheduler is None:
-        workers = default_jobs()
-
-    if scheduler is not None and needed:
-        from fivebar_cli.analyses.atlas.cluster import existing_cluster
-
-        return existing_cluster(scheduler)
-    if workers and needed:
-        from fivebar_cli.analyses.atlas.cluster import local_cluster
-
-        return local_cluster(min(workers, needed))
-    return nullcontext(in_process)
+# ---------------------------------------------------------------- view
 
 
 def view(paths) -> str:

@@ -12,7 +12,7 @@ from fivebar_cli.api.calls import _mechanism, source_name
 from fivebar_cli.api.pose_space import (
     DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_mechanism,
 )
-from fivebar_cli.api.studies import Report
+from fivebar_cli.api.values import Report
 from fivebar_cli.errors import InputError
 from fivebar_cli.mechanisms.base import article
 

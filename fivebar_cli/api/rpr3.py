@@ -2,8 +2,8 @@
 the singularity-free workspace (`area`), its sweeps over phi, rho_min or t2 (`sweep`), the leg-range
 synthesis of Table 1 (`synthesize`); and for any 3-RPR the certified check `verify`.
 
-Each returns a `Table` (`rows()`, `save(path)`, `plot(ax)`) whose `notes` are the lines `fivebar
-rpr3 ...` prints and whose `drawings` are the command's figures as (file name, maker)."""
+Each returns a `Report` (`rows()`, `plot(ax)`) whose `notes` are the lines `fivebar rpr3 ...`
+prints and whose `save(folder, figures=False)` writes the command's files."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fivebar_cli.analyses.limits import check_count
-from fivebar_cli.api.values import Table
+from fivebar_cli.api.values import Report, Table
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.layout import (
     AREA_CSV, AREA_FILES, COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, VERIFY_CSV,
@@ -27,27 +27,6 @@ VERIFY_HEADER = ("name", "status", "exit", "depth", "max_depth", "evaluations", 
 COUNTEREXAMPLE_HEADER = ("x", "y", "phi_deg", "rho1", "rho2", "rho3", "det_j")
 DEFAULT_ANGLES = (30.0, 60.0, 90.0, 120.0, 150.0)
 MAX_STEPS = 20001  # samples of a sweep (each a design of its own)
-
-
-@dataclass(frozen=True, repr=False)
-class Study(Table):
-    """A table with the lines the command prints (`notes`), its figures (`drawings`: (file, make))
-    and where `save` writes them as the command does (`output`: the output set's name, the
-    patterns it owns, the command, the table's file name)."""
-
-    drawings: tuple = field(default=(), compare=False)
-    output: tuple = field(default=(), compare=False)
-
-    def tables(self) -> list[tuple]:
-        """The CSVs the command writes: (file name, columns, data), this table's first."""
-        return [(self.output[-1], self.columns, self.data)]
-
-    def save(self, folder, figures: bool = False) -> list:
-        """The command's files in `folder` as one output set (not `Table.save`'s one CSV file): its
-        CSVs and, with `figures`, its PNG figures (drawn on the backend in use)."""
-        from fivebar_cli.api.values import save_command_files
-
-        return save_command_files(folder, self.output[:-1], self.tables(), self.drawings, figures)
 
 
 def similar(mech):
@@ -75,7 +54,7 @@ def check_phis(values, field: str) -> None:
 # ---------------------------------------------------------------- area
 
 
-def area(mech) -> Study:
+def area(mech) -> Report:
     """Exact area of the singularity-free workspace W at phi (or at both ends of phi_range): one row
     per orientation, with rho_max auto when the config says so (figure 2).
 
@@ -116,14 +95,14 @@ def area(mech) -> Study:
         title = f"{m.name}: singularity-free workspace, k = {m.k:g}, phi = {', '.join(f'{p:g}' for p in phis)} deg"
         return construction(m, phis, m.rho_min, rho_max, title)
 
-    return Study(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes), ((AREA_FILES[1], construction_figure),),
-                 ("rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV))
+    return Report(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
+                  ("rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV), ((AREA_FILES[1], construction_figure),))
 
 
 # ---------------------------------------------------------------- sweeps
 
 
-def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_ANGLES, advance=None) -> Study:
+def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_ANGLES, advance=None) -> Report:
     """Area of W swept over `over` ("phi", "rho_min" or "t2") for one or more bases (a design per
     sample, rho_max auto): `span` (lo, hi) and `steps` default to the paper's ranges; `angles` are
     the orientations (degrees) of the t2 sweep.
@@ -145,8 +124,8 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
     run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
     header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
     files = sweep_files(over)
-    return Study(f"Sweep over {over}", tuple(header), tuple(rows), tuple(notes), tuple(zip(files[1:], drawings)),
-                 (f"rpr3-sweep-{over}", files, f"fivebar rpr3 sweep --over {over}", files[0]))
+    return Report(f"Sweep over {over}", tuple(header), tuple(rows), tuple(notes),
+                  (f"rpr3-sweep-{over}", files, f"fivebar rpr3 sweep --over {over}", files[0]), tuple(zip(files[1:], drawings)))
 
 
 def check_span(span) -> None:
@@ -272,7 +251,7 @@ def _sweep_t2(mechs, span, steps, angles, advance):
 # ---------------------------------------------------------------- synthesis
 
 
-def synthesize(mech) -> Study:
+def synthesize(mech) -> Report:
     """Leg-length range keeping W singularity-free over phi_range (section 4, Table 1): six cases
     of rho_min, each with the largest rho_max, the areas at both ends, the mean area and its
     fluctuation; the notes end with the recommended leg range (section 4.2). `comparison` rows
@@ -318,23 +297,23 @@ def synthesize(mech) -> Study:
     else:
         notes.append(f"  [{flat.rho_min:.6f}, {flat.rho_max:.6f}] for equal areas at phi1 and phi2 (case 5); any "
                      f"leg range inside keeps W singularity-free for phi in [{p1:g}, {p2:g}] deg.")
-    return Synthesis(f"Synthesis {m.name}", SYNTHESIS_HEADER, rows, tuple(notes), _synthesis_drawings(m, cases),
-                     ("rpr3-synthesize", SYNTHESIS_FILES, "fivebar rpr3 synthesize", SYNTHESIS_CSV), comparison,
-                     len(before))
+    return Synthesis(f"Synthesis {m.name}", SYNTHESIS_HEADER, rows, tuple(notes),
+                     ("rpr3-synthesize", SYNTHESIS_FILES, "fivebar rpr3 synthesize", SYNTHESIS_CSV),
+                     _synthesis_drawings(m, cases), _csv_of(TABLE1_CSV, comparison), comparison, len(before))
+
+
+def _csv_of(file: str, table: Table | None) -> tuple:
+    """A table as the `tables` of a `Report` (none for None): another CSV of its output set."""
+    return () if table is None else ((file, table.columns, table.data),)
 
 
 @dataclass(frozen=True, repr=False)
-class Synthesis(Study):
+class Synthesis(Report):
     """The synthesis table, with the paper's comparison (None off its setup); the first `printed`
     notes are about the config (said before anything is written)."""
 
     comparison: Table | None = None
     printed: int = 0
-
-    def tables(self) -> list[tuple]:
-        """synthesis.csv, and the paper's Table 1 beside ours on its setup."""
-        extra = [] if self.comparison is None else [(TABLE1_CSV, self.comparison.columns, self.comparison.data)]
-        return super().tables() + extra
 
 
 def _synthesis_drawings(m, cases) -> tuple:
@@ -513,7 +492,7 @@ def bounded(mech):
     return m
 
 
-def verify(mech, depth: int = 14, advance=None) -> Study:
+def verify(mech, depth: int = 14, advance=None) -> Report:
     """Can the robot reach a singular pose over its orientation range and leg ranges? One row of
     `verify.csv`: `status` is 'certified singularity-free', 'singular pose found' (the pose in
     `.result.pose`, its row in `counterexample`) or 'undecided' at `depth`. `advance(n=1)`: told
@@ -555,24 +534,19 @@ def verify(mech, depth: int = 14, advance=None) -> Study:
         notes.append("  " + result.undecided_line())
     row = (m.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
            result.undecided_volume, result.root_volume)
-    return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes), drawings,
-                        ("rpr3-verify", VERIFY_FILES, "fivebar rpr3 verify", VERIFY_CSV), result, counterexample)
+    # a counterexample of an earlier run is removed when none is found (the set owns it)
+    return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes),
+                        ("rpr3-verify", VERIFY_FILES, "fivebar rpr3 verify", VERIFY_CSV), drawings,
+                        _csv_of(COUNTEREXAMPLE_CSV, counterexample), result, counterexample)
 
 
 @dataclass(frozen=True, repr=False)
-class Verification(Study):
+class Verification(Report):
     """`verify`'s row, with the library's result (`status`, `exit_code`, `pose`) and the singular
     pose as a one-row table (None when none is found)."""
 
     result: object = field(default=None, compare=False)
     counterexample: Table | None = None
-
-    def tables(self) -> list[tuple]:
-        """verify.csv, and the singular pose found (a counterexample of an earlier run is removed
-        when none is found: the set owns it)."""
-        extra = [] if self.counterexample is None else [(COUNTEREXAMPLE_CSV, self.counterexample.columns,
-                                                         self.counterexample.data)]
-        return super().tables() + extra
 
     @property
     def status(self) -> str:

@@ -10,67 +10,17 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_DEPTH, check_depth
 from fivebar_cli.api.calls import load, source_name
+from fivebar_cli.api.values import Report
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
 
 MAX_TOLERANCES = 50  # a study paves both spaces and analyses the aspects once per tolerance
 DEFAULT_TOLERANCES = (0.0, 0.01, 0.02, 0.05, 0.1)
 DEFAULT_DEPTHS = tuple(range(5, 11))
-
-
-@dataclass(frozen=True, repr=False)
-class Report:
-    """A command's table as a value: `columns`, `data` (the CSV's cells: '' where it has none),
-    `notes` (the lines the command prints), `drawings` ((file name, make) per figure) and where
-    `save` writes them (`output`: the output set's name, the patterns it owns, the command, the
-    CSV's file name).
-
-    Examples
-    --------
-    >>> import fivebar_cli as fb
-    >>> k = fb.kratio("m1", [3])
-    >>> len(k), k.columns[:3], [r["evaluations"] for r in k.rows()]
-    (2, ('space', 'mechanism', 'depth'), [77, 69])
-    >>> paths = k.save("out/python-kratio")  # kratio.csv; with figures=True kratio.png too  # doctest: +SKIP
-    """
-
-    what: str
-    columns: tuple[str, ...]
-    data: tuple[tuple, ...]
-    notes: tuple[str, ...]
-    output: tuple = field(compare=False)
-    drawings: tuple = field(default=(), compare=False)
-    tables: tuple = field(default=(), compare=False)  # more CSVs of the set: (file name, columns, data)
-
-    def rows(self) -> list[dict]:
-        """The rows of the CSV, as dicts by column name."""
-        return [dict(zip(self.columns, row)) for row in self.data]
-
-    def __len__(self) -> int:
-        return len(self.data)
-
-    def __repr__(self) -> str:
-        return f"<{self.what}: {plural(len(self.data), 'row')}>"
-
-    def csv(self) -> str:
-        """The CSV's text (what `-o -` prints)."""
-        from fivebar_cli.io.files import csv_text
-
-        return csv_text(self.columns, self.data)
-
-    def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
-        """The command's files in `folder` as one output set: the CSVs and, with `figures`, its PNG
-        figures (drawn on the backend in use); returns the paths written."""
-        from fivebar_cli.api.values import save_command_files
-
-        *output, table = self.output
-        return save_command_files(folder, tuple(output), [(table, self.columns, self.data), *self.tables],
-                                  self.drawings, figures)
 
 
 # ---------------------------------------------------------------- tolerance

@@ -536,6 +536,41 @@ class Table:
         return ax
 
 
+@dataclass(frozen=True, repr=False)
+class Report(Table):
+    """A command's table as a value: a `Table` (`columns`, `rows()`, `column()`, `plot()`) with the
+    lines the command prints (`notes`), its figures (`drawings`: (file name, make) each) and where
+    `save` writes them (`output`: the output set's name, the patterns it owns, the command, the
+    CSV's file name); `tables`: more CSVs of the set ((file name, columns, data) each).
+
+    Examples
+    --------
+    >>> import fivebar_cli as fb
+    >>> k = fb.kratio("m1", [3])
+    >>> len(k), k.columns[:3], [r["evaluations"] for r in k.rows()]
+    (2, ('space', 'mechanism', 'depth'), [77, 69])
+    >>> paths = k.save("out/python-kratio")  # kratio.csv; with figures=True kratio.png too  # doctest: +SKIP
+    """
+
+    output: tuple = field(default=(), compare=False)
+    drawings: tuple = field(default=(), compare=False)
+    tables: tuple = field(default=(), compare=False)
+
+    def csv(self) -> str:
+        """The CSV's text (what `-o -` prints)."""
+        from fivebar_cli.io.files import csv_text
+
+        return csv_text(self.columns, self.data)
+
+    def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
+        """The command's files in `folder` as one output set (not `Table.save`'s one CSV file): the
+        CSVs and, with `figures`, its PNG figures (drawn on the backend in use); returns the paths
+        written."""
+        *output, table = self.output
+        return save_command_files(folder, tuple(output), [(table, self.columns, self.data), *self.tables],
+                                  self.drawings, figures)
+
+
 def _number(v) -> float | None:
     """A cell as a number (atlas cells are text), None for other text."""
     if isinstance(v, bool):

@@ -6,15 +6,13 @@ import time
 
 import click
 
-from fivebar_cli.analyses.atlas.engine import compute_plan, in_process, plan_atlas
-from fivebar_cli.api.calls import atlas_runner, atlas_spec
 from fivebar_cli.analyses.atlas.cluster import check_address
+from fivebar_cli.api.atlas import atlas_plan, atlas_spec
 from fivebar_cli.cli.numbers import Number
 from fivebar_cli.cli.options import (
-    CONFIG, MAX_ASPECT_DEPTH, common_options, figure, option_errors, plural, prepare_out, progress, report, wrote,
+    CONFIG, MAX_ASPECT_DEPTH, common_options, narrated, option_errors, plural, prepare_out, progress, report, save_files,
+    wrote,
 )
-from fivebar_cli.io.layout import ATLAS_CSV, ATLAS_PNG
-from fivebar_cli.io.outputs import output_set
 
 
 @click.command(short_help="Sweep five-bar designs into an atlas of metrics (Dask, resumable).")
@@ -63,42 +61,18 @@ def atlas(spec_path, workers, scheduler, depth, tolerance, restart, out, no_plot
         scheduler = check_address(scheduler)
     spec = atlas_spec(spec_path, depth, tolerance)
     folder = prepare_out(out, spec.name)
-    plan = plan_atlas(spec, folder, restart)
-    robust = f", tolerance {spec.tolerance:g}" if spec.tolerance > 0 else ""
-    report(quiet, f"{spec.name}: {plural(spec.size, 'design')} at depth {spec.depth}{robust}, "
-           f"{plural(plan.batches, 'batch', 'batches')} of {spec.batch_size}: {plan.batches - len(plan.todo)} done "
-           f"before, {len(plan.todo)} to compute")
+    plan = atlas_plan(spec, folder, restart=restart)
+    report(quiet, plan.summary)
     start = time.monotonic()
-    with atlas_runner(workers, scheduler, len(plan.todo)) as runner:
-        if plan.todo and runner is not in_process:
-            connected = runner.workers
-            report(quiet, f"  on {runner.where} ({plural(connected, 'worker')} connected"
-                   + (": the batches wait for workers)" if connected == 0 else ")"))
-        with progress(quiet, plan.designs_todo, "designs", unit="designs") as advance:
-            compute_plan(plan, runner, advance)
+    with narrated(quiet), progress(quiet, plan.designs_todo, "designs", unit="designs") as advance:
+        result = plan.run(workers=workers, scheduler=scheduler, advance=advance)
     seconds = time.monotonic() - start
-    with output_set(folder, "atlas", (ATLAS_CSV, ATLAS_PNG), "fivebar atlas"):
-        path, table = plan.parts.assemble(folder / ATLAS_CSV)
-        paths = [path]
-        if not no_plot and spec.swept:
-            from fivebar_cli.plotting.atlas import figure_atlas
-
-            paths.append(figure(lambda: figure_atlas(spec, table), folder / ATLAS_PNG))
-    if plan.todo:
+    paths = save_files(result, folder, no_plot)
+    if plan.designs_todo:
         report(quiet, f"  computed {plural(plan.designs_todo, 'design')} in {seconds:.1f} s "
                       f"({plan.designs_todo / seconds:.3g} designs/s)")
-    assemblable = table["assemblable"].count("true")
-    certified = _certified(table, "certified")
-    report(quiet, f"  {assemblable} can be assembled; the aspect count is certified for {certified} of them"
-           + (f" (not for {assemblable - certified}: raise --depth)" if certified < assemblable else ""))
-    if spec.tolerance > 0:
-        report(quiet, f"  the robust aspect count (tolerance {spec.tolerance:g}) is certified for "
-               f"{_certified(table, 'robust_certified')} of them")
+    for line in result.notes:
+        report(quiet, line)
     if not no_plot and not spec.swept:
         report(quiet, "  no figure: no length is swept")
     wrote(quiet, paths)
-
-
-def _certified(table: dict, column: str) -> int:
-    """Designs that can be assembled and whose count in `column` is certified."""
-    return sum(a == "true" and c == "true" for a, c in zip(table["assemblable"], table[column]))

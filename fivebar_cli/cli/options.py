@@ -195,6 +195,30 @@ def report(quiet: bool, message: str) -> None:
         click.echo(as_flags(message), err=bool(ctx and ctx.find_root().meta.get(STDOUT_META)))
 
 
+@contextmanager
+def narrated(quiet: bool) -> Iterator[None]:
+    """What the library tells along a call (`logging` records of `fivebar_cli` at INFO: the cluster
+    an atlas runs on, say) as lines of the run summary (`report`), under the command's first line;
+    nowhere else meanwhile (not to a handler of the root logger too)."""
+    import logging
+
+    class Lines(logging.Handler):
+        def emit(self, record: logging.LogRecord) -> None:
+            report(quiet, "  " + record.getMessage())
+
+    logger, handler = logging.getLogger("fivebar_cli"), Lines()
+    before = logger.level, logger.propagate
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    logger.propagate = False
+    try:
+        yield
+    finally:
+        logger.removeHandler(handler)
+        logger.setLevel(before[0])
+        logger.propagate = before[1]
+
+
 def wrote(quiet: bool, paths) -> None:
     """List written files, relative where possible (stable and short)."""
     for path in paths:

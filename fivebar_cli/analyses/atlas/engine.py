@@ -86,4 +86,4 @@ def compute_plan(plan: Plan, runner: Runner = in_process, advance=lambda n=1: No
 def run_plan(plan: Plan, runner: Runner = in_process, advance=lambda n=1: None) -> Path:
     """Compute the missing batches, then write `atlas.csv`."""
     compute_plan(plan, runner, advance)
-    return plan.parts.assemble(plan.folder / ATLAS_CSV)[0]
+    return plan.parts.assemble(plan.folder / ATLAS_CSV)

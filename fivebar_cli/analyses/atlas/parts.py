@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import os
 import time
 import warnings
 from pathlib import Path
@@ -24,7 +23,7 @@ from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 from fivebar_cli.analyses.atlas.metrics import columns
 from fivebar_cli.analyses.atlas.spec import AtlasSpec
 from fivebar_cli.errors import FivebarWarning, InputError, deferred_interrupts, param
-from fivebar_cli.io.files import atomic_write, ensure_dir, format_value, write_text
+from fivebar_cli.io.files import ensure_dir, format_value, write_csv, write_text
 
 PARTS = "atlas.parts"
 MANIFEST = "manifest.json"
@@ -155,27 +154,14 @@ class Parts:
             self.save()
         return write_text(self.path(index), text)
 
-    def assemble(self, target: Path) -> tuple[Path, dict[str, list[str]]]:
-        """`atlas.csv`: the header, then every part's rows in batch order (atomically); with its table
-        (`table_of`: columns of text cells), from the same bytes."""
-        lines = [self.header]
+    def table(self) -> tuple[tuple[str, ...], tuple[tuple[str, ...], ...]]:
+        """`atlas.csv` as (columns, rows of text cells, as written): every part's rows in batch order."""
+        rows = []
+        for index in range(batch_count(self.spec)):
+            lines = self.path(index).read_text(encoding="utf-8").split("\n")[1:-1]
+            rows += [tuple(line.split(",")) for line in lines]
+        return tuple(self.header.split(",")), tuple(rows)
 
-        def write(tmp: Path) -> None:
-            with open(tmp, "wb") as out:
-                out.write((self.header + "\n").encode())
-                for index in range(batch_count(self.spec)):
-                    data = self.path(index).read_bytes()
-                    body = data[data.index(b"\n") + 1:]
-                    lines.extend(body.decode("utf-8").split("\n")[:-1])
-                    out.write(body)
-                out.flush()
-                os.fsync(out.fileno())
-
-        return atomic_write(target, write), table_of(lines)
-
-
-def table_of(lines: list[str]) -> dict[str, list[str]]:
-    """Lines of `atlas.csv` (the header first) as columns of text cells (header name -> cells in row order)."""
-    header = lines[0].split(",")
-    cells = list(zip(*(line.split(",") for line in lines[1:]))) or [()] * len(header)
-    return {name: list(column) for name, column in zip(header, cells)}
+    def assemble(self, target: Path) -> Path:
+        """`atlas.csv` (atomically): the header, then every part's rows in batch order."""
+        return write_csv(target, *self.table())
