@@ -12,7 +12,9 @@ the other tests: here each valid call is small.
 from __future__ import annotations
 
 import math
+import numbers as abc
 
+import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -22,7 +24,8 @@ import fivebar_cli as fb
 SPEC = {"type": "fivebar-atlas", "name": "t", "depth": 2,
         "lengths": {"L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}
 
-numbers = st.one_of(st.integers(-10**12, 10**12), st.floats(allow_nan=True, allow_infinity=True), st.booleans())
+numbers = st.one_of(st.integers(-10**12, 10**12), st.floats(allow_nan=True, allow_infinity=True), st.booleans(),
+                    st.integers(-3, 30).map(np.int64))  # (numpy's integers: a sweep over np.arange)
 anything = st.one_of(numbers, st.none(), st.text(max_size=3), st.tuples(), st.tuples(numbers),
                      st.tuples(numbers, numbers), st.tuples(numbers, numbers, numbers),
                      st.lists(st.tuples(numbers, numbers), max_size=2),
@@ -30,7 +33,7 @@ anything = st.one_of(numbers, st.none(), st.text(max_size=3), st.tuples(), st.tu
 
 
 def _int(v) -> int | None:
-    return v if isinstance(v, int) and not isinstance(v, bool) else None
+    return v if isinstance(v, abc.Integral) and not isinstance(v, bool) else None
 
 
 def depth(limit: int):
@@ -41,7 +44,7 @@ def point(n: int):
     """n finite numbers (a pose or an endpoint; a bool among them is a number, as in numpy), or for
     locate a list of such."""
     def ok(v) -> bool:
-        one = isinstance(v, tuple) and len(v) == n and all(isinstance(x, (int, float)) and math.isfinite(x) for x in v)
+        one = isinstance(v, tuple) and len(v) == n and all(isinstance(x, abc.Real) and math.isfinite(x) for x in v)
         return one or isinstance(v, list) and len(v) > 0 and all(ok(x) for x in v)
     return ok
 
@@ -84,3 +87,22 @@ def test_any_value_gives_a_result_or_an_error_naming_the_parameter(k, value):
         assert valid(value), value  # (a valid one may give no motion, a pose no aspect holds, ...)
     else:
         assert valid(value), f"{name}={value!r} was taken"
+
+
+def test_numpy_integers_are_whole_numbers_too(tmp_path):
+    """A sweep over `np.arange` gives numpy integers: the depths and counts of every call take them,
+    as the Python ints they equal (a depth reaches the JSON manifest that `save` writes), with the
+    same results; they used to be refused as "must be an integer"."""
+    a = fb.aspects("rpr2", np.int64(5), jobs=np.int32(1), budget=np.uint16(500))
+    assert type(a.depth) is int and a.rows() == fb.aspects("rpr2", 5, budget=500).rows()
+    a.save(tmp_path / "numpy")
+    fb.aspects("rpr2", 5, budget=500).save(tmp_path / "python")
+    for path in sorted((tmp_path / "python").rglob("*")):
+        if path.is_file():
+            assert (tmp_path / "numpy" / path.relative_to(tmp_path / "python")).read_bytes() == path.read_bytes()
+    k = fb.kratio("m1", np.arange(3, 5))
+    assert {type(d) for d in k.column("depth")} == {int} and sorted(set(k.column("depth"))) == [3, 4]
+    assert len(fb.rpr3.sweep("rpr3-equilateral", "rho_min", steps=np.int64(11))) == 11
+    assert fb.pave("m1", "workspace", np.int8(4)).inside_area == fb.pave("m1", "workspace", 4).inside_area
+    assert fb.locate("rpr3-caro", pose=(8, -9, -5.6), depth=np.int64(2)).rows() == \
+        fb.locate("rpr3-caro", pose=(8, -9, -5.6), depth=2).rows()

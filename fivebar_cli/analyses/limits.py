@@ -1,6 +1,7 @@
 """The library's depth limits (the API checks them, the command line's options take them as their
 ranges): beyond them a run would need more memory than a workstation has; `check_depth` is the check,
-`check_count` the one of the other whole numbers a call takes (a budget, processes, samples)."""
+`check_count` the one of the other whole numbers a call takes (a budget, processes, samples); both
+give the value as a Python int, numpy's integers included."""
 
 import numbers
 
@@ -14,20 +15,23 @@ MAX_OCTREE_DEPTH = 12  # an octree's boundary surface has ~4^d cells: about 0.1 
 MAX_PLANE_DEPTH = MAX_ASPECT_DEPTH  # quadtree aspects over poses (a single orientation): as the five-bar's
 
 
-def check_depth(depth, limit: int, field: str = "depth") -> None:
-    """A depth is an integer in 0..limit (InputError naming `field` otherwise)."""
-    if isinstance(depth, bool) or not isinstance(depth, int) or not 0 <= depth <= limit:
-        raise InputError("", param(field), f"must be an integer in 0..{limit}, got {depth!r}")
+def check_depth(depth, limit: int, field: str = "depth") -> int:
+    """A depth is an integer in 0..limit (InputError naming `field` otherwise); returned as a
+    Python int, which the callers go on with: numpy's integers are depths too (a sweep over
+    `np.arange`), and a depth reaches JSON manifests and text headers."""
+    return check_count(depth, field, 0, limit)
 
 
-def check_count(value, field: str, least: int = 0, most: int | None = None, none: str = "") -> None:
+def check_count(value, field: str, least: int = 0, most: int | None = None, none: str = "") -> int | None:
     """A count (box evaluations, worker processes, samples) is an integer of at least `least` (and
     at most `most`), or None where `none` says what None means (InputError naming `field` otherwise:
-    a float, a bool or -1 would otherwise be taken for something else without a word)."""
+    a float, a bool or -1 would otherwise be taken for something else without a word); returned
+    as a Python int (or None)."""
     if value is None and none:
-        return
+        return None
     if (isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least
             or most is not None and value > most):
         span = f"of at least {least}" if most is None else f"in {least}..{most}"
         raise InputError("", param(field), f"must be an integer {span}" + (f" ({none})" if none else "")
                          + f", got {value!r}")
+    return int(value)

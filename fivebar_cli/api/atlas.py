@@ -42,7 +42,7 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     import tempfile
     from contextlib import nullcontext
 
-    check_count(workers, "workers", 0, none="0: in this process; None: one per core")
+    workers = check_count(workers, "workers", 0, none="0: in this process; None: one per core")
     with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
         plan = atlas_plan(spec, where, depth=depth, tolerance=tolerance, restart=restart)
         return plan.run(workers=workers, scheduler=scheduler, advance=advance)
@@ -59,8 +59,7 @@ def atlas_spec(spec, depth: int | None = None, tolerance: float | None = None):
     s = spec if isinstance(spec, AtlasSpec) else parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) \
         else read_spec(spec)
     if depth is not None:
-        check_depth(depth, MAX_ASPECT_DEPTH)
-        s = dataclasses.replace(s, depth=depth)
+        s = dataclasses.replace(s, depth=check_depth(depth, MAX_ASPECT_DEPTH))
     if tolerance is not None:
         source = str(spec) if isinstance(spec, (str, Path)) else s.name
         s = dataclasses.replace(s, tolerance=check_tolerance(tolerance, s.grid, source, param("tolerance")))
@@ -117,7 +116,7 @@ class AtlasPlan:
         on the cluster at `scheduler`; `advance(n)`: n more designs done."""
         from fivebar_cli.analyses.atlas.engine import compute_plan, in_process
 
-        check_count(workers, "workers", 0, none="0: in this process; None: one per core")
+        workers = check_count(workers, "workers", 0, none="0: in this process; None: one per core")
         plan = self._plan
         with atlas_runner(workers, scheduler, len(plan.todo)) as runner:
             if plan.todo and runner is not in_process:

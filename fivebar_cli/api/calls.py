@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, check_count, check_depth
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, MAX_PLANE_DEPTH, check_count, check_depth
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
@@ -112,7 +112,7 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     """
     from fivebar_cli.analyses import spaces
 
-    check_depth(depth, MAX_DEPTH)
+    depth = check_depth(depth, MAX_DEPTH)
     m = widened(_mechanism(mech), tolerance or 0.0, source_name(mech))
     if space not in m.spaces():
         raise InputError(m.name, "space", f"{space!r} is not a space of {article(m.kind)} "
@@ -135,7 +135,7 @@ def refine(paving, depth: int, *, advance=None) -> Paving:
     from fivebar_cli.analyses import spaces
     from fivebar_cli.paving import engine
 
-    check_depth(depth, MAX_DEPTH)
+    depth = check_depth(depth, MAX_DEPTH)
     if isinstance(paving, Paving):
         if depth < paving.depth:
             raise InputError(paving.mechanism.name, param("depth"), f"{depth} is below the paving's depth {paving.depth}")
@@ -184,13 +184,14 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 
     m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source_name(mech)), m_name(mech))
-    check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
+    budget = check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     step = advance or (lambda n=1: None)
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
         from fivebar_cli.api.pose_space import pose_mechanism
 
+        depth = check_depth(depth, MAX_PLANE_DEPTH)
         pose_mechanism(m, depth=depth, source=m_name(mech))
         analysis = analyse_pose_aspects(m, depth, step, budget, jobs)
         found = tuple(Aspect(a.number, dict(a.signs.fields), a.tree, None, tuple(a.pose), tuple(a.joints),
@@ -198,7 +199,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
         return Aspects(m, depth, analysis, found)
     from fivebar_cli.analyses.aspects import analyse_aspects, signs_text
 
-    check_depth(depth, MAX_ASPECT_DEPTH)
+    depth = check_depth(depth, MAX_ASPECT_DEPTH)
     analysis = analyse_aspects(m, depth, step, budget, shapes=shapes, jobs=jobs)
     fates, split, free = (), None, None
     if compare and m.is_interval:
@@ -266,7 +267,7 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
         return pose_path(m, start, goal, depth, working_mode, joints, legs, folder, source)
     from fivebar_cli.analyses.paths import find_path, path_columns, path_points, resolve
 
-    check_depth(depth, MAX_ASPECT_DEPTH)
+    depth = check_depth(depth, MAX_ASPECT_DEPTH)
     if joints is not None or legs is not None:
         raise InputError(source, param("joints" if joints is not None else "legs"), f"{article(m.kind)}'s endpoints "
                          "give their own joints: {'joints': (th1, th2)}")

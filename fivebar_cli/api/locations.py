@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_PLANE_DEPTH, check_depth
 from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, source_name, with_aspects
 from fivebar_cli.api.pose_space import check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism
 from fivebar_cli.api.values import Aspects, finite_points
@@ -195,7 +195,7 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     m = with_aspects(_mechanism(mech), source)
     if m.pose_aspect_model() is not None:
         return locate_poses(m, pose, legs, joints, depth, aspects, working_mode, budget, folder, source, advance)
-    check_depth(depth, MAX_ASPECT_DEPTH)
+    depth = check_depth(depth, MAX_ASPECT_DEPTH)
     if legs is not None:
         raise InputError(source, param("legs"), f"{article(m.kind)} has no legs to give: give joints")
     spaces = m.spaces()
@@ -241,7 +241,7 @@ def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_
     from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, sheet_of, working_sheets
     from fivebar_cli.analyses.pose_paths import check_pose, wrap_pose
 
-    depth = aspects.depth if aspects is not None else depth
+    depth = aspects.depth if aspects is not None else check_depth(depth, MAX_PLANE_DEPTH)
     m = pose_mechanism(m, poses=True, depth=depth, source=source)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]

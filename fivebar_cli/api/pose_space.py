@@ -89,7 +89,7 @@ def pose_aspects_for(m: Mechanism, folder, depth: int, budget: int | None = None
     saved = saved_pose_aspects(m, folder, depth)
     if saved is not None:
         return saved, f"read from {folder}"
-    check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
+    budget = check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     return analyse_pose_aspects(m, depth, advance or (lambda n=1: None), budget).aspects, "computed"
 
@@ -115,6 +115,7 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
     from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
     from fivebar_cli.api.values import Path_, motion_where
 
+    depth = check_depth(depth, MAX_PLANE_DEPTH)
     m = pose_mechanism(m, poses=True, depth=depth, source=source)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]

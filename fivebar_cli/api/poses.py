@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
+from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_VERIFY_DEPTH, check_depth
 from fivebar_cli.api.calls import _mechanism, source_name
 from fivebar_cli.api.pose_space import (
     DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_mechanism,
@@ -64,7 +64,7 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG
 
     source = source or source_name(mech)
-    depth = aspects.depth if aspects is not None else depth
+    depth = aspects.depth if aspects is not None else check_depth(depth, MAX_PLANE_DEPTH)
     m = pose_mechanism(_mechanism(mech), poses=True, depth=depth, source=source)
     model = m.pose_aspect_model()
     result = solved if solved is not None else joint_poses(m, joints, "legs" if what == "legs" else "joints")
@@ -167,7 +167,7 @@ def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:
     if model is None:
         raise InputError(source_name(mech), "type", f"{article(m.kind)} has no space of poses to verify")
     sheets = working_sheets(m, working_mode)
-    check_depth(depth, MAX_VERIFY_DEPTH)
+    depth = check_depth(depth, MAX_VERIFY_DEPTH)
     fields = [k for k, _ in model.sheets[0].fields]
     rows, singular, statuses, notes = [], [], [], []
     for sheet in sheets:

@@ -120,7 +120,7 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
         raise InputError("", "over", f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
     check_span(span)
-    check_count(steps, "steps", 2, MAX_STEPS, none="None: the paper's")
+    steps = check_count(steps, "steps", 2, MAX_STEPS, none="None: the paper's")
     run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
     header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
     files = sweep_files(over)
@@ -425,7 +425,7 @@ def pave(mech, depth: int = 7, advance=None, jobs: int | None = 1) -> PaveSet:
     from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
 
-    check_depth(depth, MAX_OCTREE_DEPTH)
+    depth = check_depth(depth, MAX_OCTREE_DEPTH)
     m = bounded(mech)
     whole = m.spaces()["workspace"].region
     pavings = {r: Paving(m, "workspace", depth, "exact", None if r == whole else r, p, p.evaluations)
@@ -508,7 +508,7 @@ def verify(mech, depth: int = 14, advance=None) -> Report:
     from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify as run
     from fivebar_cli.api.calls import per_level
 
-    check_depth(depth, MAX_VERIFY_DEPTH)
+    depth = check_depth(depth, MAX_VERIFY_DEPTH)
     m = bounded(mech)
     result = run(m, depth, on_level=per_level(advance))
     a, b = m.leg_limits()

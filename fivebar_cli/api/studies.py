@@ -91,7 +91,7 @@ def tolerance(mech, tolerances=DEFAULT_TOLERANCES, depth: int = 10, *, jobs: int
     from fivebar_cli.io.layout import TOLERANCE_ASPECTS_PNG, TOLERANCE_BANDS_PNG, TOLERANCE_CSV, TOLERANCE_FILES
 
     m, tolerances = tolerance_mechanism(mech, tolerances)
-    check_depth(depth, MAX_DEPTH)
+    depth = check_depth(depth, MAX_DEPTH)
     study = tolerance_study(m, tolerances, depth, advance or (lambda n=1: None), jobs)
     nominal = study.nominal
     count = (f"{plural(len(nominal.aspects), 'nominal generalized aspect')}, certified" if nominal.certified else
@@ -183,8 +183,7 @@ def kratio(mechs, depths=DEFAULT_DEPTHS, *, advance=None) -> Report:
         raise InputError("", param("depths"), f"expected a depth or a sequence of depths, got {depths!r}") from None
     if not depths:
         raise InputError("", param("depths"), "give at least one depth")
-    for d in depths:
-        check_depth(d, MAX_DEPTH, "depths")
+    depths = [check_depth(d, MAX_DEPTH, "depths") for d in depths]
     rows = kratio_rows(ms, sorted(set(depths)), advance or (lambda n=1: None))
     notes = []
     for r in rows:
