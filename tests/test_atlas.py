@@ -265,6 +265,25 @@ def test_library_run_matches_the_cli(atlas_run, spec_file, tmp_path):
     assert again.run(advance=steps.append) == atlas and steps == []
 
 
+def test_what_a_run_logs_is_printed_under_the_commands_first_line_and_the_logger_left_as_it_was(capsys):
+    """The cluster an atlas runs on is told through `logging` (test_atlas_dask.py sees the line of a
+    real cluster): the command prints it indented, not with --quiet, and leaves the logger as it
+    found it (no handler, no level: a later call, in this process, is silent again)."""
+    import logging
+
+    from fivebar_cli.cli.options import narrated
+
+    logger, told = logging.getLogger("fivebar_cli"), logging.getLogger("fivebar_cli.api.atlas")
+    before = (logger.level, logger.propagate, list(logger.handlers))
+    with narrated(False):
+        told.info("on %s (%s)", "a local cluster of 2 worker processes", "2 workers connected")
+    with narrated(True):
+        told.info("not with --quiet")
+    told.info("nor after the command")
+    assert capsys.readouterr() == ("  on a local cluster of 2 worker processes (2 workers connected)\n", "")
+    assert (logger.level, logger.propagate, list(logger.handlers)) == before
+
+
 # ---------------------------------------------------------------- figures
 
 
