@@ -243,11 +243,12 @@ def test_plots_draw_on_the_callers_axes_and_keep_the_backend(m1_aspects):
 
 
 def test_docstring_examples_run():
-    from fivebar_cli.api import calls, rpr3
+    import importlib
 
-    for module in (calls, rpr3):
+    for name in ("atlas", "calls", "rpr3", "studies", "values"):  # (the modules: fb.atlas is a function too)
+        module = importlib.import_module(f"fivebar_cli.api.{name}")
         result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
-        assert result.failed == 0 and result.attempted > 0
+        assert result.failed == 0 and result.attempted > 0, name
 
 
 def test_every_long_call_reports_progress_by_advance():

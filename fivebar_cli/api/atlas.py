@@ -42,6 +42,7 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
     import tempfile
     from contextlib import nullcontext
 
+    # (checked before the plan starts a folder of parts: `run` checks it again, for its own callers)
     workers = check_count(workers, "workers", 0, none="0: in this process; None: one per core")
     with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
         plan = atlas_plan(spec, where, depth=depth, tolerance=tolerance, restart=restart)
