@@ -243,12 +243,21 @@ def test_plots_draw_on_the_callers_axes_and_keep_the_backend(m1_aspects):
 
 
 def test_docstring_examples_run():
+    """Every example in the docstrings of the API's modules (found by walking the package, so a new
+    module's examples run too)."""
     import importlib
+    import pkgutil
 
-    for name in ("atlas", "calls", "rpr3", "studies", "values"):  # (the modules: fb.atlas is a function too)
-        module = importlib.import_module(f"fivebar_cli.api.{name}")
+    import fivebar_cli.api
+
+    tried = {}
+    for info in pkgutil.iter_modules(fivebar_cli.api.__path__):  # (modules: fb.atlas is a function too)
+        module = importlib.import_module(f"fivebar_cli.api.{info.name}")
         result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
-        assert result.failed == 0 and result.attempted > 0, name
+        assert result.failed == 0, info.name
+        tried[info.name] = result.attempted
+    assert {name for name, n in tried.items() if n} >= {"atlas", "calls", "locations", "poses", "rpr3", "studies",
+                                                          "trees", "values"}, tried
 
 
 def test_every_long_call_reports_progress_by_advance():

@@ -140,12 +140,3 @@ def test_compare_is_a_cell_by_cell_comparison_and_the_command(tmp_path):
     assert cli.status == files.exit_code == 1 and cli.stdout.splitlines() == [as_flags(x) for x in files.notes]
     assert run_cli("diff", qt, qt).status == fb.compare(qt, qt).exit_code == 0
     assert "0 cells only in A" not in repr(files) and "\n" not in repr(files)
-
-
-def test_compare_docstring_example_runs():
-    import doctest
-
-    from fivebar_cli.api import trees
-
-    result = doctest.testmod(trees, optionflags=doctest.ELLIPSIS)
-    assert result.failed == 0 and result.attempted > 0
