@@ -378,6 +378,31 @@ def test_the_generic_workspace_command_paves_the_same_octree(octrees, tmp_path, 
         assert (tmp_path / name).read_bytes() == (octrees / "d3" / name).read_bytes()
 
 
+def test_an_octree_is_paved_or_refined_no_deeper_than_rpr3_pave_allows(octrees, tmp_path, capsys):
+    """Depth 13 of a space of three axes (about 4^13 boundary cells: many GiB) is refused at once by
+    every command and call that paves one, as `rpr3 pave` refuses it; `workspace` and `refine` took
+    it up to 20 (a quadtree's limit) and paved on. Refining below the saved depth is refused too,
+    the folder left as it was."""
+    import fivebar_cli as fb
+
+    before = {p.name: p.read_bytes() for p in (octrees / "d3").iterdir() if p.is_file()}
+    for args in (("workspace", CONFIGS / "rpr3-general.yaml", "--depth", 13, "-o", tmp_path / "w"),
+                 ("jointspace", CONFIGS / "rrr3-symmetric.yaml", "--depth", 13, "-o", tmp_path / "j"),
+                 ("refine", octrees / "d3" / "workspace.qt", "--depth", 13),
+                 ("refine", octrees / "d3" / "workspace.qt", "--depth", 2)):
+        code, out, err = cli(capsys, *args, "--no-plot")
+        assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and "--depth" in err, (args, err)
+        assert ("is below the saved depth 3" if args[-1] == 2 else "an octree: at most 12") in err, err
+    assert {p.name: p.read_bytes() for p in (octrees / "d3").iterdir() if p.is_file()} == before
+    assert not (tmp_path / "w").exists() and not (tmp_path / "j").exists()
+    shallow = fb.pave("rpr3-general", "workspace", 2)
+    for call in (lambda: fb.pave("rpr3-general", "workspace", 13), lambda: fb.refine(shallow, 13),
+                 lambda: fb.refine(octrees / "d3" / "workspace.qt", 13)):
+        with pytest.raises(fb.InputError, match="too deep for a space of 3 axes") as e:
+            call()
+        assert e.value.field == "`depth`"
+
+
 # ---------------------------------------------------------------- verify
 
 

@@ -15,6 +15,17 @@ MAX_OCTREE_DEPTH = 12  # an octree's boundary surface has ~4^d cells: about 0.1 
 MAX_PLANE_DEPTH = MAX_ASPECT_DEPTH  # quadtree aspects over poses (a single orientation): as the five-bar's
 
 
+def check_paving_depth(depth, dim: int) -> int:
+    """`check_depth` for a paving of a space of `dim` axes, whichever call paves it (`pave`,
+    `refine`, `rpr3.pave`): a quadtree to `MAX_DEPTH`, an octree to `MAX_OCTREE_DEPTH` (its
+    boundary surface grows 4x a level, not 2x), said so when that is the limit passed."""
+    depth = check_depth(depth, MAX_DEPTH)
+    if dim > 2 and depth > MAX_OCTREE_DEPTH:
+        raise InputError("", param("depth"), f"{depth} is too deep for a space of {dim} axes (an octree: at most "
+                         f"{MAX_OCTREE_DEPTH}, its boundary grows 4x a level)")
+    return depth
+
+
 def check_depth(depth, limit: int, field: str = "depth") -> int:
     """A depth is an integer in 0..limit (InputError naming `field` otherwise); returned as a
     Python int, which the callers go on with: numpy's integers are depths too (a sweep over

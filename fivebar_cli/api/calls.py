@@ -7,7 +7,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, MAX_PLANE_DEPTH, check_count, check_depth
+from fivebar_cli.analyses.limits import (
+    MAX_ASPECT_DEPTH, MAX_DEPTH, MAX_PLANE_DEPTH, check_count, check_depth, check_paving_depth,
+)
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article
@@ -124,6 +126,7 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     if procedure not in m.procedures:
         raise InputError(m.name, "procedure", f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
+    depth = check_paving_depth(depth, m.spaces()[space].dim)
     p = spaces.pave_space(m, space, depth, procedure, per_level(advance), own)
     return Paving(m, space, depth, procedure, own, p, p.evaluations)
 
@@ -137,6 +140,7 @@ def refine(paving, depth: int, *, advance=None) -> Paving:
 
     depth = check_depth(depth, MAX_DEPTH)
     if isinstance(paving, Paving):
+        depth = check_paving_depth(depth, paving.inside.grid.dim)
         if depth < paving.depth:
             raise InputError(paving.mechanism.name, param("depth"), f"{depth} is below the paving's depth {paving.depth}")
         test = spaces._test(paving.mechanism, paving.space, paving.procedure, paving.region)
@@ -144,6 +148,7 @@ def refine(paving, depth: int, *, advance=None) -> Paving:
         return Paving(paving.mechanism, paving.space, depth, paving.procedure, paving.region, p,
                       paving.evaluations + p.evaluations)
     saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(paving)
+    depth = check_paving_depth(depth, saved.inside.tree.grid.dim)
     if depth < saved.inside.tree.grid.depth:
         raise InputError(saved.source, param("depth"), f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
     p = spaces.refine_saved(saved, depth, per_level(advance))

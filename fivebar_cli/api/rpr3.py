@@ -15,7 +15,7 @@ import numpy as np
 
 from fivebar_cli.analyses.limits import check_count
 from fivebar_cli.api.values import Report, Table
-from fivebar_cli.errors import InputError
+from fivebar_cli.errors import InputError, param
 from fivebar_cli.io.layout import (
     AREA_CSV, AREA_FILES, COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, VERIFY_CSV,
     VERIFY_FILES,
@@ -461,11 +461,15 @@ def refine_pave_set(source, m, old_depth: int, depth: int, advance=None) -> tupl
     from pathlib import Path
 
     from fivebar_cli.analyses import spaces
+    from fivebar_cli.analyses.limits import check_paving_depth
     from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
     from fivebar_cli.io.layout import region_stem
     from fivebar_cli.mechanisms.rpr3.model import REACHABLE
 
+    depth = check_paving_depth(depth, 3)
+    if depth < old_depth:
+        raise InputError(str(source), param("depth"), f"{depth} is below the saved depth {old_depth}")
     pavings, saved_total = {}, 0
     for region in m.regions("workspace"):
         path = Path(source) / f"{region_stem('workspace', None if region == REACHABLE else region)}.qt"

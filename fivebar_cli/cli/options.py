@@ -13,7 +13,7 @@ from typing import Iterator
 
 import click
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH  # noqa: F401 - the commands' depth ranges
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, MAX_OCTREE_DEPTH  # noqa: F401 - the commands' depth ranges
 from fivebar_cli.cli.numbers import Number
 from fivebar_cli.errors import FivebarError, InputError, Param, Text
 from fivebar_cli.io.files import check_writable_dir
@@ -117,9 +117,12 @@ def option_errors(**flags: str) -> Iterator[None]:
         raise
 
 
-def depth_option(default: int = 10, limit: int = MAX_DEPTH):
+def depth_option(default: int = 10, limit: int = MAX_DEPTH, octrees: bool = False):
+    """`--depth`; with `octrees`, for a command that also paves spaces of three axes, whose limit
+    the library checks once the space is known (`limits.check_paving_depth`)."""
+    octree = f"; 0..{MAX_OCTREE_DEPTH} for a space of three axes, an octree" if octrees else ""
     return click.option("--depth", "-d", type=click.IntRange(0, limit), default=default, show_default=True,
-                        help=f"Maximum depth d of the tree (cells are root/2^d wide; 0..{limit}).")
+                        help=f"Maximum depth d of the tree (cells are root/2^d wide; 0..{limit}{octree}).")
 
 
 def jobs_option(func):

@@ -23,7 +23,7 @@ QT_FILE = click.Path(path_type=Path, dir_okay=False)
 
 @click.command(short_help="Deepen a saved paving, testing only undetermined cells.")
 @click.argument("tree_path", metavar="TREE.qt", type=QT_FILE)
-@depth_option(default=12)
+@depth_option(default=12, octrees=True)
 @common_options(default="the folder of TREE.qt, in place")
 @option_errors()
 def refine(tree_path, depth, out, no_plot, quiet):
@@ -44,8 +44,6 @@ def refine(tree_path, depth, out, no_plot, quiet):
     refuse_stdout(out, "a .qt pair, its summary and figures")
     saved = spaces.load_saved(tree_path)
     old_depth = saved.inside.tree.grid.depth
-    if depth < old_depth:
-        raise InputError(str(tree_path), "--depth", f"{depth} is below the saved depth {old_depth}")
     inside, outside = sibling_paths(tree_path)
     source = inside.parent
     folder = check_writable_dir(out if out is not None else source)
@@ -53,7 +51,8 @@ def refine(tree_path, depth, out, no_plot, quiet):
     pair = [inside, outside] + ([band_path(source, saved.stem)] if saved.band else [])
     if runs.set_of(inside) == PAVE_SET:
         return _refine_pave_set(source, folder, saved.mechanism, old_depth, depth, no_plot, quiet)
-    with progress(quiet, depth - old_depth, f"refine to depth {depth}") as advance:
+    # (the depth is checked by the library: not below the saved one, an octree's limit for 3 axes)
+    with progress(quiet, max(depth - old_depth, 0), f"refine to depth {depth}") as advance:
         paving = deepen(saved, depth, advance=advance)
     problem = runs.one_run(pair)
     if problem is not None:  # after the pair's own checks (a corrupted file is named more precisely by them)
@@ -73,7 +72,7 @@ def _refine_pave_set(source: Path, folder: Path, m, old_depth: int, depth: int, 
     """Refine the three pairs of an `rpr3 pave` run together and rewrite its volumes and figures."""
     from fivebar_cli.api.rpr3 import refine_pave_set
 
-    with progress(quiet, 3 * (depth - old_depth), f"refine to depth {depth}") as advance:
+    with progress(quiet, 3 * max(depth - old_depth, 0), f"refine to depth {depth}") as advance:
         result, saved_total = refine_pave_set(source, m, old_depth, depth, advance=advance)
     report(quiet, f"{m.name}: the three pavings of its rpr3 pave run refined together, depth {old_depth} -> {depth} "
                   f"({saved_total} evaluations saved by not retesting)")

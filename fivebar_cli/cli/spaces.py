@@ -37,7 +37,7 @@ def _space_options(func):
     """The argument and options both space commands take, applied innermost first as a stack of
     decorators is (so --help lists them config, --depth, --procedure, ... as before)."""
     for decorate in (option_errors(), common_options, _geojson_option, tolerance_option, _procedure_option,
-                     depth_option(), click.argument("config_path", metavar="CONFIG", type=CONFIG)):
+                     depth_option(octrees=True), click.argument("config_path", metavar="CONFIG", type=CONFIG)):
         func = decorate(func)
     return func
 
