@@ -191,7 +191,7 @@ def test_rpr3_studies_equal_the_golden_tables():
     assert abs(det_j) < 1e-12 and v.notes[-1].endswith(f", det J = 0 to rounding ({det_j:.2g})")
     octree = fb.rpr3.pave("rpr3-general", 3)
     assert octree.volumes["reachable"] <= octree.volumes["root"] and len(octree.pavings) == 3
-    with pytest.raises(fb.InputError, match="range: LO must be smaller than HI"):
+    with pytest.raises(fb.InputError, match="`span`: LO must be smaller than HI"):
         fb.rpr3.sweep("rpr3-equilateral", "phi", span=(3, 1))
 
 

@@ -69,11 +69,18 @@ def test_dkp_is_the_command_and_every_pose_has_the_legs(tmp_path, caro):
     (lambda: fb.path("rpr3-caro", (8, -9, -5.6), {"pose": (1, 2, 3)}, depth=5), "`goal`"),
     (lambda: fb.path("rpr3-caro", (8, -9, float("inf")), (1, 2, 3), depth=5), "`start`"),
     (lambda: fb.compare(REPO / "tests/golden/M1/workspace.qt", REPO / "tests/golden/M2/workspace.qt"), "root"),
+    # arguments of another kind's motion, once taken without a word (its motion avoided every singularity)
+    (lambda: fb.path("rpr3-caro", (8, -9, -5.6), (-10.0195, -18.0352, -11.25), depth=5, allow_serial=True),
+     "`allow_serial`"),
+    (lambda: fb.path("rpr3-caro", (8, -9, -5.6), (-10.0195, -18.0352, -11.25), depth=5, assembly_mode="+"),
+     "`assembly_mode`"),
+    (lambda: fb.path("rpr2", (0, 8), (1, 8), working_mode="++", depth=5, allow_serial=True), "`allow_serial`"),
 ])
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(fb.InputError) as caught:
         call()
     assert caught.value.field == field
+    assert " a rpr" not in str(caught.value)  # (an rpr2, an rpr3: `article`)
 
 
 def test_locate_and_path_over_poses_are_the_commands(tmp_path, caro):

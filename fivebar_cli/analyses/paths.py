@@ -34,7 +34,7 @@ from fivebar_cli.analyses.locate import (
 )
 from fivebar_cli.errors import FivebarError, InputError, param
 from fivebar_cli.io.files import csv_text
-from fivebar_cli.mechanisms.base import Mechanism
+from fivebar_cli.mechanisms.base import Mechanism, article
 from fivebar_cli.paving.engine import pave
 from fivebar_cli.paving.tree import Tree
 
@@ -180,7 +180,7 @@ def parallel_free_cells(m: Mechanism, depth: int, assembly: str) -> Tree:
     """The joint-space cells certified to assemble with det A != 0 (serial singularities allowed)."""
     model = m.aspect_model()
     if not m.crosses_serial:
-        raise InputError(m.name, param("allow_serial"), f"a {m.kind} has no test for parallel singularities")
+        raise InputError(m.name, param("allow_serial"), f"{article(m.kind)} has no test for parallel singularities")
     return pave(m.spaces()["jointspace"].grid(depth), model.parallel_free_test(_signs(assembly)[0])).inside
 
 

@@ -269,6 +269,11 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     if m.pose_aspect_model() is not None:
         from fivebar_cli.api.pose_space import pose_path
 
+        check_serial(m, allow_serial, source)  # (taken without a word before: the motion avoided every singularity)
+        if assembly_mode is not None:
+            raise InputError(source, param("assembly_mode"), f"{article(m.kind)}'s assembly modes are `start` and "
+                             "`goal` themselves, numbered as in `dkp`'s rows, with " + param("joints") + " or "
+                             + param("legs"))
         return pose_path(m, start, goal, depth, working_mode, joints, legs, folder, source)
     from fivebar_cli.analyses.paths import find_path, path_columns, path_points, resolve
 
@@ -306,7 +311,7 @@ def _endpoint(e, which: str, working_mode: str | None, source):
 def check_serial(m: Mechanism, allow_serial: bool, source) -> None:
     """`allow_serial` needs a kind with a test for parallel singularities (InputError otherwise)."""
     if allow_serial and not m.crosses_serial:
-        raise InputError(str(source), param("allow_serial"), f"a {m.kind} has no test for parallel singularities")
+        raise InputError(str(source), param("allow_serial"), f"{article(m.kind)} has no test for parallel singularities")
 
 
 def _path_notes(result, trees) -> tuple[str, ...]:

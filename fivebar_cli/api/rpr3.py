@@ -117,7 +117,7 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
     from fivebar_cli.io.layout import sweep_files
 
     if over not in ("phi", "rho_min", "t2"):
-        raise InputError("", "over", f"expected phi, rho_min or t2, got {over!r}")
+        raise InputError("", param("over"), f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
     check_span(span)
     steps = check_count(steps, "steps", 2, MAX_STEPS, none="None: the paper's")
@@ -134,18 +134,18 @@ def check_span(span) -> None:
         return
     if (isinstance(span, (str, bytes)) or not hasattr(span, "__len__") or len(span) != 2
             or not all(isinstance(v, numbers.Real) for v in span)):
-        raise InputError("", "range", f"expected (LO, HI), two numbers, got {span!r}")
+        raise InputError("", param("span"), f"expected (LO, HI), two numbers, got {span!r}")
     if not all(abs(v) <= 1e6 for v in span):
-        raise InputError("", "range", f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}")
+        raise InputError("", param("span"), f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}")
     if not span[0] < span[1]:
-        raise InputError("", "range", f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}")
+        raise InputError("", param("span"), f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}")
 
 
 def _sweep_phi(mechs, span, steps, angles, advance):
     from fivebar_cli.mechanisms.rpr3 import sweeps
 
     lo, hi = span or (0.5, 179.5)
-    check_phis((lo, hi), "range")
+    check_phis((lo, hi), param("span"))
     phis_deg = np.linspace(lo, hi, steps or 359)
     rows, curves, notes = [], [], []
     for m in mechs:
@@ -186,7 +186,7 @@ def _sweep_rho_min(mechs, span, steps, angles, advance):
     limits = [float(geo.rho_min_limit(*m.design, to_radians(m.phi))) for m in mechs]
     lo, hi = span or (0.0, max(limits))
     if lo < 0:
-        raise InputError("", "range", f"rho_min must not be negative, got {lo:g}")
+        raise InputError("", param("span"), f"rho_min must not be negative, got {lo:g}")
     rhos = np.linspace(lo, hi, steps or 201)
     rows, series, marks, notes = [], [], [], []
     for m in mechs:
@@ -215,11 +215,11 @@ def _sweep_t2(mechs, span, steps, angles, advance):
         phis_deg = [float(a) for a in (angles.split(",") if isinstance(angles, str) else angles)
                     if not isinstance(a, str) or a.strip()]
     except ValueError:
-        raise InputError("", "angles", f"expected comma-separated degrees, got {angles!r}") from None
+        raise InputError("", param("angles"), f"expected comma-separated degrees, got {angles!r}") from None
     if not phis_deg:
-        raise InputError("", "angles", "no orientation given")
+        raise InputError("", param("angles"), "no orientation given")
     for p in phis_deg:
-        check_phis((p,), "angles")
+        check_phis((p,), param("angles"))
     rows, series, notes = [], [], []
     for m in mechs:
         lo, hi = span or (-5.0, m.t1 + 5.0)

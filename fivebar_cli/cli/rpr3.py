@@ -97,11 +97,11 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
       fivebar rpr3 sweep configs/rpr3-equilateral.yaml --over rho_min -o - > area-vs-rho-min.csv
     """
     mechs = [api.similar(c) for c in configs]
-    with option_errors(range="--range", angles="--angles"):
+    with option_errors(span="--range", angles="--angles"):
         api.check_span(span)
     stdout = data_on_stdout(out)
     folder = None if stdout else prepare_out(out, "+".join(dict.fromkeys(m.name for m in mechs)))
-    with option_errors(range="--range", angles="--angles"):
+    with option_errors(span="--range", angles="--angles"):
         with progress(quiet or over == "rho_min", len(mechs), f"sweeping {over}") as advance:
             study = api.sweep(mechs, over, span, steps, angles, advance)
     for line in study.notes:
