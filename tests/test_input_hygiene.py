@@ -135,4 +135,4 @@ def test_counts_say_whether_they_are_certified_and_kinds_take_their_article(tmp_
              "an rpr3 has no jointspace to pave")
     one_line(run_cli("workspace", CONFIGS / "rpr2.yaml", "--tolerance", 0.1, "-o", "o", cwd=tmp_path), 2,
              "an rpr2 has no interval lengths")
-    one_line(run_cli("rpr3", "area", M1_YAML, "-o", "o", cwd=tmp_path), 2, "this command needs an rpr3")
+    one_line(run_cli("rpr3", "area", M1_YAML, "-o", "o", cwd=tmp_path), 2, "expected an rpr3 ('type: rpr3') here, got 'fivebar'")

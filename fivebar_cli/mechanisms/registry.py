@@ -69,7 +69,7 @@ def load_config(path: str | Path, kind: str | None = None, space: str | None = N
 def check_kind(mech: Mechanism, source: str, kind: str | None = None, space: str | None = None) -> Mechanism:
     """`mech`, when it is of `kind` and has `space` (each when given); ConfigError otherwise."""
     if kind is not None and mech.kind != kind:
-        raise ConfigError(source, "type", f"this command needs {article(kind)} ('type: {kind}'), got {mech.kind!r}")
+        raise ConfigError(source, "type", f"expected {article(kind)} ('type: {kind}') here, got {mech.kind!r}")
     if space is not None and space not in mech.spaces():
         known = ", ".join(mech.spaces()) or "none"
         raise ConfigError(source, "type", f"{article(mech.kind)} has no {space} to pave (its spaces: {known})")
