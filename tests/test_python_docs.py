@@ -20,6 +20,7 @@ import pytest
 
 from tests.cli_helpers import REPO
 
+README = REPO / "README.md"
 TUTORIAL = REPO / "docs" / "python.md"
 NOTEBOOK = REPO / "docs" / "examples" / "m1-tutorial.ipynb"
 BLOCK = re.compile(r"^```(python|text)\n(.*?)^```\n", re.M | re.S)
@@ -84,3 +85,20 @@ def test_the_notebook_runs_and_prints_its_stored_outputs(in_a_copy):
     cells = notebook_cells(NOTEBOOK)
     assert len(cells) >= 4 and all(out for _, out in cells[1:])
     run_blocks(cells, NOTEBOOK.name)
+
+
+def test_the_readmes_python_block_runs_and_its_comments_are_what_it_gives(in_a_copy):
+    """The README's first Python block (the section "From Python", the first code a newcomer
+    reads): it runs, each `name = ...  # <repr>` comment is that value's repr, and the files its
+    `save` writes are the golden ones of `fivebar reproduce` (depth 10)."""
+    text = README.read_text()
+    code = markdown_blocks(text[text.index("## From Python"):])[0][0]
+    namespace = {"__name__": "__doc__"}
+    with contextlib.redirect_stdout(io.StringIO()) as printed:
+        exec(compile(code, "README.md, From Python", "exec"), namespace)
+    claims = re.findall(r"^(\w+) = .*#\s*(<.*>)\s*$", code, re.M)
+    assert claims and all(repr(namespace[name]) == shown for name, shown in claims), claims
+    assert len(printed.getvalue().splitlines()) == len(namespace["a"])  # one line per aspect
+    for name in ("aspects.csv", "aspects-adjacency.csv"):
+        assert (in_a_copy / "out" / "m1-python" / name).read_bytes() == (REPO / "tests" / "golden" / "M1" / name).read_bytes()
+    assert (in_a_copy / "out" / "m1-python" / "aspects-workspace.png").read_bytes()[:4] == b"\x89PNG"
