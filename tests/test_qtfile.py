@@ -368,3 +368,27 @@ def test_fuzz_binary_files_read_or_raise_input_error(tmp_path_factory, data):
         read_qt(path)
     except InputError as exc:
         assert str(path) in str(exc)
+
+
+def test_the_worked_examples_of_the_format_are_what_the_code_gives():
+    """docs/formats.md's worked examples, as it claims them ("Checked with the code"): its Python
+    block's commented values; the complement body of `fivebar workspace configs/m1.yaml --depth 2`
+    with its 4 outside leaves and 12 undetermined cells; the one-level octree `GWBWWBWWW`."""
+    import re
+
+    import fivebar_cli as fb
+    from cli_helpers import REPO
+
+    text = (REPO / "docs" / "formats.md").read_text()
+    block = re.search(r"Checked with the code:\n\n```python\n(.*?)```", text, re.S).group(1)
+    namespace: dict = {}
+    exec(compile(block, "docs/formats.md", "exec"), namespace)
+    claims = [(expr, value) for expr, value in re.findall(r"^([\w.()]+)\s+#\s*(\S+)", block, re.M)]
+    assert len(claims) == 3
+    for expr, value in claims:
+        assert repr(eval(expr, namespace)) == value, expr
+    m1 = fb.pave("m1", "workspace", 2)
+    assert m1.inside.to_bwg() == "W" and "`GGBWBWWGBWBWW`" in text and m1.outside.to_bwg() == "GGBWBWWGBWBWW"
+    assert len(m1.outside) == 4 and m1.undetermined_area == 12 * (26 / 4) ** 2  # 12 cells of the root [-13, 13]^2 / 4
+    octree = Tree.from_cells(Grid(((0.0, 1.0),) * 3, 1, (False,) * 3), 1, np.array([[1, 0, 0], [0, 0, 1]]))
+    assert "`GWBWWBWWW`" in text and octree.to_bwg() == "GWBWWBWWW"
