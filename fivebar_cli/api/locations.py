@@ -194,6 +194,9 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
     if m.pose_aspect_model() is not None:
+        if assembly_mode is not None:  # (taken without a word before)
+            raise InputError(source, param("assembly_mode"), f"{article(m.kind)}'s pose decides its class (an "
+                             "assembly mode): every configuration at the locations is given, with its class")
         return locate_poses(m, pose, legs, joints, depth, aspects, working_mode, budget, folder, source, advance)
     depth = check_depth(depth, MAX_ASPECT_DEPTH)
     if legs is not None:
