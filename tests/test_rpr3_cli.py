@@ -63,6 +63,17 @@ def test_synthesize_at_one_orientation_and_sweep_checks_its_options(tmp_path):
     for args in (("--over", "phi", "--range", "0", "90"), ("--over", "t2", "--angles", "30,180"),
                  ("--over", "rho_min", "--range", "0.5", "0.1"), ("--over", "volume")):
         one_line(run("sweep", CONFIGS / "rpr3-equilateral.yaml", *args, "-o", tmp_path), 2)
+    # orientations given to a sweep that takes none (taken without a word before)
+    one_line(run("sweep", CONFIGS / "rpr3-equilateral.yaml", "--over", "phi", "--angles", "10,20", "-o", tmp_path), 2,
+             "--angles", "only the sweep over t2 (--over t2) takes orientations; this one is over phi")
+    import fivebar_cli as fb
+
+    with pytest.raises(fb.InputError, match="only the sweep over t2") as e:
+        fb.rpr3.sweep("rpr3-equilateral", "rho_min", angles=(10, 20))
+    assert e.value.field == "`angles`"
+    default = fb.rpr3.sweep("rpr3-equilateral", "t2", steps=3)  # None: the paper's five orientations
+    assert sorted(set(default.column("phi_deg"))) == [30, 60, 90, 120, 150]
+    assert default.rows() == fb.rpr3.sweep("rpr3-equilateral", "t2", steps=3, angles="30,60,90,120,150").rows()
 
 
 # ---------------------------------------------------------------- area

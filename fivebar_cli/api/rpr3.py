@@ -102,10 +102,10 @@ def area(mech) -> Report:
 # ---------------------------------------------------------------- sweeps
 
 
-def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_ANGLES, advance=None) -> Report:
+def sweep(mechs, over: str, span=None, steps: int | None = None, angles=None, advance=None) -> Report:
     """Area of W swept over `over` ("phi", "rho_min" or "t2") for one or more bases (a design per
     sample, rho_max auto): `span` (lo, hi) and `steps` default to the paper's ranges; `angles` are
-    the orientations (degrees) of the t2 sweep.
+    the orientations (degrees) of the t2 sweep (None: 30, 60, 90, 120 and 150), of no other.
 
     Examples
     --------
@@ -121,6 +121,9 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=DEFAULT_
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
     check_span(span)
     steps = check_count(steps, "steps", 2, MAX_STEPS, none="None: the paper's")
+    if angles is not None and over != "t2":  # (taken without a word before)
+        raise InputError("", param("angles"), "only the sweep over t2 (" + param("over", "t2")
+                         + f") takes orientations; this one is over {over}")
     run = {"phi": _sweep_phi, "rho_min": _sweep_rho_min, "t2": _sweep_t2}[over]
     header, rows, notes, drawings = run(ms, span, steps, angles, advance or (lambda n=1: None))
     files = sweep_files(over)
@@ -212,6 +215,7 @@ def _sweep_t2(mechs, span, steps, angles, advance):
     from fivebar_cli.mechanisms.rpr3 import sweeps
 
     try:
+        angles = DEFAULT_ANGLES if angles is None else angles
         phis_deg = [float(a) for a in (angles.split(",") if isinstance(angles, str) else angles)
                     if not isinstance(a, str) or a.strip()]
     except ValueError:

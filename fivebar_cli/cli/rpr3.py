@@ -77,8 +77,8 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
                    "t2 -5 t1+5].")
 @click.option("--steps", type=click.IntRange(2, api.MAX_STEPS), default=None,
               help="Number of samples [default: phi 359, rho_min 201, t2 233].")
-@click.option("--angles", default="30,60,90,120,150", show_default=True,
-              help="Orientations (degrees) of the t2 sweep, comma separated.")
+@click.option("--angles", default=None,
+              help="Orientations (degrees) of the t2 sweep, comma separated [default: 30,60,90,120,150].")
 @common_options(single="the table (area-vs-phi.csv, area-vs-rho-min.csv or area-vs-t2.csv)",
                 default="outputs/<config name>/, outputs/<name1>+<name2>+.../ for several")
 @option_errors()
@@ -101,7 +101,7 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
         api.check_span(span)
     stdout = data_on_stdout(out)
     folder = None if stdout else prepare_out(out, "+".join(dict.fromkeys(m.name for m in mechs)))
-    with option_errors(span="--range", angles="--angles"):
+    with option_errors(span="--range", angles="--angles", over="--over"):
         with progress(quiet or over == "rho_min", len(mechs), f"sweeping {over}") as advance:
             study = api.sweep(mechs, over, span, steps, angles, advance)
     for line in study.notes:
