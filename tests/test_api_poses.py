@@ -76,6 +76,8 @@ def test_dkp_is_the_command_and_every_pose_has_the_legs(tmp_path, caro):
      "`assembly_mode`"),
     (lambda: fb.path("rpr2", (0, 8), (1, 8), working_mode="++", depth=5, allow_serial=True), "`allow_serial`"),
     (lambda: fb.locate("rpr3-caro", pose=(8, -9, -5.6), depth=2, assembly_mode="+"), "`assembly_mode`"),
+    (lambda: fb.path("m1", {"joints": (-0.1, -2.06)}, {"joints": (0.88, 1.47)}, assembly_mode="+", working_mode="--",
+                     depth=8), "`working_mode`"),
 ])
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(fb.InputError) as caught:

@@ -251,6 +251,8 @@ FAILURES = [  # (label, arguments, exit status, words the one line must hold)
     ("three endpoints", ["--joints", "0.1", "0.7", "--joints", "0.2", "0.8", "--pose", "4", "5"], 2, ["two endpoints"]),
     ("working modes miscounted", ["--pose", "4", "5", "--pose", "6", "8", "--working-mode", "++", "--working-mode",
                                   "+-", "--working-mode", "--"], 2, ["--working-mode"]),
+    ("working mode of joints", ["--joints", "-0.1", "-2.06", "--joints", "0.88", "1.47", "--assembly-mode", "+",
+                                "--working-mode", "--"], 2, ["--working-mode", "joints decide their own working mode"]),
 ]
 
 

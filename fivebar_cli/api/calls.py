@@ -283,6 +283,9 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
                          "give their own joints: {'joints': (th1, th2)}")
     check_serial(m, allow_serial, source)
     endpoints = [_endpoint(e, which, working_mode, source) for e, which in ((start, "start"), (goal, "goal"))]
+    if working_mode is not None and all(e.kind == "joints" for e in endpoints):  # (taken without a word before)
+        raise InputError(str(source), param("working_mode"), "is that of a pose endpoint: joints decide their own "
+                         "working mode")
     first, last = resolve(m, endpoints, assembly_mode, source)
     trees = Path(folder) if folder is not None else None
     result = find_path(m, depth, first, last, allow_serial, trees, max_depth=MAX_ASPECT_DEPTH)

@@ -67,6 +67,8 @@ def path(config_path, joints, poses, working_modes, assembly_mode, allow_serial,
     values = {"joints": list(joints), "poses": list(poses)}
     if len(joints) + len(poses) != 2:
         raise click.UsageError("give exactly two endpoints (--joints TH1 TH2 or --pose X Y, twice in all)")
+    if working_modes and not poses:  # (taken without a word before)
+        raise click.UsageError("--working-mode is that of a --pose endpoint: joints decide their own working mode")
     if working_modes and len(working_modes) not in (1, len(poses)):
         raise click.UsageError(f"give --working-mode once, or once per --pose ({len(poses)})")
     pose_modes = list(working_modes) * len(poses) if len(working_modes) == 1 else list(working_modes) or [None] * len(poses)
