@@ -78,6 +78,13 @@ def test_dkp_is_the_command_and_every_pose_has_the_legs(tmp_path, caro):
     (lambda: fb.locate("rpr3-caro", pose=(8, -9, -5.6), depth=2, assembly_mode="+"), "`assembly_mode`"),
     (lambda: fb.path("m1", {"joints": (-0.1, -2.06)}, {"joints": (0.88, 1.47)}, assembly_mode="+", working_mode="--",
                      depth=8), "`working_mode`"),
+    # modes that are none of the kind's (every configuration was filtered out, or no motion found)
+    (lambda: fb.locate("m1", joints=(0.3, 1.2), working_mode="xx", depth=6), "`working_mode`"),
+    (lambda: fb.locate("rpr2", pose=(0, 8), assembly_mode="0", depth=6), "`assembly_mode`"),
+    (lambda: fb.path("m1", (4, 5), (6, 8), working_mode="+", depth=6), "`working_mode`"),
+    (lambda: fb.path("m1", {"pose": (4, 5), "working_mode": "++"}, {"pose": (6, 8), "working_mode": "+-+"}, depth=6),
+     "`working_mode`"),
+    (lambda: fb.path("m1", (4, 5), (6, 8), working_mode="++", assembly_mode="x", depth=6), "`assembly_mode`"),
 ])
 def test_bad_input_names_the_field(call, field):
     with pytest.raises(fb.InputError) as caught:

@@ -283,6 +283,7 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
                          "give their own joints: {'joints': (th1, th2)}")
     check_serial(m, allow_serial, source)
     endpoints = [_endpoint(e, which, working_mode, source) for e, which in ((start, "start"), (goal, "goal"))]
+    check_modes(m, source, [working_mode, *(e.working for e in endpoints)], assembly_mode)
     if working_mode is not None and all(e.kind == "joints" for e in endpoints):  # (taken without a word before)
         raise InputError(str(source), param("working_mode"), "is that of a pose endpoint: joints decide their own "
                          "working mode")
@@ -309,6 +310,20 @@ def _endpoint(e, which: str, working_mode: str | None, source):
     if kinds[0] == "joints":
         return Endpoint("joints", pair)
     return Endpoint("pose", pair, e.get("working_mode", working_mode) if isinstance(e, Mapping) else working_mode)
+
+
+def check_modes(m: Mechanism, source, working_modes=(), assembly_mode: str | None = None) -> None:
+    """A five-bar's or 2-RPR's modes as the calls take them ('+-', '+'): InputError naming the one
+    that is none of its kind's (a typo used to filter every configuration out, or find no motion)."""
+    from fivebar_cli.analyses.aspect_texts import signs_text
+
+    model = m.aspect_model()
+    for name, values, known in (("working_mode", working_modes, model.working_modes),
+                                ("assembly_mode", (assembly_mode,), model.assembly_modes)):
+        texts = [signs_text(k) for k in known]
+        for value in values:
+            if value is not None and value not in texts:
+                raise InputError(str(source), param(name), f"{value!r} is none of {article(m.kind)}'s: {', '.join(texts)}")
 
 
 def check_serial(m: Mechanism, allow_serial: bool, source) -> None:

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_PLANE_DEPTH, check_depth
-from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, source_name, with_aspects
+from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_modes, source_name, with_aspects
 from fivebar_cli.api.pose_space import check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism
 from fivebar_cli.api.values import Aspects, finite_points
 from fivebar_cli.errors import InputError, param
@@ -201,6 +201,7 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     depth = check_depth(depth, MAX_ASPECT_DEPTH)
     if legs is not None:
         raise InputError(source, param("legs"), f"{article(m.kind)} has no legs to give: give joints")
+    check_modes(m, source, (working_mode,), assembly_mode)
     spaces = m.spaces()
     places = ([("pose", p) for p in _points(pose, "pose", spaces["workspace"].axes, source)]
               + [("joints", j) for j in _points(joints, "joints", spaces["jointspace"].axes, source)])
