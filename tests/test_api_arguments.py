@@ -21,12 +21,21 @@ from hypothesis import strategies as st
 
 import fivebar_cli as fb
 
+def _modes(name: str) -> tuple[list[str], list[str]]:
+    from fivebar_cli.analyses.aspect_texts import signs_text
+
+    model = fb.load(name).aspect_model()
+    return [signs_text(k) for k in model.working_modes], [signs_text(k) for k in model.assembly_modes]
+
+
+RPR2_MODES = _modes("rpr2")
 SPEC = {"type": "fivebar-atlas", "name": "t", "depth": 2,
         "lengths": {"L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}
 
 numbers = st.one_of(st.integers(-10**12, 10**12), st.floats(allow_nan=True, allow_infinity=True), st.booleans(),
                     st.integers(-3, 30).map(np.int64))  # (numpy's integers: a sweep over np.arange)
-anything = st.one_of(numbers, st.none(), st.text(max_size=3), st.tuples(), st.tuples(numbers),
+anything = st.one_of(numbers, st.none(), st.text(max_size=3), st.sampled_from(["++", "+-", "--", "+", "-", "0", "+-+"]),
+                     st.tuples(), st.tuples(numbers),
                      st.tuples(numbers, numbers), st.tuples(numbers, numbers, numbers),
                      st.lists(st.tuples(numbers, numbers), max_size=2),
                      st.dictionaries(st.text(max_size=4), numbers, max_size=2))
@@ -68,6 +77,10 @@ CALLS = [
     ("pose", lambda v: fb.locate("rpr3-caro", pose=v, depth=2), point(3), lambda v: False),
     ("start", lambda v: fb.path("rpr2", v, (0, 8), working_mode="++", depth=4), point(2), lambda v: False),
     ("goal", lambda v: fb.path("rpr3-caro", (8, -9, -5.6), v, depth=3), point(3), lambda v: False),
+    ("working_mode", lambda v: fb.locate("rpr2", pose=(0, 8), working_mode=v, depth=3),
+     lambda v: v is None or isinstance(v, str) and v in RPR2_MODES[0], lambda v: False),
+    ("assembly_mode", lambda v: fb.locate("rpr2", pose=(0, 8), assembly_mode=v, depth=3),
+     lambda v: v is None or isinstance(v, str) and v in RPR2_MODES[1], lambda v: False),
 ]
 
 
