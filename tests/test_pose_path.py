@@ -156,6 +156,10 @@ def test_path_command_writes_the_motion_and_its_figure(tmp_path):
     (["--pose", "0", "0", "0"], 2, "exactly two endpoints"),
     (["--pose", "-5.5", "-13.9", "-2.7", "--pose", "0", "0", "0"], 2, "not a valid pose"),
     (["--legs", *CUSP_LEGS, "--modes", "1", "4"], 1, "different classes"),
+    # an option of the five-bar's command only: named as such, not as "no such option '-5'" (the
+    # five-bar's reading of `--pose X Y PHI`, when neither command could parse the line)
+    (["--pose", "-5.5", "-13.9", "-2.7", "--pose", "0", "0", "0", "--allow-serial"], 2,
+     "No such option '--allow-serial'"),
 ])
 def test_path_refusals_are_one_line(tmp_path, args, status, needle):
     one_line(run_cli("path", CARO, *args, "--depth", "4", "-o", tmp_path, "--no-plot"), status, needle)

@@ -28,6 +28,24 @@ def _config_of(command: click.Command, info_name: str, args: list[str]) -> Path 
     return Path(value) if value else None
 
 
+def _first_file(args: list[str]) -> Path | None:
+    """The first argument that names a file, or a shipped example (`cli.options.CONFIG`), if any."""
+    from fivebar_cli.cli.options import CONFIG
+
+    for arg in args:
+        if arg == "--":
+            break
+        if arg.startswith("-"):
+            continue
+        try:
+            path = CONFIG.convert(arg, None, None)
+        except click.ClickException:
+            continue
+        if path.is_file():
+            return path
+    return None
+
+
 def _declares_pose_aspects(path: Path) -> bool:
     """Whether the file's `type` names a kind with a pose-space aspect model: the type alone is read
     (the command chosen validates the whole file, once; a file it cannot read goes to `other`)."""
@@ -58,7 +76,11 @@ class ByKind(click.Command):
             path = _config_of(command, info_name, args)
             if path is not None and path.is_file():
                 return self.pose if _declares_pose_aspects(path) else self.other
-        return self.other
+        # neither parses (an option of neither, a value of the wrong count): the first argument that
+        # names a mechanism file decides, so that the command of its kind names the fault (the
+        # five-bar's read a 3-RPR's `--pose X Y PHI` as a pose and an option '-5')
+        path = _first_file(args)
+        return self.pose if path is not None and _declares_pose_aspects(path) else self.other
 
     def make_context(self, info_name, args, parent=None, **extra):
         head = args[:args.index("--")] if "--" in args else args
