@@ -127,6 +127,36 @@ def test_an_actuated_limit_cuts_the_torus_open():
     assert grid.periodic == (True, False) and grid.root[1] == m.spaces()["jointspace"].root[1]
 
 
+def test_a_joint_space_only_aspect_under_actuated_limits_is_split_by_overlap(tmp_path):
+    """M1 with its limits, robust for T = 0.05, at depth 6: two constrained aspects have joint-space
+    cells only, on a root cut by the actuated limits, so no centre of theirs lies in a black cell of
+    the whole torus's paving (the command failed: "internal error: constrained aspect 5 lies in no
+    unconstrained aspect"). The aspect named is one whose black cells overlap theirs: checked here
+    with shapely (box unions, an intersection of positive area), on the torus's coordinates."""
+    import shapely
+
+    import fivebar_cli as fb
+
+    a = fb.aspects(REPO / "configs" / "m1-limited.yaml", 6, tolerance=0.05, compare=True, budget=0)  # (1 s)
+    thin = [x for x in a if x.workspace_area == 0]
+    assert len(thin) == 2
+    rows = {r.constrained.number: r for r in a.split if r.constrained is not None}
+    for x in thin:
+        row = rows[x.number]
+        u, c = row.unconstrained, row.constrained
+        assert (u.working, u.assembly) == (c.working, c.assembly)
+
+        def union(tree):
+            lo, hi = tree.bounds()
+            return shapely.union_all(shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1]))
+
+        assert union(x.jointspace).intersection(union(row.unconstrained.jointspace)).area > 0
+        assert not row.certified  # (not every cell of it overlaps: hedged)
+    ok(run_cli("aspects", REPO / "configs" / "m1-limited.yaml", "--tolerance", "0.05", "--depth", "6", "--budget", "0",
+               "-o", tmp_path, "--no-plot", "--quiet"))
+    assert len(csv_rows(tmp_path / "aspects-split.csv")) == len(a.split)
+
+
 RANDOM = [  # (lengths, limits, obstacles): random designs whose grid count is stable at 384 and 512 pixels
     ((0.86, 0.9, 1.41, 0.69, 1.2), {"B2": (-90, 81)}, [("disc", ((0.2, -0.23), 0.16))]),
     ((0.73, 1.1, 1.2, 0.63, 0.75), {"theta1": (-68, 68)}, [("disc", ((0.2, 0.45), 0.15))]),

@@ -6,8 +6,11 @@ in exactly one unconstrained aspect of the same modes. Its black cells passed th
 as the unconstrained paving's (and the constraints' test), on the same grid, so each lies inside a
 black cell of the unconstrained paving of its mode, which belongs to one unconstrained aspect:
 locating the cells' centres there names it (in the workspace; in the joint space for an aspect too
-thin for workspace cells). Should two unconstrained aspects hold its cells (possible only when the
-unconstrained count is not certified), the one holding most is named and the row is not certified.
+thin for workspace cells). An actuated limit narrower than a turn gives the joint space another root,
+so there the cells are not nested: when no centre lies in a black cell of its modes, the
+unconstrained aspect whose black cells overlap its own names it (an overlap is a configuration of
+both). Should two unconstrained aspects hold its cells (possible only when the unconstrained count
+is not certified), the one holding most is named and the row is not certified.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from fivebar_cli.analyses.aspects import Aspect, AspectAnalysis, signs_text
 from fivebar_cli.errors import FivebarError
 from fivebar_cli.io.files import write_csv
 from fivebar_cli.io.layout import SPLIT_CSV
+from fivebar_cli.paving.tree import Tree
 
 HEADER = (
     "constrained_aspect", "unconstrained_aspect", "working_mode", "assembly_mode", "parts",
@@ -53,15 +57,45 @@ def _share(part: float, whole: float):
 
 
 def _home(a: Aspect, free: AspectAnalysis) -> tuple[Aspect | None, bool]:
-    """The unconstrained aspect holding most of `a`'s cells, and whether it holds all of them."""
+    """The unconstrained aspect holding most of `a`'s cells, and whether it holds all of them: by
+    the cells' centres, or, when no centre lies in a black cell of its modes, by the joint-space
+    cells that overlap (`_overlapping`)."""
     same = [f for f in free.aspects if (f.working, f.assembly) == (a.working, a.assembly)]
     space = "workspace" if len(a.workspace) else "jointspace"
     centres = getattr(a, space).centres()
     hits = [int(np.count_nonzero(getattr(f, space).locate(centres) >= 0)) if len(centres) else 0 for f in same]
+    total = len(centres)
+    if same and max(hits) == 0:  # (a joint space cut by an actuated limit: another grid, see the docstring)
+        hits, total = [_overlapping(a.jointspace, f.jointspace) for f in same], len(a.jointspace)
     if not same or max(hits) == 0:
         return None, False
     best = int(np.argmax(hits))
-    return same[best], hits[best] == len(centres)
+    return same[best], hits[best] == total
+
+
+def _overlapping(a: Tree, b: Tree) -> int:
+    """How many of `a`'s leaves overlap a leaf of `b` (boxes sharing an open set; on `b`'s periodic
+    axes, shifted by a period either way too). Two black cells of one mode that overlap share a
+    configuration, so the aspects holding them are one: the test of last resort when the cells of
+    `a` and `b` are not nested, their grids' roots being different (a joint space cut by an actuated
+    limit narrower than a turn, against the whole torus)."""
+    if not len(a) or not len(b):
+        return 0
+    alo, ahi = a.bounds()
+    blo, bhi = b.bounds()
+    shifts = [np.zeros(b.grid.dim)]
+    for axis, periodic in enumerate(b.grid.periodic):
+        if periodic:
+            period = np.zeros(b.grid.dim)
+            period[axis] = b.grid.root[axis][1] - b.grid.root[axis][0]
+            shifts = [s + k * period for s in shifts for k in (-1, 0, 1)]
+    found = np.zeros(len(alo), bool)
+    chunk = max(1, (1 << 22) // len(blo))  # (leaves of a) x (leaves of b) booleans at a time
+    for shift in shifts:
+        for k in range(0, len(alo), chunk):
+            lo, hi = (alo[k:k + chunk] + shift)[:, None, :], (ahi[k:k + chunk] + shift)[:, None, :]
+            found[k:k + chunk] |= np.all((blo[None] < hi) & (bhi[None] > lo), axis=2).any(axis=1)
+    return int(np.count_nonzero(found))
 
 
 def split_rows(constrained: AspectAnalysis, free: AspectAnalysis) -> list[SplitRow]:

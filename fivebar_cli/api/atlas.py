@@ -157,8 +157,8 @@ def _report(spec, columns: tuple, data: tuple) -> Report:
     table = dict(zip(columns, zip(*data))) if data else {c: () for c in columns}
     assemblable = table["assemblable"].count("true")
     certified = _certified(table, "certified")
-    notes = [Text(f"  {assemblable} can be assembled; the aspect count is certified for {certified} of them")
-             + (Text(f" (not for {assemblable - certified}: raise ", param("depth"), ")") if certified < assemblable else "")]
+    short = Text(f" (not for {assemblable - certified}: raise ", param("depth"), ")") if certified < assemblable else ""
+    notes = [Text(f"  {assemblable} can be assembled; the aspect count is certified for {certified} of them") + short]
     if spec.tolerance > 0:
         notes.append(f"  the robust aspect count (tolerance {spec.tolerance:g}) is certified for "
                      f"{_certified(table, 'robust_certified')} of them")
