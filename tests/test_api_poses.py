@@ -50,6 +50,19 @@ def test_dkp_is_the_command_and_every_pose_has_the_legs(tmp_path, caro):
     assert [p.name for p in made] == ["dkp.csv"] and made[0].read_bytes() == (tmp_path / "dkp.csv").read_bytes()
 
 
+def test_aspects_of_another_mechanism_are_refused(caro):
+    """Aspects computed for one mechanism, given to a call on another: refused, naming `aspects`
+    (they raised an AttributeError from deep inside, or located M1's poses in the 3-RPR's trees and
+    answered); the mechanism's own aspects, however it was loaded, are taken."""
+    m1 = fb.aspects("m1", 4)
+    for call in (lambda: fb.dkp(CARO, LEGS, 3, aspects=m1), lambda: fb.locate(CARO, pose=(8, -9, -5.6), aspects=m1),
+                 lambda: fb.locate("m1", pose=(4, 5), aspects=caro), lambda: fb.locate("m2", pose=(1, 2), aspects=m1)):
+        with pytest.raises(fb.InputError, match="were computed for another mechanism") as caught:
+            call()
+        assert caught.value.field == "`aspects`"
+    assert fb.locate(fb.load(REPO / "configs" / "m1.yaml"), pose=(4, 5), aspects=m1).depth == 4
+
+
 @pytest.mark.parametrize("call, field", [
     (lambda: fb.dkp("rpr3-caro", (1, 15, 12), 2), "`joints`"),
     (lambda: fb.dkp("rpr3-caro", (1, 15, 12), 2, what="legs"), "`legs`"),

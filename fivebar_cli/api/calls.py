@@ -326,6 +326,19 @@ def check_modes(m: Mechanism, source, working_modes=(), assembly_mode: str | Non
                 raise InputError(str(source), param(name), f"{value!r} is none of {article(m.kind)}'s: {', '.join(texts)}")
 
 
+def check_aspects(aspects, m: Mechanism, source) -> None:
+    """`aspects`, when given, must be what `aspects` gives for this very mechanism: TypeError for
+    another type, InputError for another mechanism's (whose trees were read as this one's: a
+    wrong answer, or an AttributeError from deep inside)."""
+    if aspects is None:
+        return
+    if not isinstance(aspects, Aspects):
+        raise TypeError(f"aspects: expected what fb.aspects gives (Aspects), got {type(aspects).__name__}")
+    if aspects.mechanism != m:
+        raise InputError(str(source), param("aspects"), f"were computed for another mechanism "
+                         f"({aspects.mechanism.name!r}, {article(aspects.mechanism.kind)}), not for this one")
+
+
 def check_serial(m: Mechanism, allow_serial: bool, source) -> None:
     """`allow_serial` needs a kind with a test for parallel singularities (InputError otherwise)."""
     if allow_serial and not m.crosses_serial:

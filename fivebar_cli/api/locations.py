@@ -8,7 +8,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_PLANE_DEPTH, check_depth
-from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_modes, source_name, with_aspects
+from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_aspects, check_modes, source_name, with_aspects
 from fivebar_cli.api.pose_space import check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism
 from fivebar_cli.api.values import Aspects, finite_points
 from fivebar_cli.errors import InputError, param
@@ -189,10 +189,9 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     >>> [(r["working_mode"], r["aspect"]) for r in fb.locate(fb.load("rpr2"), pose=(0, 8), depth=6).rows()]
     [('++', 1)]
     """
-    if aspects is not None and not isinstance(aspects, Aspects):
-        raise TypeError(f"aspects: expected what fb.aspects gives (Aspects), got {type(aspects).__name__}")
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
+    check_aspects(aspects, m, source)
     if m.pose_aspect_model() is not None:
         if assembly_mode is not None:  # (taken without a word before)
             raise InputError(source, param("assembly_mode"), f"{article(m.kind)}'s pose decides its class (an "
