@@ -242,15 +242,6 @@ def save_files(value, folder: Path, no_plot: bool, **options) -> list[Path]:
     return value.save(folder, figures=not no_plot, **options)
 
 
-def figure(make, path: Path) -> Path:
-    """Draw a figure with `make()` and save it atomically as PNG (`plotting.saving.draw_and_save`),
-    off screen."""
-    offscreen()
-    from fivebar_cli.plotting.saving import draw_and_save
-
-    return draw_and_save(make, path)
-
-
 @contextmanager
 def progress(quiet: bool, length: int, label: str, unit: str | None = None) -> Iterator:
     """A progress bar on stderr, silent with --quiet or when stderr is not a terminal; with `unit`,

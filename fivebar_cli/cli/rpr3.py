@@ -13,7 +13,6 @@ from fivebar_cli.cli.numbers import NUMBER
 from fivebar_cli.cli.options import (
     CONFIG, common_options, data_on_stdout, option_errors, prepare_out, progress, report, save_files, wrote,
 )
-from fivebar_cli.io.files import csv_text
 from fivebar_cli.io.layout import AREA_CSV
 
 
@@ -60,7 +59,7 @@ def area_cmd(config: Path, out: Path | None, no_plot: bool, quiet: bool) -> None
     for line in study.notes:
         report(quiet, line)
     if stdout:
-        click.echo(csv_text(study.columns, study.data), nl=False)
+        click.echo(study.csv(), nl=False)
         return
     wrote(quiet, save_files(study, folder, no_plot))
 
@@ -107,7 +106,7 @@ def sweep_cmd(configs, over, span, steps, angles, out, no_plot, quiet) -> None:
     for line in study.notes:
         report(quiet, line)
     if stdout:
-        click.echo(csv_text(study.columns, study.data), nl=False)
+        click.echo(study.csv(), nl=False)
         return
     wrote(quiet, save_files(study, folder, no_plot))
 
