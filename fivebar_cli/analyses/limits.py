@@ -18,12 +18,12 @@ MAX_PLANE_DEPTH = MAX_ASPECT_DEPTH  # quadtree aspects over poses (a single orie
 def check_paving_depth(depth, dim: int) -> int:
     """`check_depth` for a paving of a space of `dim` axes, whichever call paves it (`pave`,
     `refine`, `rpr3.pave`): a quadtree to `MAX_DEPTH`, an octree to `MAX_OCTREE_DEPTH` (its
-    boundary surface grows 4x a level, not 2x), said so when that is the limit passed."""
-    depth = check_depth(depth, MAX_DEPTH)
-    if dim > 2 and depth > MAX_OCTREE_DEPTH:
+    boundary surface grows 4x a level, not 2x), said so when an octree's depth is too large."""
+    limit = MAX_DEPTH if dim <= 2 else MAX_OCTREE_DEPTH
+    if dim > 2 and isinstance(depth, numbers.Integral) and not isinstance(depth, bool) and depth > limit:
         raise InputError("", param("depth"), f"{depth} is too deep for a space of {dim} axes (an octree: at most "
-                         f"{MAX_OCTREE_DEPTH}, its boundary grows 4x a level)")
-    return depth
+                         f"{limit}, its boundary grows 4x a level)")
+    return check_depth(depth, limit)
 
 
 def check_depth(depth, limit: int, field: str = "depth") -> int:

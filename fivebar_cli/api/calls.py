@@ -8,7 +8,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import (
-    MAX_ASPECT_DEPTH, MAX_DEPTH, MAX_PLANE_DEPTH, check_count, check_depth, check_paving_depth,
+    MAX_ASPECT_DEPTH, MAX_DEPTH, check_count, check_depth, check_paving_depth,
 )
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
@@ -194,10 +194,9 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     step = advance or (lambda n=1: None)
     if m.pose_aspect_model() is not None:
         from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
-        from fivebar_cli.api.pose_space import pose_mechanism
+        from fivebar_cli.api.pose_space import pose_depth, pose_mechanism
 
-        depth = check_depth(depth, MAX_PLANE_DEPTH)
-        pose_mechanism(m, depth=depth, source=m_name(mech))
+        depth = pose_depth(pose_mechanism(m, source=m_name(mech)), depth)
         analysis = analyse_pose_aspects(m, depth, step, budget, jobs)
         found = tuple(Aspect(a.number, dict(a.signs.fields), a.tree, None, tuple(a.pose), tuple(a.joints),
                              bool(a.certified)) for a in analysis.aspects)

@@ -7,9 +7,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
-from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_PLANE_DEPTH, check_depth
+from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
 from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_aspects, check_modes, source_name, with_aspects
-from fivebar_cli.api.pose_space import check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_mechanism
+from fivebar_cli.api.pose_space import (
+    check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
+)
 from fivebar_cli.api.values import Aspects, finite_points
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
@@ -244,8 +246,8 @@ def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_
     from fivebar_cli.analyses.pose_aspects import aspect_at, sheet_classes, sheet_of, working_sheets
     from fivebar_cli.analyses.pose_paths import check_pose, wrap_pose
 
-    depth = aspects.depth if aspects is not None else check_depth(depth, MAX_PLANE_DEPTH)
-    m = pose_mechanism(m, poses=True, depth=depth, source=source)
+    m = pose_mechanism(m, poses=True, source=source)
+    depth = aspects.depth if aspects is not None else pose_depth(m, depth)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]
     sheets = working_sheets(m, working_mode)

@@ -39,12 +39,20 @@ def pose_mechanism(m: Mechanism, *, poses: bool = False, depth: int | None = Non
         raise InputError(source, "phi", f"a single orientation: the poses (x, y, phi) of locate, path and dkp need "
                          f"an orientation range (phi_range), the space here has {space.dim} axes")
     if depth is not None:
-        check_depth(depth, MAX_PLANE_DEPTH)
-        if space.dim > 2 and depth > MAX_POSE_DEPTH:
-            raise InputError("", param("depth"), f"{depth} is too deep for an octree of poses (at most "
-                             f"{MAX_POSE_DEPTH}: about 4x the time and memory per level; up to {MAX_PLANE_DEPTH} "
-                             "for a single orientation)")
+        pose_depth(m, depth)
     return m
+
+
+def pose_depth(m: Mechanism, depth) -> int:
+    """`depth` for the trees of the space of poses of `m` (a mechanism `pose_mechanism` took), as
+    the Python int the calls go on with: at most `MAX_POSE_DEPTH` for an octree, `MAX_PLANE_DEPTH`
+    for a single orientation (InputError naming `depth` otherwise)."""
+    depth = check_depth(depth, MAX_PLANE_DEPTH)
+    if m.spaces()[m.pose_aspect_model().space].dim > 2 and depth > MAX_POSE_DEPTH:
+        raise InputError("", param("depth"), f"{depth} is too deep for an octree of poses (at most "
+                         f"{MAX_POSE_DEPTH}: about 4x the time and memory per level; up to {MAX_PLANE_DEPTH} "
+                         "for a single orientation)")
+    return depth
 
 
 def check_joints(m: Mechanism, joints, field: str = "joints") -> None:
@@ -115,8 +123,8 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
     from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
     from fivebar_cli.api.values import Path_, motion_where
 
-    depth = check_depth(depth, MAX_PLANE_DEPTH)
-    m = pose_mechanism(m, poses=True, depth=depth, source=source)
+    m = pose_mechanism(m, poses=True, source=source)
+    depth = pose_depth(m, depth)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]
     if joints is not None and legs is not None:

@@ -7,10 +7,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_VERIFY_DEPTH, check_depth
+from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
 from fivebar_cli.api.calls import _mechanism, check_aspects, source_name
 from fivebar_cli.api.pose_space import (
-    DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_mechanism,
+    DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
 from fivebar_cli.api.values import Report
 from fivebar_cli.errors import InputError
@@ -66,8 +66,8 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     source = source or source_name(mech)
     m = _mechanism(mech)
     check_aspects(aspects, m, source)
-    depth = aspects.depth if aspects is not None else check_depth(depth, MAX_PLANE_DEPTH)
-    m = pose_mechanism(m, poses=True, depth=depth, source=source)
+    m = pose_mechanism(m, poses=True, source=source)
+    depth = aspects.depth if aspects is not None else pose_depth(m, depth)
     model = m.pose_aspect_model()
     result = solved if solved is not None else joint_poses(m, joints, "legs" if what == "legs" else "joints")
     aspects, where = ((aspects.analysis.aspects, "given") if aspects is not None else

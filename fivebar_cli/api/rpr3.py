@@ -424,12 +424,12 @@ def pave(mech, depth: int = 7, advance=None, jobs: int | None = 1) -> PaveSet:
     >>> sorted(s.pavings) == sorted(s.mechanism.regions("workspace"))
     True
     """
-    from fivebar_cli.analyses.limits import MAX_OCTREE_DEPTH, check_depth
+    from fivebar_cli.analyses.limits import check_paving_depth
     from fivebar_cli.analyses.spaces import pave_regions
     from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
 
-    depth = check_depth(depth, MAX_OCTREE_DEPTH)
+    depth = check_paving_depth(depth, 3)
     m = bounded(mech)
     whole = m.spaces()["workspace"].region
     pavings = {r: Paving(m, "workspace", depth, "exact", None if r == whole else r, p, p.evaluations)
