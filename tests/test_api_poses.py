@@ -14,9 +14,13 @@ import yaml
 
 import fivebar_cli as fb
 from fivebar_cli.cli.options import as_flags
-from tests.cli_helpers import REPO, ok, run_cli
+from tests.cli_helpers import REPO, ok, one_line, run_cli
 
 CARO = REPO / "configs" / "rpr3-caro.yaml"
+# Table 1's design with legs from 2 on: rho_max auto is infinite (no singularity circle reaches the
+# annuli), so no box holds its poses
+UNBOUNDED = {"name": "unbounded", "type": "rpr3", "k": 0.6, "legs": {"rho_min": 2}, "phi": 100,
+             "base": {"t1": 1.5196713713031851, "t2": 0.7598356856515925, "t3": 1.3160740129524924}}
 LEGS = (20.6315, 23.2633, 16.0359)  # aspect 1's inner pose at depth 5: two assembly modes, in aspects 1 and 2
 
 
@@ -71,7 +75,13 @@ def test_aspects_of_another_mechanism_are_refused(caro):
     (lambda: fb.dkp("rpr3-caro", (15, float("nan"), 12), 2), "`joints`"),
     (lambda: fb.dkp("rpr3-caro", 15, 2), "`joints`"),
     (lambda: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 10), "`depth`"),
-    (lambda: fb.dkp("m1", (1, 1, 1), 2), "legs.rho_max"),
+    # a kind without poses (x, y, phi) is told so on `type`; a 3-RPR whose legs leave its space of poses
+    # unbounded, on `legs.rho_max` (the five-bar was once told to give a rho_max it has no field for)
+    (lambda: fb.dkp("m1", (1, 1, 1), 2), "type"),
+    (lambda: fb.dkp("rpr2", (1, 1, 1), 2), "type"),
+    (lambda: fb.verify("m1", 4), "type"),
+    (lambda: fb.dkp(UNBOUNDED, (1, 1, 1), 2), "legs.rho_max"),
+    (lambda: fb.verify(UNBOUNDED, 4), "legs.rho_max"),
     (lambda: fb.path("rpr3-caro", 1, 7, legs=(14.98, 15.38, 12), depth=5), "`goal`"),
     (lambda: fb.path("rpr3-caro", 1, 2, joints=(14.98, 15.38, 12), legs=(14.98, 15.38, 12), depth=5), "`legs`"),
     (lambda: fb.locate("rpr3-caro", legs=(1, 15, 12), depth=2), "`legs`"),
@@ -104,6 +114,19 @@ def test_bad_input_names_the_field(call, field):
         call()
     assert caught.value.field == field
     assert " a rpr" not in str(caught.value)  # (an rpr2, an rpr3: `article`)
+
+
+def test_a_kind_without_poses_is_told_which_kinds_have_them():
+    """The message itself, from the library and the command: a five-bar or a 2-RPR has no space of
+    poses (x, y, phi), only a 3-RPR or a 3-RRR; the unbounded 3-RPR is told to give rho_max."""
+    with pytest.raises(fb.InputError, match=r"^m1: type: a fivebar has no space of poses \(x, y, phi\): only a 3-RPR "
+                       r"or a 3-RRR has one$"):
+        fb.dkp("m1", (1, 1, 1), 2)
+    one_line(run_cli("dkp", REPO / "configs" / "rpr2.yaml", "--joints", 1, 1, 1), 2,
+             "rpr2.yaml: type: an rpr2 has no space of poses (x, y, phi)")
+    with pytest.raises(fb.InputError, match=r": legs.rho_max: this rpr3 has no bounded space of poses to pave "
+                       r"\(give rho_max\)$"):
+        fb.verify(UNBOUNDED, 4)
 
 
 def test_locate_and_path_over_poses_are_the_commands(tmp_path, caro):

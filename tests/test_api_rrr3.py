@@ -53,7 +53,7 @@ def test_path_in_a_working_mode_as_the_command(narrow, tmp_path):
     with pytest.raises(fb.InputError, match=r"8 working modes: say which one \(e.g. `working_mode='\+\+\+'`\)"):
         fb.path(m, (5, 2.7, 8), (5.5, 3, 12), depth=5)
     one_line(run_cli("path", narrow, "--pose", 5, 2.7, 8, "--pose", 5.5, 3, 12, "-d", 5, "-o", tmp_path / "no"), 2,
-             "Invalid value for --working-mode: a rrr3 pose is reached in 8 working modes: say which one "
+             "Invalid value for --working-mode: an rrr3 pose is reached in 8 working modes: say which one "
              "(e.g. --working-mode +++)")
     with pytest.raises(fb.InputError, match=r"`working_mode`: '\+\+' is not a working mode of this rrr3"):
         fb.locate(m, pose=(5, 2.7, 8), depth=2, working_mode="++")

@@ -37,8 +37,8 @@ import numpy as np
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
 from fivebar_cli.analyses.jobs import run_tasks
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
-from fivebar_cli.errors import FivebarError, InputError, param
-from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass
+from fivebar_cli.errors import InputError, param
+from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass, article
 from fivebar_cli.paving.engine import Paving, pave
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree
@@ -50,11 +50,17 @@ __all__ = ["DEFAULT_BUDGET", "ClassRegion", "PoseAspect", "PoseAspectAnalysis", 
 PROBE_LEVELS = 1  # the band of every outer component holding an aspect is paved this much deeper
 
 
-def pose_model(m: Mechanism) -> PoseAspectModel:
-    """The kind's pose-space aspect model (FivebarError when it has none)."""
+def pose_model(m: Mechanism, source: str = "") -> PoseAspectModel:
+    """The kind's pose-space aspect model. InputError when it has none: on `type` for a kind whose
+    configurations are not poses (a five-bar, a 2-RPR), on `legs.rho_max` for a 3-RPR whose legs
+    leave its space of poses unbounded."""
     model = m.pose_aspect_model()
     if model is None:
-        raise FivebarError(f"a {m.kind} has no aspects over a space of poses here")
+        if m.has_poses:
+            raise InputError(source, "legs.rho_max",
+                             f"this {m.kind} has no bounded space of poses to pave (give rho_max)")
+        raise InputError(source, "type", f"{article(m.kind)} has no space of poses (x, y, phi): "
+                         "only a 3-RPR or a 3-RRR has one")
     return model
 
 
@@ -248,7 +254,7 @@ def motion_sheet(m: Mechanism, working_mode: str | None) -> int:
     chosen = working_sheets(m, working_mode)
     if len(chosen) > 1:
         first = dict(pose_model(m).sheets[0].fields)["working_mode"]
-        raise InputError("", param("working_mode"), f"a {m.kind} pose is reached in {len(chosen)} working modes: say "
+        raise InputError("", param("working_mode"), f"{article(m.kind)} pose is reached in {len(chosen)} working modes: say "
                          "which one (e.g. " + param("working_mode", first) + ")")
     return chosen[0]
 

@@ -26,10 +26,10 @@ def pose_mechanism(m: Mechanism, *, poses: bool = False, depth: int | None = Non
     turn; with `poses`, a space of poses with the three axes (x, y, phi) that poses and joint
     values need; with `depth`, one its trees can be paved to (at most `MAX_POSE_DEPTH` for an
     octree, `MAX_PLANE_DEPTH` for a single orientation). InputError naming the field otherwise."""
+    from fivebar_cli.analyses.pose_aspects import pose_model
+
     source = source or m.name
-    model = m.pose_aspect_model()
-    if model is None:
-        raise InputError(source, "legs.rho_max", f"this {m.kind} has no bounded space of poses to pave (give rho_max)")
+    model = pose_model(m, source)
     space = m.spaces()[model.space]
     for axis in space.axes:
         if axis.unit == "deg" and axis.hi - axis.lo > 360.0:

@@ -13,8 +13,6 @@ from fivebar_cli.api.pose_space import (
     DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
 from fivebar_cli.api.values import Report
-from fivebar_cli.errors import InputError
-from fivebar_cli.mechanisms.base import article
 
 # ---------------------------------------------------------------- dkp
 
@@ -160,14 +158,12 @@ def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:
     (['certified singularity-free'], 0)
     """
     from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
-    from fivebar_cli.analyses.pose_aspects import working_sheets
+    from fivebar_cli.analyses.pose_aspects import pose_model, working_sheets
     from fivebar_cli.analyses.pose_verify import EXIT, SINGULAR, UNDECIDED, verify as run
     from fivebar_cli.io.layout import COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, VERIFY_CSV, VERIFY_FILES
 
     m = _mechanism(mech)
-    model = m.pose_aspect_model()
-    if model is None:
-        raise InputError(source_name(mech), "type", f"{article(m.kind)} has no space of poses to verify")
+    model = pose_model(m, source_name(mech))
     sheets = working_sheets(m, working_mode)
     depth = check_depth(depth, MAX_VERIFY_DEPTH)
     fields = [k for k, _ in model.sheets[0].fields]

@@ -160,6 +160,7 @@ class Mechanism:
     # Capabilities a kind may declare (the five-bar declares them all), asked instead of probed.
     widens: ClassVar[bool] = False  # its lengths can be widened into intervals (`widened`)
     crosses_serial: ClassVar[bool] = False  # its aspect model has `parallel_free_test` (path --allow-serial)
+    has_poses: ClassVar[bool] = False  # its configurations are poses (x, y, phi) (`pose_aspect_model`, once bounded)
     constraints = ()  # its joint limits and obstacles (falsy: none)
 
     @property

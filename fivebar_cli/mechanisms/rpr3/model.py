@@ -59,6 +59,7 @@ class Rpr3(Mechanism):
     similar: tuple[float, float, float, float] | None = None
 
     kind = "rpr3"
+    has_poses = True  # Mechanism's capability: a space of poses (x, y, phi), given rho_max
 
     # -- leg ranges and the closed forms
 

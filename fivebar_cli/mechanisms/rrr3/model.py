@@ -69,6 +69,7 @@ class Rrr3(Mechanism):
     constraints: Constraints = NO_CONSTRAINTS  # joint limits and obstacles (constraints.py)
 
     kind = "rrr3"
+    has_poses = True  # Mechanism's capability: a space of poses (x, y, phi)
 
     @property
     def full_turn(self) -> bool:
