@@ -246,32 +246,34 @@ class ModeSet:
         sizes = {g: self.anchor_size[anchors[groups == g]].sum() for g in unique(groups)}
         biggest = max(sizes, key=lambda g: (sizes[g], -g))
         small = anchors[groups != biggest]
-        # the outer component's cells as pieces (black leaves first), made cells where selected
+        # the outer component's cells as pieces: its black leaves and their integer boxes, its
+        # undetermined cells (their boxes: [und, und + 1)); windows of black leaves, near cells of
+        # undetermined ones, each `_near` over its own kind only (the masks per box are the same)
         mine, cell_anchor, und = self._parts(self.outer == o)
-        cell_lo, cell_hi = self._boxes(mine, und)
-        grid, n = self.grid, len(mine)
-        black = np.arange(len(cell_lo)) < n
+        grid, inside = self.grid, self.region.paving.inside
+        b_lo, b_hi = _integer_boxes(grid, inside.level[mine], inside.code[mine])
+        u_lo = und.astype(np.int64, copy=False)
+        u_hi = u_lo + 1
         targets = np.isin(cell_anchor, small)
-        t_lo, t_hi = cell_lo[:n][targets], cell_hi[:n][targets]
+        t_lo, t_hi = b_lo[targets], b_hi[targets]
         found = []
         for extra, radius in JOIN_STEPS:
             if budget.left <= 0 or grid.depth + extra > MAX_INDEX_BITS // grid.dim:
                 break
             if radius is None:
-                near, window = ~black, black
+                near, window = np.ones(len(und), bool), np.ones(len(mine), bool)
             else:
-                near = ~black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, radius)
-                window = black & _near(grid, t_lo, t_hi, cell_lo, cell_hi, 2 * radius)
+                near = _near(grid, t_lo, t_hi, u_lo, u_hi, radius)
+                window = _near(grid, t_lo, t_hi, b_lo, b_hi, 2 * radius)
             if not near.any():
                 break
-            chosen = near | window
-            local = self._deeper(self._cell_set(mine[chosen[:n]], und[chosen[n:]]), extra, budget)
+            local = self._deeper(self._cell_set(mine[window], und[near]), extra, budget)
             if local is None:
                 continue
             labels, _ = components(local, local.black)
             # the window's anchors, located by their cells' first depth index in the refined set
-            old = self._cell_set(mine[window[:n]], und[:0])  # (the window's cells are black)
-            old_anchor = cell_anchor[window[:n]]
+            old = self._cell_set(mine[window], und[:0])  # (the window's cells are black)
+            old_anchor = cell_anchor[window]
             black_local = local.select(local.black)
             where = _position(black_local, old.level, old.code)
             owner = labels[where]
