@@ -280,3 +280,24 @@ def test_bucketed_distance_on_a_deep_grid(seed):
     grid = Grid(((-1.5, 2.25), (-3.0, 0.5)), DEEP, (False, False))
     assert _Obstacles(Tree.from_cells(grid, 1, [[0, 0]])).bucket_level == LEVELS[True][1] > LEVELS[False][1]
     _check_bucketed_distance(seed, DEEP)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), depth=st.integers(1, 16))
+def test_obstacle_bounds_are_the_trees_bounds(seed, depth):
+    """The complement cells' bounds, made axis by axis from a table of widths (`_axis_bounds`):
+    the very floats of `Tree.bounds` (cell_bounds: a width per cell), on a root box whose sides
+    are not powers of two, for leaves of every level."""
+    from fivebar_cli.analyses.inscribed import _Obstacles
+
+    rng = np.random.default_rng(seed)
+    grid = Grid(((-1.3, 2.7), (0.1, 0.45)), depth, (False, False))
+    level = int(rng.integers(1, min(depth, 7) + 1))  # (the complement's leaves: every level up to it)
+    n = 1 << level
+    tree = Tree.from_cells(grid, level, np.argwhere(rng.random((n, n)) < rng.uniform(0.05, 0.95)))
+    if not len(tree):
+        return
+    obstacles = _Obstacles(tree)
+    lo, hi = obstacles.cells.bounds()
+    for got, want in ((obstacles.x0, lo[:, 0]), (obstacles.y0, lo[:, 1]), (obstacles.x1, hi[:, 0]), (obstacles.y1, hi[:, 1])):
+        assert got.dtype == np.float64 and np.array_equal(got, want)

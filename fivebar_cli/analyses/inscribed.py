@@ -38,7 +38,7 @@ import numpy as np
 
 from fivebar_cli.paving.arrays import unique
 from fivebar_cli.paving.morton import deinterleave
-from fivebar_cli.paving.tree import Tree, cell_bounds
+from fivebar_cli.paving.tree import Tree
 
 TOLERANCE = 0.01  # relative: the result is at least (1 - TOLERANCE) times the optimum
 MAX_ROUNDS = 60
@@ -48,7 +48,6 @@ MAX_ROUNDS = 60
 LEVELS = {False: (6, 8), True: (8, 9)}  # (big level, bucket level), by grid depth >= DEEP
 DEEP = 14
 NEAR = 1e-6  # complement cells within this relative margin of the radius are checked exactly
-BOUNDS_CHUNK = 1 << 16  # complement cells whose bounds are made together
 
 
 @dataclass(frozen=True)
@@ -103,15 +102,8 @@ class _Obstacles:
         self.cells = tree.complement()
         grid, level = tree.grid, self.cells.level
         coords = deinterleave(self.cells.code, level, 2)
-        # the cells' bounds (`Tree.bounds`, from the one deinterleave), BOUNDS_CHUNK cells at a
-        # time: the temporaries of a chunk, not of every cell (the shapes of the largest aspect
-        # were the peak memory of a whole analysis)
-        self.x0, self.y0, self.x1, self.y1 = (np.empty(len(level)) for _ in range(4))
-        for a in range(0, len(level), BOUNDS_CHUNK):
-            part = slice(a, a + BOUNDS_CHUNK)
-            lo, hi = cell_bounds(grid, coords[part], level[part])
-            self.x0[part], self.y0[part] = lo.T
-            self.x1[part], self.y1[part] = hi.T
+        self.x0, self.x1 = _axis_bounds(grid, coords, level, 0)
+        self.y0, self.y1 = _axis_bounds(grid, coords, level, 1)
         big_level, self.bucket_level = LEVELS[grid.depth >= DEEP]
         bucket_level = self.bucket_level
         self.big = np.flatnonzero(level < big_level)
@@ -239,6 +231,20 @@ class _Obstacles:
         cx, cy = centre
         d = _cell_distance(metric, cx, cy, self.x0[cell], self.x1[cell], self.y0[cell], self.y1[cell])
         return unique(cell[d <= radius])  # (a cell may sit in several buckets)
+
+
+def _axis_bounds(grid, coords: np.ndarray, level: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    """The cells' bounds (lo, hi) along one axis, the floats of `cell_bounds` (lo + coord * width,
+    then + width; the widths, powers of two, looked up by level), written into the two arrays
+    with no temporary of every cell: the shapes of the largest aspect were the peak memory of a
+    whole analysis, and `cell_bounds`' per-cell `ldexp` and (m, 2) temporaries most of the
+    obstacles' making after the complement."""
+    widths = np.ldexp(grid.size[axis], -np.arange(int(level.max()) + 1 if len(level) else 1))
+    width = widths[level]
+    lo = np.multiply(coords[:, axis], width)
+    lo += grid.lo[axis]
+    width += lo
+    return lo, width
 
 
 @functools.cache
