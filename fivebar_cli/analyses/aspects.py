@@ -63,7 +63,6 @@ class Region:
     working: tuple[int, ...] | None
     assembly: int | None
     paving: Paving
-    test: object
     model: AspectModel
     free: np.ndarray
     # what the mode sets are built from (`pieces.ModeSet`), then dropped (None):
@@ -76,6 +75,12 @@ class Region:
     @property
     def tree(self) -> Tree:
         return self.paving.inside
+
+    @property
+    def test(self):
+        """The paving's box test, made from the model when asked: a closure is not kept, so that a
+        region (an `Aspects` holding it) pickles."""
+        return _mode_test(self.model, self.space, self.working, self.assembly)
 
     def title(self) -> str:
         if self.space == "workspace":
@@ -240,7 +245,6 @@ def _regions(m: Mechanism, model: AspectModel, depth: int, pool: Workers, timing
         region, region_sets, seconds = task.get()
         region.paving = paving  # (not sent back: the caller has it)
         region.model = model
-        region.test = _mode_test(model, region.space, region.working, region.assembly)
         regions.append(region)
         sets += region_sets
         if links:  # (with the link samples the workers found)
@@ -282,9 +286,9 @@ def _space_task(task: tuple) -> tuple[list, list[Paving], float]:
 
 
 def _region_task(task: tuple) -> tuple[Region, list[ModeSet], float]:
-    """One mode region's data and mode sets, in a worker: (the region without its model and test,
-    which do not travel between processes, nor its paving, which the caller has; its mode sets,
-    with `links`, the certificate's link samples (`link_points`); seconds)."""
+    """One mode region's data and mode sets, in a worker: (the region without its model and its
+    paving, which the caller has; its mode sets, with `links`, the certificate's link samples
+    (`link_points`); seconds)."""
     m, space, working, assembly, paving, links = task
     model = m.aspect_model()
     t0 = time.perf_counter()
@@ -296,14 +300,14 @@ def _region_task(task: tuple) -> tuple[Region, list[ModeSet], float]:
             s.links = link_points(model, s, other)
     # what only the mode sets need, dropped once they are built (most of a region's memory)
     region.und_pairs = region.black_labels = region.und_possible = region.und_signs = None
-    region.model = region.test = region.paving = None
+    region.model = region.paving = None
     return region, region_sets, time.perf_counter() - t0
 
 
 def _region(model: AspectModel, space: str, working, assembly, paving: Paving) -> Region:
     """A mode paving with what the certificate needs of it: free signs, black components,
     undetermined cells' signs and neighbours."""
-    region = Region(space, working, assembly, paving, None, model, np.zeros((0, 0), np.int8))
+    region = Region(space, working, assembly, paving, model, np.zeros((0, 0), np.int8))
     # two closed black cells of different signs cannot touch (a shared point would have both), so
     # the components of all black leaves are the anchors of every mode set at once, and the free
     # signs are constant on each: read at the centre of its largest leaf, not of every leaf

@@ -73,7 +73,6 @@ class ClassRegion:
     space: str
     index: int
     paving: Paving
-    test: object
     model: PoseAspectModel
     black_labels: np.ndarray = None
     und_pairs: list = None
@@ -81,6 +80,12 @@ class ClassRegion:
     @property
     def tree(self) -> Tree:
         return self.paving.inside
+
+    @property
+    def test(self):
+        """The class's box test, made from the model when asked: a closure is not kept, so that a
+        region (an `Aspects` holding it) pickles."""
+        return self.model.class_test(self.index)
 
     @property
     def free(self) -> np.ndarray:
@@ -147,7 +152,7 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
     timings = {"paving": 0.0}
     regions = []
     for region, seconds in run_tasks(_class_task, [(m, depth, k) for k in range(len(model.classes))], jobs, advance):
-        region.model, region.test = model, model.class_test(region.index)
+        region.model = model
         timings["paving"] += seconds
         regions.append(region)
     t0 = time.perf_counter()
@@ -180,12 +185,12 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
 
 
 def _class_task(task: tuple) -> tuple[ClassRegion, float]:
-    """One class's region, in a worker: (region without its model and test, seconds)."""
+    """One class's region, in a worker: (region without its model, seconds)."""
     m, depth, k = task
     t0 = time.perf_counter()
     model = pose_model(m)
     region = class_region(model, m.spaces()[model.space].grid(depth), k)
-    region.model = region.test = None
+    region.model = None
     return region, time.perf_counter() - t0
 
 
@@ -193,7 +198,7 @@ def class_region(model: PoseAspectModel, grid, k: int) -> ClassRegion:
     """The paving of class k with its black components and undetermined neighbour pairs."""
     test = model.class_test(k)
     paving = pave(grid, test)
-    region = ClassRegion(model.space, k, paving, test, model)
+    region = ClassRegion(model.space, k, paving, model)
     # two closed black cells of one class touching at a point are in one aspect: corner contact
     region.black_labels, _ = paving.inside.components(corners=True)
     region.und_pairs = undetermined_pairs(paving)

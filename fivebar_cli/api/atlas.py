@@ -15,7 +15,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_count, check_depth
-from fivebar_cli.api.values import Report
+from fivebar_cli.api.values import Drawing, Report
 from fivebar_cli.errors import Text, param
 from fivebar_cli.mechanisms.base import plural
 
@@ -163,11 +163,7 @@ def _report(spec, columns: tuple, data: tuple) -> Report:
         notes.append(f"  the robust aspect count (tolerance {spec.tolerance:g}) is certified for "
                      f"{_certified(table, 'robust_certified')} of them")
 
-    def figure():
-        from fivebar_cli.plotting.atlas import figure_atlas
-
-        return figure_atlas(spec, {c: list(v) for c, v in table.items()})
-
+    figure = Drawing("atlas", "figure_atlas", (spec, {c: list(v) for c, v in table.items()}))
     return Report(f"Atlas {spec.name}", columns, data, tuple(notes), ("atlas", (ATLAS_CSV, ATLAS_PNG), "fivebar atlas",
                   ATLAS_CSV), ((ATLAS_PNG, figure),) if spec.swept else ())
 

@@ -12,7 +12,7 @@ from fivebar_cli.api.calls import _mechanism, check_aspects, source_name
 from fivebar_cli.api.pose_space import (
     DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
-from fivebar_cli.api.values import Report
+from fivebar_cli.api.values import Drawing, Report
 
 # ---------------------------------------------------------------- dkp
 
@@ -93,19 +93,14 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     notes.append(f"  aspects at depth {depth} {where}")
     drawings = ()
     if n:
-        def figure():
-            import numpy as np
+        import numpy as np
 
-            from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
-
-            labels = [f"mode {k}: {model.classes[s.cls].label if s.cls >= 0 else '?'}"
-                      for k, s in enumerate(result.solutions, start=1)]
-            title = f"{m.name}: the {n} assembly modes of {what} ({numbers(joints)})"
-            poses = np.array([s.pose for s in result.solutions])
-            classes = np.array([max(s.cls, 0) for s in result.solutions])
-            return figure_assembly_modes(model, poses, labels, title, classes)
-
-        drawings = ((DKP_PNG, figure),)
+        labels = [f"mode {k}: {model.classes[s.cls].label if s.cls >= 0 else '?'}"
+                  for k, s in enumerate(result.solutions, start=1)]
+        title = f"{m.name}: the {n} assembly modes of {what} ({numbers(joints)})"
+        poses = np.array([s.pose for s in result.solutions])
+        classes = np.array([max(s.cls, 0) for s in result.solutions])
+        drawings = ((DKP_PNG, Drawing("pose_aspects", "figure_assembly_modes", (model, poses, labels, title, classes))),)
     command = "fivebar rpr3 dkp" if what == "legs" else "fivebar dkp"
     header = (*pose_columns(m), *fields, "aspect", "certified")
     return Report(f"DKP {m.name}, {what} ({numbers(joints)})", header, tuple(rows), tuple(notes),
@@ -188,20 +183,15 @@ def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:
     if singular:
         tables = ((COUNTEREXAMPLE_CSV, [*fields, *pose_columns(m), *joint_columns(m), model.singularity_name],
                    [(*(v for _, v in model.sheets[s].fields), *p.pose, *p.joints, p.value) for s, p in singular]),)
+        import numpy as np
 
-        def figure():
-            import numpy as np
+        from fivebar_cli.analyses.pose_aspects import sheet_classes
 
-            from fivebar_cli.analyses.pose_aspects import sheet_classes
-            from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
-
-            poses = np.array([p.pose for _, p in singular])
-            classes = np.array([sheet_classes(model, s)[0] for s, _ in singular])
-            labels = [f"{model.sheets[s].label or m.name}: {p.value_text(model.singularity_name)}"
-                      for s, p in singular]
-            return figure_assembly_modes(model, poses, labels, f"{m.name}: valid singular poses", classes)
-
-        drawings = ((COUNTEREXAMPLE_PNG, figure),)
+        poses = np.array([p.pose for _, p in singular])
+        classes = np.array([sheet_classes(model, s)[0] for s, _ in singular])
+        labels = [f"{model.sheets[s].label or m.name}: {p.value_text(model.singularity_name)}" for s, p in singular]
+        drawings = ((COUNTEREXAMPLE_PNG, Drawing("pose_aspects", "figure_assembly_modes",
+                                                 (model, poses, labels, f"{m.name}: valid singular poses", classes))),)
     exit_code = EXIT[SINGULAR] if SINGULAR in statuses else EXIT[UNDECIDED] if UNDECIDED in statuses else 0
     # a counterexample of an earlier run is removed when none is found (the set owns it)
     return Verified(f"Verify {m.name}, depth {depth}", header, tuple(rows), tuple(notes),

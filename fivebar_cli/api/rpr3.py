@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fivebar_cli.analyses.limits import check_count
-from fivebar_cli.api.values import Report, Table
+from fivebar_cli.api.values import Drawing, Report, Table
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.io.layout import (
     AREA_CSV, AREA_FILES, COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, VERIFY_CSV,
@@ -89,12 +89,8 @@ def area(mech) -> Report:
         notes.append(f"  phi = {phi_deg:g} deg: singularity circle centre ({cx:.6f}, {cy:.6f}), radius {radius:.6f}")
         notes.append(f"    area of W = {a:.9f}, boundary: {len(arcs_)} arcs on {', '.join(on) if on else '-'}")
 
-    def construction_figure():
-        from fivebar_cli.plotting.rpr3 import construction
-
-        title = f"{m.name}: singularity-free workspace, k = {m.k:g}, phi = {', '.join(f'{p:g}' for p in phis)} deg"
-        return construction(m, phis, m.rho_min, rho_max, title)
-
+    title = f"{m.name}: singularity-free workspace, k = {m.k:g}, phi = {', '.join(f'{p:g}' for p in phis)} deg"
+    construction_figure = Drawing("rpr3", "construction", (m, phis, m.rho_min, rho_max, title))
     return Report(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
                   ("rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV), ((AREA_FILES[1], construction_figure),))
 
@@ -172,11 +168,9 @@ def _sweep_phi(mechs, span, steps, angles, advance):
     ]
 
     def drawing(key, mask, ylabel, title):
-        from fivebar_cli.plotting.rpr3 import lines
-
         sel = slice(None) if mask is None else mask
-        series = [(n, phis_deg[sel], d[key][sel]) for n, d in curves]
-        return lambda: lines(series, "phi (degrees)", ylabel, title)
+        return Drawing("rpr3", "lines", ([(n, phis_deg[sel], d[key][sel]) for n, d in curves], "phi (degrees)",
+                                         ylabel, title))
 
     return header, rows, notes, [drawing(*f) for f in figs]
 
@@ -203,12 +197,8 @@ def _sweep_rho_min(mechs, span, steps, angles, advance):
     phis = ", ".join(sorted({f"{m.phi:g}" for m in mechs}))
     title = f"Area of W vs rho_min (phi = {phis} deg) [fig. 5]"
 
-    def drawing():
-        from fivebar_cli.plotting.rpr3 import lines
-
-        return lines(series, "rho_min", "area of W", title, marks)
-
-    return ["config", "phi_deg", "rho_min", "rho_max", "area"], rows, notes, [drawing]
+    return ["config", "phi_deg", "rho_min", "rho_max", "area"], rows, notes, [
+        Drawing("rpr3", "lines", (series, "rho_min", "area of W", title, marks))]
 
 
 def _sweep_t2(mechs, span, steps, angles, advance):
@@ -244,12 +234,7 @@ def _sweep_t2(mechs, span, steps, angles, advance):
     rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
     title = f"Area of W vs t2, t1 and t3 fixed (rho_min = {rho}) [fig. 8]"
 
-    def drawing():
-        from fivebar_cli.plotting.rpr3 import lines
-
-        return lines(series, "t2", "area of W", title)
-
-    return header, rows, notes, [drawing]
+    return header, rows, notes, [Drawing("rpr3", "lines", (series, "t2", "area of W", title))]
 
 
 # ---------------------------------------------------------------- synthesis
@@ -327,22 +312,14 @@ def _synthesis_drawings(m, cases) -> tuple:
     t = m.design
     p1, p2 = m.phi_range
 
-    def cases_figure():
-        from fivebar_cli.plotting.rpr3 import lines
-
-        phis_deg = np.linspace(p1, p2, 131)
-        series = [(f"case {c.number}: rho_min = {c.rho_min:.6f}", phis_deg,
-                   geo.area(*t, np.radians(phis_deg), c.rho_min, c.rho_max)) for c in cases]
-        return lines(series, "phi (degrees)", "area of W", f"{m.name}: area of W vs phi, six cases [fig. 10]")
-
-    def case2_figure():
-        from fivebar_cli.plotting.rpr3 import construction
-
-        c2 = cases[1]
-        title = (f"{m.name}: W at phi1 = {p1:g} and phi2 = {p2:g} deg, rho_min optimal at phi1 "
-                 f"({c2.rho_min:.6f}) [fig. 9]")
-        return construction(m, [p1, p2], c2.rho_min, c2.rho_max, title)
-
+    phis_deg = np.linspace(p1, p2, 131)
+    series = [(f"case {c.number}: rho_min = {c.rho_min:.6f}", phis_deg,
+               geo.area(*t, np.radians(phis_deg), c.rho_min, c.rho_max)) for c in cases]
+    cases_figure = Drawing("rpr3", "lines", (series, "phi (degrees)", "area of W",
+                                             f"{m.name}: area of W vs phi, six cases [fig. 10]"))
+    c2 = cases[1]
+    title = f"{m.name}: W at phi1 = {p1:g} and phi2 = {p2:g} deg, rho_min optimal at phi1 ({c2.rho_min:.6f}) [fig. 9]"
+    case2_figure = Drawing("rpr3", "construction", (m, [p1, p2], c2.rho_min, c2.rho_max, title))
     return tuple(zip(SYNTHESIS_FILES[2:], (cases_figure, case2_figure)))
 
 
@@ -530,14 +507,8 @@ def verify(mech, depth: int = 14, advance=None) -> Report:
         notes.append(f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
                      f"{', '.join(f'{v:.12g}' for v in pose.joints)}, {pose.value_text('det J')}")
         counterexample = Table("Singular pose", COUNTEREXAMPLE_HEADER, ((x, y, phi, *pose.joints, pose.value),))
-
-        def pose_figure():
-            from fivebar_cli.plotting.rpr3 import figure_pose
-
-            return figure_pose(m, (x, y, phi), pose.joints,
-                               f"{m.name}: a reachable singular pose ({pose.value_text('det J')})")
-
-        drawings = ((COUNTEREXAMPLE_PNG, pose_figure),)
+        drawings = ((COUNTEREXAMPLE_PNG, Drawing("rpr3", "figure_pose", (
+            m, (x, y, phi), pose.joints, f"{m.name}: a reachable singular pose ({pose.value_text('det J')})"))),)
     if result.status == UNDECIDED:
         notes.append("  " + result.undecided_line())
     row = (m.name, result.status, result.exit_code, result.depth, result.max_depth, result.evaluations,
@@ -559,3 +530,8 @@ class Verification(Report):
     @property
     def status(self) -> str:
         return self.result.status
+
+    @property
+    def exit_code(self) -> int:
+        """The command's exit status, as `fb.verify`'s: 0 certified, 1 a singular pose, 3 undecided."""
+        return self.result.exit_code

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_DEPTH, check_depth
 from fivebar_cli.api.calls import load, source_name
-from fivebar_cli.api.values import Report
+from fivebar_cli.api.values import Drawing, Report
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
 
@@ -108,16 +108,7 @@ def tolerance(mech, tolerances=DEFAULT_TOLERANCES, depth: int = 10, *, jobs: int
         if changed:
             notes.append(f"  T = {tol:g}: " + "; ".join(f"aspect {f.number} {fate_text(f)}" for f in changed))
 
-    def bands():
-        from fivebar_cli.plotting.tolerance import figure_bands
-
-        return figure_bands(study)
-
-    def aspect_areas():
-        from fivebar_cli.plotting.tolerance import figure_aspect_areas
-
-        return figure_aspect_areas(study)
-
+    bands, aspect_areas = (Drawing("tolerance", name, (study,)) for name in ("figure_bands", "figure_aspect_areas"))
     return Report(f"Tolerance {m.name}, depth {depth}", HEADER, tuple(r.cells() for r in study.rows), tuple(notes),
                   ("tolerance", TOLERANCE_FILES, "fivebar tolerance", TOLERANCE_CSV),
                   ((TOLERANCE_BANDS_PNG, bands), (TOLERANCE_ASPECTS_PNG, aspect_areas)))
@@ -193,11 +184,7 @@ def kratio(mechs, depths=DEFAULT_DEPTHS, *, advance=None) -> Report:
                      f"(K {_cell(r['paper_procedure_K'], '.2%')}, printed {printed})  "
                      f"saving {_cell(r['saving_vs_paper'], '.0%')}")
 
-    def figure():
-        from fivebar_cli.plotting.kratio import figure_kratio
-
-        return figure_kratio(rows)
-
+    figure = Drawing("kratio", "figure_kratio", (rows,))
     return Report(f"Table 1 of {', '.join(m.name for m in ms)}", HEADER, tuple(tuple(r[k] for k in HEADER) for r in rows),
                   tuple(notes), ("kratio", KRATIO_FILES, "fivebar kratio", KRATIO_CSV), ((KRATIO_PNG, figure),))
 

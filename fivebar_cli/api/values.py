@@ -51,10 +51,27 @@ def finite_points(value, n: int, many: bool = False) -> np.ndarray | None:
     return a
 
 
+@dataclass(frozen=True)
+class Drawing:
+    """A figure to draw when a result is saved: `fivebar_cli.plotting.<module>.<function>(*args)`.
+    A value, not a closure, so that a result pickles (a process pool, a cache); the plotting module
+    is imported only when it is drawn (a result holds no matplotlib)."""
+
+    module: str
+    function: str
+    args: tuple = ()
+
+    def __call__(self):
+        from importlib import import_module
+
+        return getattr(import_module(f"fivebar_cli.plotting.{self.module}"), self.function)(*self.args)
+
+
 def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool = False) -> list[Path]:
     """A command's files in `folder` as one output set (`output`: its name, the patterns it owns,
     the command): its tables as CSV ((file name, columns, data) each) and, with `figures`, its
-    figures ((file name, make) each, drawn on the backend in use); returns the paths written."""
+    figures ((file name, `Drawing` or any function making the figure) each, drawn on the backend
+    in use); returns the paths written."""
     from fivebar_cli.io.files import write_csv
     from fivebar_cli.io.outputs import output_set
     from fivebar_cli.plotting.saving import draw_and_save
@@ -539,7 +556,7 @@ class Table:
 @dataclass(frozen=True, repr=False)
 class Report(Table):
     """A command's table as a value: a `Table` (`columns`, `rows()`, `column()`, `plot()`) with the
-    lines the command prints (`notes`), its figures (`drawings`: (file name, make) each) and where
+    lines the command prints (`notes`), its figures (`drawings`: (file name, `Drawing`) each) and where
     `save` writes them (`output`: the output set's name, the patterns it owns, the command, the
     CSV's file name); `tables`: more CSVs of the set ((file name, columns, data) each).
 

@@ -80,5 +80,5 @@ def verify_cmd(config: Path, depth: int, out: Path | None, no_plot: bool, quiet:
     for line in study.notes:
         report(quiet, line)
     wrote(quiet, save_files(study, folder, no_plot))
-    if study.result.exit_code:
-        raise click.exceptions.Exit(study.result.exit_code)
+    if study.exit_code:
+        raise click.exceptions.Exit(study.exit_code)
