@@ -291,3 +291,30 @@ def test_value_texts_of_deep_and_shared_grids():
             tree = Tree.from_cells(grid, level, cells)
             properties = {"depth": depth}
             assert feature_text(tree, properties) == _reference_text(_polygonized(tree), properties)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 10 ** 6), density=st.floats(0.1, 0.9))
+def test_only_one_against_unit_edges(seed, density):
+    """outline._only_one (each family sorted, touching intervals joined, the two merged) against
+    the unit intervals of a minus b and of b minus a, counted one by one and joined where they
+    touch: the leaves' low and high sides (mixed sizes: cells of three levels) on each line."""
+    from fivebar_cli.paving.outline import _only_one
+
+    rng = np.random.default_rng(seed)
+    grid = Grid(((0.0, 1.0), (0.0, 1.0)), 5, (False, False))
+    trees = [Tree.from_cells(grid, level, np.argwhere(rng.random((1 << level,) * 2) < density)) for level in (3, 4, 5)]
+    tree = trees[0] | trees[1] | trees[2]
+    size = 5 - tree.level
+    lo = tree.coords << size[:, None]
+    width = 33
+    for axis in (0, 1):
+        line_a, line_b = lo[:, 1 - axis] * width, (lo[:, 1 - axis] + (1 << size)) * width
+        got = _only_one(line_a, line_b, lo[:, axis].copy(), size)
+        units = [{int(line + s + u) for line, s, n in zip(lines, lo[:, axis], 1 << size) for u in range(n)}
+                 for lines in (line_a, line_b)]
+        for (start, end), only in zip(got, (units[0] - units[1], units[1] - units[0])):
+            keys = sorted(only)
+            first = [k for k in keys if k - 1 not in only]
+            last = [k + 1 for k in keys if k + 1 not in only]
+            assert start.tolist() == first and end.tolist() == last

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.morton import interleave
+from fivebar_cli.paving.morton import deinterleave, interleave
 from fivebar_cli.paving.tree import Tree
 
 
@@ -95,8 +95,7 @@ def _directed_edges(tree: Tree):
     depth = tree.grid.depth
     size = depth - tree.level  # a leaf's side: 2^size lattice units
     span = np.int64(1) << size
-    lo = tree.coords
-    lo *= span[:, None]
+    lo = deinterleave(tree.start, depth, 2)  # (the leaves' lower corners: their first depth-D cells)
     hi = lo + span[:, None]
     del span
     width = (np.int64(1) << depth) + 1  # positions along a line run 0..2^depth
@@ -122,23 +121,24 @@ def _only_one(line_a: np.ndarray, line_b: np.ndarray, start: np.ndarray, size: n
     """Two unions of disjoint intervals of non-negative keys below 2^53, a: [line_a + start,
     line_a + start + 2^size) and b: [line_b + start, line_b + start + 2^size) (0 <= size < 64):
     the maximal intervals of a minus b and of b minus a, sorted. Each family sorted by its starts
-    (its sizes in the low bits; disjoint, so its ends come in the same order), its touching
-    intervals joined, so that its starts and ends alternate in one sorted run of ends, tagged with
-    what they change; the two runs merged by one sort: the state (in a) + 2 (in b) is their
-    running sum between consecutive ends (int8: 0..3; the ends at one key in any order)."""
+    (its sizes in the low bits; disjoint, so its starts are distinct, any sort gives the same
+    array, and its ends come in the same order), its touching intervals joined, so that its starts
+    and ends alternate in one sorted run of ends, tagged with what they change; the two runs merged
+    by one sort: the state (in a) + 2 (in b) is their running sum between consecutive ends (int8:
+    0..3; the ends at one key in any order). (np.compress: numpy's boolean indexing is slower.)"""
     runs = []
     for k, line in enumerate((line_a, line_b)):
         keys = line + start
         keys <<= 6
         keys |= size
-        keys.sort(kind="stable")  # (faster here than numpy's quicksort)
+        keys.sort()  # (distinct keys: numpy's quicksort, vectorised, beats its stable sort)
         first = keys >> 6
         keys &= 63
         last = np.left_shift(1, keys, out=keys)
         last += first
         del keys
         apart = last[:-1] != first[1:]  # not joined to the next interval
-        first, last = first[np.r_[True, apart]], last[np.r_[apart, True]]
+        first, last = np.compress(np.r_[True, apart], first), np.compress(np.r_[apart, True], last)
         events = np.empty(2 * len(first), np.int64)
         first <<= 2
         first |= 2 * k
@@ -161,7 +161,7 @@ def _only_one(line_a: np.ndarray, line_b: np.ndarray, start: np.ndarray, size: n
         new[1:] = start[1:] != end[:-1]
         last = np.ones(len(i), bool)
         last[:-1] = new[1:]
-        out.append((start[new], end[last]))
+        out.append((np.compress(new, start), np.compress(last, end)))
     return out
 
 
@@ -181,7 +181,7 @@ def boundary_rings(tree: Tree):
     m = np.int64(1) << (tree.grid.depth + 2)
     start_key = start[:, 0] * m + start[:, 1]
     end_key = end[:, 0] * m + end[:, 1]
-    order = np.argsort(start_key, kind="stable")
+    order = np.argsort(start_key)  # (the order of equal keys, at a pinch point, changes nothing)
     sorted_keys = start_key[order]
     lo = np.searchsorted(sorted_keys, end_key, side="left")
     succ = order[lo]
