@@ -175,6 +175,30 @@ def test_bwg_of_sparse_and_dense_sets(dim, depth):
         assert make_tree(arr, depth).to_bwg() == ref_encode(arr)
 
 
+@settings(max_examples=40, deadline=None)
+@given(dim=st.integers(2, 3), depth=st.integers(1, 8), seed=st.integers(0, 10 ** 6), count=st.integers(1, 30))
+def test_white_leaves_are_the_greedy_cut(dim, depth, seed, count):
+    """codec._white_leaves (each block's gap, grey count and rank, in rounds) against
+    morton.aligned_blocks round by round, the grey count from the block's start and level: the
+    levels above it at which the start is aligned."""
+    from fivebar_cli.paving.codec import _white_leaves
+    from fivebar_cli.paving.morton import aligned_blocks
+
+    rng = np.random.default_rng(seed)
+    ends = np.unique(rng.integers(0, (1 << (dim * depth)) + 1, 2 * count))  # disjoint gaps [a, b), a < b
+    a, b = ends[0:len(ends) - 1:2], ends[1::2]
+    keep = np.flatnonzero(rng.random(len(a)) < 0.8)  # (their numbers need not run 0, 1, ...)
+    gap, grey, nth = _white_leaves(keep, a[keep], b[keep], dim, depth)
+    want_gap, want_grey, want_nth, numbers = [], [], [], keep
+    for i, (start, span, more) in enumerate(aligned_blocks(a[keep], b[keep], dim, depth)):
+        aligned = [next(k for k in range(depth, -1, -1) if int(s) % (1 << (dim * k)) == 0) for s in start]
+        want_gap += numbers.tolist()
+        want_grey += [al - int(sp) for al, sp in zip(aligned, span)]
+        want_nth += [i] * len(start)
+        numbers = numbers[more]
+    assert gap.tolist() == want_gap and grey.tolist() == want_grey and nth.tolist() == want_nth
+
+
 @settings(max_examples=30, deadline=None)
 @given(grids(dim=3, max_depth=4))
 def test_bwg_round_trip_octree(case):

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fivebar_cli.paving.morton import aligned_blocks, trailing_zeros
+from fivebar_cli.paving.morton import floor_log2, trailing_zeros
 
 
 class BodyError(ValueError):
@@ -24,8 +24,8 @@ def encode(tree) -> str:
     Morton order, each leaf follows a G for every grey ancestor that starts where it starts (the
     levels above it at which its first depth-D index is aligned, the root excepted when it is not
     0): no node is looked up, nothing sorted. The white leaves are the gaps between the black runs
-    cut greedily into aligned blocks (as `Tree.complement` cuts them), block i of gap g placed
-    after the black leaves and white blocks before it."""
+    cut greedily into aligned blocks (`_white_leaves`), block i of gap g placed after the black
+    leaves and white blocks before it."""
     grid = tree.grid
     dim, depth = grid.dim, grid.depth
     if len(tree) == 0:
@@ -42,15 +42,8 @@ def encode(tree) -> str:
     last = np.r_[run_first[1:] - 1, len(start) - 1]
     a = np.concatenate([[0], end[last]])  # gap g: [a, b), before run g (g = runs: after the last)
     b = np.concatenate([start[run_first], [np.int64(1) << (dim * depth)]])
-    gap = np.arange(len(a))
-    blocks = []  # per round: (gap, start, level) of the next block of each gap still open
-    open_ = a < b
-    gap = gap[open_]
-    for start_here, span, more in aligned_blocks(a[open_], b[open_], dim, depth):
-        blocks.append((gap, start_here, depth - span))
-        gap = gap[more]
-    white_gap, white_start, white_level = (np.concatenate(v) for v in zip(*blocks))
-    nth = np.concatenate([np.full(len(g), i, np.int64) for i, (g, _, _) in enumerate(blocks)])  # block i of its gap
+    open_ = np.flatnonzero(a < b)
+    white_gap, white_grey, nth = _white_leaves(open_, a[open_], b[open_], dim, depth)
     per_gap = np.bincount(white_gap, minlength=len(run_first) + 1)
     white_before = np.cumsum(per_gap) - per_gap  # white blocks in the gaps before gap g
     black_before = np.r_[run_first, len(start)]  # black leaves before gap g
@@ -58,15 +51,34 @@ def encode(tree) -> str:
     at_white = black_before[white_gap] + white_before[white_gap] + nth
     # a G per grey ancestor starting where the leaf starts (down from the highest level at which
     # its start is aligned), then the leaf's letter
-    runs = np.empty(len(start) + len(white_start), np.int64)
+    runs = np.empty(len(start) + len(white_gap), np.int64)
     runs[at_black] = level - np.maximum(depth - trailing_zeros(start, dim * depth) // dim, 0)
-    runs[at_white] = white_level - np.maximum(depth - trailing_zeros(white_start, dim * depth) // dim, 0)
+    runs[at_white] = white_grey
     runs += 1
     leaf_at = np.cumsum(runs) - 1
     letters = np.full(int(leaf_at[-1]) + 1, ord("G"), np.uint8)
     letters[leaf_at[at_black]] = ord("B")
     letters[leaf_at[at_white]] = ord("W")
     return letters.tobytes().decode("ascii")
+
+
+def _white_leaves(gap: np.ndarray, a: np.ndarray, b: np.ndarray, dim: int, depth: int):
+    """The non-empty gaps [a, b) (numbered `gap`) cut greedily into aligned blocks, as
+    `morton.aligned_blocks` cuts them (from the left, the largest block that starts there and
+    fits), round after round: each block's gap, its grey count (the G's before it: the levels
+    above it at which its start is aligned, from the alignment the cut reads anyway) and its rank
+    in its gap (its round), in rounds. (np.compress: numpy's boolean indexing is slower.)"""
+    gaps, greys, sizes = [gap[:0]], [gap[:0]], []
+    while len(a):
+        aligned = np.minimum(trailing_zeros(a, dim * depth) // dim, depth)  # the start's alignment
+        span = np.minimum(aligned, floor_log2(b - a) // dim)  # the block: 2^(dim * span) indices
+        gaps.append(gap)
+        greys.append(aligned - span)
+        sizes.append(len(a))
+        a = a + (np.int64(1) << (dim * span))
+        more = a < b
+        a, b, gap = np.compress(more, a), np.compress(more, b), np.compress(more, gap)
+    return np.concatenate(gaps), np.concatenate(greys), np.repeat(np.arange(len(sizes)), sizes)
 
 
 def decode(grid, body: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
