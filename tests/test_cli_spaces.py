@@ -27,6 +27,7 @@ from conftest import (
     valid_work,
     workspace_area_closed_form,
 )
+import fivebar_cli as fb
 from fivebar_cli.io.qtfile import read_qt
 
 CSV_HEADER = ("space,name,procedure,depth,evaluations,K,inside_area,undetermined_area,outside_area,"
@@ -397,7 +398,17 @@ def test_malformed_qt_files_for_refine_and_diff(tmp_path, good_output):
     lonely.mkdir()
     shutil.copy(good_output / "workspace.qt", lonely / "workspace.qt")
     r = run_cli("refine", lonely / "workspace.qt", "--depth", 6, "--no-plot", cwd=tmp_path)
-    one_line(r, 2, str(lonely / "workspace.complement.qt"))
+    one_line(r, 2, str(lonely / "workspace.complement.qt"), "no such file: a paving is refined from its pair of files "
+             "(workspace.qt and workspace.complement.qt, side by side)")
+    # the tree of one aspect has no partner: it is no paving (it was told its .complement.qt was missing)
+    ok(run_cli("aspects", M2_YAML, "--depth", 4, "-o", "asp", "--no-plot", cwd=tmp_path))
+    tree = tmp_path / "asp" / "aspects" / "aspect-01.workspace.qt"
+    before = files(tmp_path / "asp")
+    one_line(run_cli("refine", tree, "--depth", 6, "--no-plot", cwd=tmp_path), 2,
+             f"{tree}: region: 'aspect 1': the tree of one aspect, not a paving pair")
+    with pytest.raises(fb.InputError, match="the tree of one aspect, not a paving pair"):
+        fb.refine(tree, 6)
+    assert files(tmp_path / "asp") == before
 
 
 def test_refine_needs_the_mechanism_header(tmp_path, good_output):

@@ -143,6 +143,7 @@ class SavedPaving:
 def load_saved(path: str | Path) -> SavedPaving:
     """Read a paving pair from either of its files and check that the two files belong together."""
     inside_path, outside_path = sibling_paths(Path(path))
+    _check_partner(Path(path), inside_path, outside_path)
     inside, outside = read_qt(inside_path), read_qt(outside_path)
     for qt, colour, p in ((inside, "inside", inside_path), (outside, "outside", outside_path)):
         if qt.get("colour", colour) != colour:
@@ -181,6 +182,22 @@ def load_saved(path: str | Path) -> SavedPaving:
         if band.get("mechanism") != inside.get("mechanism") or band.tree.grid != inside.tree.grid:
             raise InputError(str(path), "mechanism", f"does not match {inside_path.name}")
     return SavedPaving(mechanism, space, procedure, evaluations, inside, outside, pair, own, stem, band)
+
+
+def _check_partner(given: Path, inside_path: Path, outside_path: Path) -> None:
+    """InputError when the partner of the file given is missing: an aspect's tree (`aspects` writes
+    one tree per aspect, no pair) is told that it is no paving; another file, which partner was
+    looked for (the user named only one of the two)."""
+    partner = outside_path if given == inside_path else inside_path
+    if not given.is_file() or partner.is_file():
+        return  # (reading them says what is wrong, if anything)
+    region = read_qt(given).get("region") or ""
+    if region.startswith("aspect "):
+        raise InputError(str(given), "region", f"{region!r}: the tree of one aspect, not a paving pair: only a "
+                         "paving (a .qt file with its .complement.qt, as workspace and jointspace write them) "
+                         "is refined; to go deeper, find the aspects again at a larger depth")
+    raise InputError(str(partner), "", f"no such file: a paving is refined from its pair of files "
+                     f"({inside_path.name} and {outside_path.name}, side by side)")
 
 
 def refine_saved(saved: SavedPaving, depth: int, on_level=None) -> Paving:
