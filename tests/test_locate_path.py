@@ -30,8 +30,10 @@ from locate_pairs import (
 from reference_kinematics import ref_dkp, ref_ikp
 from test_path import check_motion, read_path, samples
 
+import fivebar_cli as fb
 from fivebar_cli.analyses.aspects import analyse_aspects
 from fivebar_cli.analyses.locate import NO, UNDECIDED, YES, Configuration, decide, mode_verdict
+from fivebar_cli.cli.options import as_flags
 from fivebar_cli.mechanisms.fivebar.model import FiveBar
 
 REPO = Path(__file__).resolve().parents[1]
@@ -235,6 +237,13 @@ def test_locate_with_a_tolerance_never_says_no_for_aspects_apart():
     assert robust.status == 0, robust.stderr
     assert "robust aspects apart do not prove that every motion crosses a singularity" in robust.stdout
     assert "1 -> 2: no:" not in robust.stdout
+    # the library call takes the tolerance as the command does (it was a TypeError), and as a
+    # mechanism loaded with it
+    joints = [(float(args[1]), float(args[2])), (float(args[4]), float(args[5]))]
+    library = fb.locate(M1_YAML, joints=joints, depth=7, assembly_mode="+", tolerance=0.02)
+    assert [as_flags(line) for line in library.lines()] == robust.stdout.splitlines()
+    assert library.rows() == fb.locate(fb.load(M1_YAML, tolerance=0.02), joints=joints, depth=7,
+                                       assembly_mode="+").rows()
 
 
 def test_modes_apart_are_no_even_when_one_is_on_a_serial_singularity():

@@ -8,7 +8,9 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
-from fivebar_cli.api.calls import DEFAULT_DEPTH, _mechanism, check_aspects, check_modes, source_name, with_aspects
+from fivebar_cli.api.calls import (
+    DEFAULT_DEPTH, _mechanism, check_aspects, check_modes, source_name, widened, with_aspects,
+)
 from fivebar_cli.api.pose_space import (
     check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
@@ -164,7 +166,8 @@ def _points(value, which: str, axes, source: str) -> list[tuple[float, ...]]:
 
 def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
            working_mode: str | None = None, assembly_mode: str | None = None, budget: int | None = None,
-           folder=None, source: str | None = None, advance=None, legs=None) -> Location:
+           folder=None, source: str | None = None, advance=None, legs=None,
+           tolerance: float | None = None) -> Location:
     """Every configuration at a pose (x, y) or at joint values, with its modes and the aspect holding
     it at `depth`.
 
@@ -174,7 +177,8 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     else those an `aspects` run wrote into `folder` for this mechanism at this depth, else computed
     (with `budget`; `advance` as for `aspects`). `lines()` gives the command's report, with the
     answer for each pair of locations; `csv()` its `--csv` output. `source`: how messages name the
-    mechanism (default: its file, or its name).
+    mechanism (default: its file, or its name). `tolerance`: the lengths widened by it, as
+    `fb.load(..., tolerance=)`: the configurations are the nominal robot's, the aspects robust.
 
     Over a space of poses (3-RPR, 3-RRR), each `pose` (x, y, phi_deg) is located in every working
     mode (a 3-RRR's pose does not decide it) or in `working_mode` only ('+-+', as `fivebar locate
@@ -192,7 +196,7 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     [('++', 1)]
     """
     source = source or source_name(mech)
-    m = with_aspects(_mechanism(mech), source)
+    m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source), source)
     check_aspects(aspects, m, source)
     if m.pose_aspect_model() is not None:
         if assembly_mode is not None:  # (taken without a word before)
