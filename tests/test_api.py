@@ -186,6 +186,8 @@ def test_rpr3_studies_equal_the_golden_tables():
     sweep = fb.rpr3.sweep(["rpr3-equilateral"], "rho_min", span=(0.0, 0.5), steps=6)
     assert [r["rho_min"] for r in sweep.rows()] == pytest.approx([0, 0.1, 0.2, 0.3, 0.4, 0.5])
     v = fb.rpr3.verify("rpr3-verify/obtuse-phi1-rule", depth=14)
+    # one kind of verify report for both kinds of verify (an exit status read alike)
+    assert isinstance(v, type(fb.verify("rrr3-symmetric", 2, working_mode="+-+")))
     assert (v.status, v.exit_code) == ("singular pose found", 1) and v.counterexample.rows()[0]["det_j"] == pytest.approx(0, abs=1e-9)
     # the claim printed is zero to rounding, not the computed digits (they differ between machines)
     det_j = v.result.pose.value

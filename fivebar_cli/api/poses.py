@@ -5,14 +5,12 @@ certificate that no valid pose is singular, or a singular pose (what they share 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
 from fivebar_cli.api.calls import _mechanism, check_aspects, source_name
 from fivebar_cli.api.pose_space import (
     DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
-from fivebar_cli.api.values import Drawing, Report
+from fivebar_cli.api.values import Drawing, Report, Verified
 
 # ---------------------------------------------------------------- dkp
 
@@ -119,13 +117,6 @@ def _solution_aspect(model, aspects, solution):
 
 
 # ---------------------------------------------------------------- verify
-
-
-@dataclass(frozen=True, repr=False)
-class Verified(Report):
-    """verify's report, with the command's exit status (0 certified, 1 singular pose, 3 undecided)."""
-
-    exit_code: int = 0
 
 
 def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from fivebar_cli.analyses.limits import check_count
-from fivebar_cli.api.values import Drawing, Report, Table
+from fivebar_cli.api.values import Drawing, Report, Table, Verified
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.io.layout import (
     AREA_CSV, AREA_FILES, COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, VERIFY_CSV,
@@ -516,13 +516,13 @@ def verify(mech, depth: int = 14, advance=None) -> Report:
     # a counterexample of an earlier run is removed when none is found (the set owns it)
     return Verification(f"Verify {m.name}", VERIFY_HEADER, (row,), tuple(notes),
                         ("rpr3-verify", VERIFY_FILES, "fivebar rpr3 verify", VERIFY_CSV), drawings,
-                        _csv_of(COUNTEREXAMPLE_CSV, counterexample), result, counterexample)
+                        _csv_of(COUNTEREXAMPLE_CSV, counterexample), result.exit_code, result, counterexample)
 
 
 @dataclass(frozen=True, repr=False)
-class Verification(Report):
-    """`verify`'s row, with the library's result (`status`, `exit_code`, `pose`) and the singular
-    pose as a one-row table (None when none is found)."""
+class Verification(Verified):
+    """`verify`'s row and exit status (a `Verified`, as `fb.verify`'s), with the library's result
+    (`status`, `pose`) and the singular pose as a one-row table (None when none is found)."""
 
     result: object = field(default=None, compare=False)
     counterexample: Table | None = None
@@ -530,8 +530,3 @@ class Verification(Report):
     @property
     def status(self) -> str:
         return self.result.status
-
-    @property
-    def exit_code(self) -> int:
-        """The command's exit status, as `fb.verify`'s: 0 certified, 1 a singular pose, 3 undecided."""
-        return self.result.exit_code

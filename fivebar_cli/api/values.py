@@ -588,6 +588,14 @@ class Report(Table):
                                   self.drawings, figures)
 
 
+@dataclass(frozen=True, repr=False)
+class Verified(Report):
+    """A verify command's report, with its exit status (0 certified singularity-free, 1 a singular
+    pose found, 3 undecided): `fb.verify`'s, and `fb.rpr3.verify`'s (`api.rpr3.Verification`)."""
+
+    exit_code: int = 0
+
+
 def _number(v) -> float | None:
     """A cell as a number (atlas cells are text), None for other text."""
     if isinstance(v, bool):
