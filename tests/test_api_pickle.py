@@ -16,16 +16,15 @@ from tests.cli_helpers import REPO
 ATLAS = {"name": "tiny", "type": "fivebar-atlas", "depth": 4,
          "lengths": {"L0": [2.5, 3, 2], "L1": 1, "L2": 1, "L3": 2, "L4": 2}}
 RESULTS = {
-    "aspects, five-bar": lambda: fb.aspects("m1", 5),
+    # the two kinds of regions (a five-bar's modes, a space of poses' classes), and a model with limits
+    "aspects, five-bar": lambda: fb.aspects("m1", 4),
     "aspects, five-bar with joint limits": lambda: fb.aspects("m1-limited", 4),
     "aspects, 3-RPR": lambda: fb.aspects("rpr3-caro", 3),
-    "aspects, 3-RRR": lambda: fb.aspects("rrr3-symmetric", 2),
-    "aspects, 2-RPR": lambda: fb.aspects("rpr2", 4),
     "paving": lambda: fb.pave("m1", "workspace", 5),
     "location": lambda: fb.locate("m1", pose=(4, 5), depth=5),
     "path": lambda: fb.path("m1", {"pose": (4, 5), "working_mode": "++"}, {"pose": (5, 6), "working_mode": "++"},
                             depth=6),
-    "tolerance": lambda: fb.tolerance("m1", [0, 0.05], 4),
+    "tolerance": lambda: fb.tolerance("m1", [0, 0.05], 3),
     "kratio": lambda: fb.kratio("m1", [3]),
     "verify with a counterexample": lambda: fb.verify(REPO / "configs" / "rrr3-symmetric.yaml", 2, working_mode="+-+"),
     "dkp": lambda: fb.dkp("rpr3-caro", (20.6315, 23.2633, 16.0359), 3),
