@@ -163,7 +163,9 @@ def _report(spec, columns: tuple, data: tuple) -> Report:
         notes.append(f"  the robust aspect count (tolerance {spec.tolerance:g}) is certified for "
                      f"{_certified(table, 'robust_certified')} of them")
 
-    figure = Drawing("atlas", "figure_atlas", (spec, {c: list(v) for c, v in table.items()}))
+    from fivebar_cli.plotting.atlas import figure_atlas
+
+    figure = Drawing(figure_atlas, (spec, {c: list(v) for c, v in table.items()}))
     return Report(f"Atlas {spec.name}", columns, data, tuple(notes), ("atlas", (ATLAS_CSV, ATLAS_PNG), "fivebar atlas",
                   ATLAS_CSV), ((ATLAS_PNG, figure),) if spec.swept else ())
 

@@ -93,12 +93,14 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     if n:
         import numpy as np
 
+        from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
+
         labels = [f"mode {k}: {model.classes[s.cls].label if s.cls >= 0 else '?'}"
                   for k, s in enumerate(result.solutions, start=1)]
         title = f"{m.name}: the {n} assembly modes of {what} ({numbers(joints)})"
         poses = np.array([s.pose for s in result.solutions])
         classes = np.array([max(s.cls, 0) for s in result.solutions])
-        drawings = ((DKP_PNG, Drawing("pose_aspects", "figure_assembly_modes", (model, poses, labels, title, classes))),)
+        drawings = ((DKP_PNG, Drawing(figure_assembly_modes, (model, poses, labels, title, classes))),)
     command = "fivebar rpr3 dkp" if what == "legs" else "fivebar dkp"
     header = (*pose_columns(m), *fields, "aspect", "certified")
     return Report(f"DKP {m.name}, {what} ({numbers(joints)})", header, tuple(rows), tuple(notes),
@@ -177,11 +179,12 @@ def verify(mech, depth: int = 14, *, working_mode: str | None = None) -> Report:
         import numpy as np
 
         from fivebar_cli.analyses.pose_aspects import sheet_classes
+        from fivebar_cli.plotting.pose_aspects import figure_assembly_modes
 
         poses = np.array([p.pose for _, p in singular])
         classes = np.array([sheet_classes(model, s)[0] for s, _ in singular])
         labels = [f"{model.sheets[s].label or m.name}: {p.value_text(model.singularity_name)}" for s, p in singular]
-        drawings = ((COUNTEREXAMPLE_PNG, Drawing("pose_aspects", "figure_assembly_modes",
+        drawings = ((COUNTEREXAMPLE_PNG, Drawing(figure_assembly_modes,
                                                  (model, poses, labels, f"{m.name}: valid singular poses", classes))),)
     exit_code = EXIT[SINGULAR] if SINGULAR in statuses else EXIT[UNDECIDED] if UNDECIDED in statuses else 0
     # a counterexample of an earlier run is removed when none is found (the set owns it)

@@ -90,7 +90,9 @@ def area(mech) -> Report:
         notes.append(f"    area of W = {a:.9f}, boundary: {len(arcs_)} arcs on {', '.join(on) if on else '-'}")
 
     title = f"{m.name}: singularity-free workspace, k = {m.k:g}, phi = {', '.join(f'{p:g}' for p in phis)} deg"
-    construction_figure = Drawing("rpr3", "construction", (m, phis, m.rho_min, rho_max, title))
+    from fivebar_cli.plotting.rpr3 import construction
+
+    construction_figure = Drawing(construction, (m, phis, m.rho_min, rho_max, title))
     return Report(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
                   ("rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV), ((AREA_FILES[1], construction_figure),))
 
@@ -142,6 +144,7 @@ def check_span(span) -> None:
 
 def _sweep_phi(mechs, span, steps, angles, advance):
     from fivebar_cli.mechanisms.rpr3 import sweeps
+    from fivebar_cli.plotting.rpr3 import lines
 
     lo, hi = span or (0.5, 179.5)
     check_phis((lo, hi), param("span"))
@@ -169,7 +172,7 @@ def _sweep_phi(mechs, span, steps, angles, advance):
 
     def drawing(key, mask, ylabel, title):
         sel = slice(None) if mask is None else mask
-        return Drawing("rpr3", "lines", ([(n, phis_deg[sel], d[key][sel]) for n, d in curves], "phi (degrees)",
+        return Drawing(lines, ([(n, phis_deg[sel], d[key][sel]) for n, d in curves], "phi (degrees)",
                                          ylabel, title))
 
     return header, rows, notes, [drawing(*f) for f in figs]
@@ -179,6 +182,7 @@ def _sweep_rho_min(mechs, span, steps, angles, advance):
     from fivebar_cli.mechanisms.rpr3 import closed_form as geo
     from fivebar_cli.mechanisms.rpr3 import sweeps
     from fivebar_cli.mechanisms.rpr3.model import to_radians
+    from fivebar_cli.plotting.rpr3 import lines
 
     limits = [float(geo.rho_min_limit(*m.design, to_radians(m.phi))) for m in mechs]
     lo, hi = span or (0.0, max(limits))
@@ -198,11 +202,12 @@ def _sweep_rho_min(mechs, span, steps, angles, advance):
     title = f"Area of W vs rho_min (phi = {phis} deg) [fig. 5]"
 
     return ["config", "phi_deg", "rho_min", "rho_max", "area"], rows, notes, [
-        Drawing("rpr3", "lines", (series, "rho_min", "area of W", title, marks))]
+        Drawing(lines, (series, "rho_min", "area of W", title, marks))]
 
 
 def _sweep_t2(mechs, span, steps, angles, advance):
     from fivebar_cli.mechanisms.rpr3 import sweeps
+    from fivebar_cli.plotting.rpr3 import lines
 
     try:
         angles = DEFAULT_ANGLES if angles is None else angles
@@ -234,7 +239,7 @@ def _sweep_t2(mechs, span, steps, angles, advance):
     rho = ", ".join(sorted({f"{m.rho_min:g}" for m in mechs}))
     title = f"Area of W vs t2, t1 and t3 fixed (rho_min = {rho}) [fig. 8]"
 
-    return header, rows, notes, [Drawing("rpr3", "lines", (series, "t2", "area of W", title))]
+    return header, rows, notes, [Drawing(lines, (series, "t2", "area of W", title))]
 
 
 # ---------------------------------------------------------------- synthesis
@@ -308,6 +313,7 @@ class Synthesis(Report):
 def _synthesis_drawings(m, cases) -> tuple:
     """Figures 10 (area against phi, six cases) and 9 (W at both ends of the range, case 2)."""
     from fivebar_cli.mechanisms.rpr3 import closed_form as geo
+    from fivebar_cli.plotting.rpr3 import construction, lines
 
     t = m.design
     p1, p2 = m.phi_range
@@ -315,11 +321,11 @@ def _synthesis_drawings(m, cases) -> tuple:
     phis_deg = np.linspace(p1, p2, 131)
     series = [(f"case {c.number}: rho_min = {c.rho_min:.6f}", phis_deg,
                geo.area(*t, np.radians(phis_deg), c.rho_min, c.rho_max)) for c in cases]
-    cases_figure = Drawing("rpr3", "lines", (series, "phi (degrees)", "area of W",
+    cases_figure = Drawing(lines, (series, "phi (degrees)", "area of W",
                                              f"{m.name}: area of W vs phi, six cases [fig. 10]"))
     c2 = cases[1]
     title = f"{m.name}: W at phi1 = {p1:g} and phi2 = {p2:g} deg, rho_min optimal at phi1 ({c2.rho_min:.6f}) [fig. 9]"
-    case2_figure = Drawing("rpr3", "construction", (m, [p1, p2], c2.rho_min, c2.rho_max, title))
+    case2_figure = Drawing(construction, (m, [p1, p2], c2.rho_min, c2.rho_max, title))
     return tuple(zip(SYNTHESIS_FILES[2:], (cases_figure, case2_figure)))
 
 
@@ -492,6 +498,7 @@ def verify(mech, depth: int = 14, advance=None) -> Report:
     from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
     from fivebar_cli.analyses.pose_verify import SINGULAR, UNDECIDED, verify as run
     from fivebar_cli.api.calls import per_level
+    from fivebar_cli.plotting.rpr3 import figure_pose
 
     depth = check_depth(depth, MAX_VERIFY_DEPTH)
     m = bounded(mech)
@@ -507,7 +514,7 @@ def verify(mech, depth: int = 14, advance=None) -> Report:
         notes.append(f"  singular pose: x = {x:.12g}, y = {y:.12g}, phi = {phi:.12g} deg, legs "
                      f"{', '.join(f'{v:.12g}' for v in pose.joints)}, {pose.value_text('det J')}")
         counterexample = Table("Singular pose", COUNTEREXAMPLE_HEADER, ((x, y, phi, *pose.joints, pose.value),))
-        drawings = ((COUNTEREXAMPLE_PNG, Drawing("rpr3", "figure_pose", (
+        drawings = ((COUNTEREXAMPLE_PNG, Drawing(figure_pose, (
             m, (x, y, phi), pose.joints, f"{m.name}: a reachable singular pose ({pose.value_text('det J')})"))),)
     if result.status == UNDECIDED:
         notes.append("  " + result.undecided_line())

@@ -108,7 +108,9 @@ def tolerance(mech, tolerances=DEFAULT_TOLERANCES, depth: int = 10, *, jobs: int
         if changed:
             notes.append(f"  T = {tol:g}: " + "; ".join(f"aspect {f.number} {fate_text(f)}" for f in changed))
 
-    bands, aspect_areas = (Drawing("tolerance", name, (study,)) for name in ("figure_bands", "figure_aspect_areas"))
+    from fivebar_cli.plotting.tolerance import figure_aspect_areas, figure_bands
+
+    bands, aspect_areas = Drawing(figure_bands, (study,)), Drawing(figure_aspect_areas, (study,))
     return Report(f"Tolerance {m.name}, depth {depth}", HEADER, tuple(r.cells() for r in study.rows), tuple(notes),
                   ("tolerance", TOLERANCE_FILES, "fivebar tolerance", TOLERANCE_CSV),
                   ((TOLERANCE_BANDS_PNG, bands), (TOLERANCE_ASPECTS_PNG, aspect_areas)))
@@ -184,7 +186,9 @@ def kratio(mechs, depths=DEFAULT_DEPTHS, *, advance=None) -> Report:
                      f"(K {_cell(r['paper_procedure_K'], '.2%')}, printed {printed})  "
                      f"saving {_cell(r['saving_vs_paper'], '.0%')}")
 
-    figure = Drawing("kratio", "figure_kratio", (rows,))
+    from fivebar_cli.plotting.kratio import figure_kratio
+
+    figure = Drawing(figure_kratio, (rows,))
     return Report(f"Table 1 of {', '.join(m.name for m in ms)}", HEADER, tuple(tuple(r[k] for k in HEADER) for r in rows),
                   tuple(notes), ("kratio", KRATIO_FILES, "fivebar kratio", KRATIO_CSV), ((KRATIO_PNG, figure),))
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 import numpy as np
 
@@ -53,18 +54,15 @@ def finite_points(value, n: int, many: bool = False) -> np.ndarray | None:
 
 @dataclass(frozen=True)
 class Drawing:
-    """A figure to draw when a result is saved: `fivebar_cli.plotting.<module>.<function>(*args)`.
-    A value, not a closure, so that a result pickles (a process pool, a cache); the plotting module
-    is imported only when it is drawn (a result holds no matplotlib)."""
+    """A figure to draw when a result is saved: `function(*args)`, a function of a module of
+    `fivebar_cli.plotting` (which imports matplotlib only when it draws). A value, not a closure,
+    so that a result pickles (a process pool, a cache): a module's function pickles by its name."""
 
-    module: str
-    function: str
+    function: Callable
     args: tuple = ()
 
     def __call__(self):
-        from importlib import import_module
-
-        return getattr(import_module(f"fivebar_cli.plotting.{self.module}"), self.function)(*self.args)
+        return self.function(*self.args)
 
 
 def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool = False) -> list[Path]:
