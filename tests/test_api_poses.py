@@ -82,6 +82,7 @@ def test_aspects_of_another_mechanism_are_refused(caro):
     (lambda: fb.verify("m1", 4), "type"),
     (lambda: fb.dkp(UNBOUNDED, (1, 1, 1), 2), "legs.rho_max"),
     (lambda: fb.verify(UNBOUNDED, 4), "legs.rho_max"),
+    (lambda: fb.aspects(UNBOUNDED, 3), "legs.rho_max"),  # (was: 'an rpr3 has no working and assembly modes')
     (lambda: fb.path("rpr3-caro", 1, 7, legs=(14.98, 15.38, 12), depth=5), "`goal`"),
     (lambda: fb.path("rpr3-caro", 1, 2, joints=(14.98, 15.38, 12), legs=(14.98, 15.38, 12), depth=5), "`legs`"),
     (lambda: fb.locate("rpr3-caro", legs=(1, 15, 12), depth=2), "`legs`"),
@@ -127,6 +128,11 @@ def test_a_kind_without_poses_is_told_which_kinds_have_them():
     with pytest.raises(fb.InputError, match=r": legs.rho_max: this rpr3 has no bounded space of poses to pave "
                        r"\(give rho_max\)$"):
         fb.verify(UNBOUNDED, 4)
+    # a mapping is named `<mapping>` by every call (aspects named it by the whole dict's repr)
+    for call in (fb.verify, fb.aspects, lambda m, d: fb.dkp(m, (1, 1, 1), d)):
+        with pytest.raises(fb.InputError) as caught:
+            call(UNBOUNDED, 3)
+        assert caught.value.source == "<mapping>", str(caught.value)
 
 
 def test_locate_and_path_over_poses_are_the_commands(tmp_path, caro):

@@ -80,8 +80,13 @@ def widened(m: Mechanism, tolerance: float, source) -> Mechanism:
 
 
 def with_aspects(m: Mechanism, source) -> Mechanism:
-    """`m`, checked to have working and assembly modes (InputError on its `type` otherwise)."""
+    """`m`, checked to have working and assembly modes or aspects over its poses (InputError on its
+    `type` otherwise; a kind with poses whose space of poses is unbounded, on `legs.rho_max`)."""
     if m.aspect_model() is None and m.pose_aspect_model() is None:
+        if m.has_poses:
+            from fivebar_cli.analyses.pose_aspects import pose_model
+
+            pose_model(m, str(source))  # (its message: give rho_max)
         raise InputError(str(source), "type", f"{article(m.kind)} has no working and assembly modes (no aspects)")
     return m
 
@@ -188,7 +193,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     """
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 
-    m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source_name(mech)), m_name(mech))
+    m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source_name(mech)), source_name(mech))
     budget = check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     step = advance or (lambda n=1: None)
@@ -196,7 +201,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
         from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
         from fivebar_cli.api.pose_space import pose_depth, pose_mechanism
 
-        depth = pose_depth(pose_mechanism(m, source=m_name(mech)), depth)
+        depth = pose_depth(pose_mechanism(m, source=source_name(mech)), depth)
         analysis = analyse_pose_aspects(m, depth, step, budget, jobs)
         found = tuple(Aspect(a.number, dict(a.signs.fields), a.tree, None, tuple(a.pose), tuple(a.joints),
                              bool(a.certified)) for a in analysis.aspects)
@@ -228,10 +233,6 @@ def _aspect(a, signs_text) -> Aspect:
     square = (a.square.x, a.square.y, a.square.side) if a.square is not None else None
     return Aspect(a.number, {"working_mode": signs_text(a.working), "assembly_mode": signs_text(a.assembly)},
                   a.workspace, a.jointspace, tuple(a.pose), tuple(a.joints), bool(a.certified), circle, square)
-
-
-def m_name(mech) -> str:
-    return mech.name if isinstance(mech, Mechanism) else str(mech)
 
 
 # ---------------------------------------------------------------- path (locate: locations.py)
