@@ -7,6 +7,7 @@ field."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -117,7 +118,7 @@ def test_bad_input_names_the_field(call, field):
     assert " a rpr" not in str(caught.value)  # (an rpr2, an rpr3: `article`)
 
 
-def test_a_kind_without_poses_is_told_which_kinds_have_them():
+def test_a_kind_without_poses_is_told_which_kinds_have_them(tmp_path):
     """The message itself, from the library and the command: a five-bar or a 2-RPR has no space of
     poses (x, y, phi), only a 3-RPR or a 3-RRR; the unbounded 3-RPR is told to give rho_max."""
     with pytest.raises(fb.InputError, match=r"^m1: type: a fivebar has no space of poses \(x, y, phi\): only a 3-RPR "
@@ -125,9 +126,20 @@ def test_a_kind_without_poses_is_told_which_kinds_have_them():
         fb.dkp("m1", (1, 1, 1), 2)
     one_line(run_cli("dkp", REPO / "configs" / "rpr2.yaml", "--joints", 1, 1, 1), 2,
              "rpr2.yaml: type: an rpr2 has no space of poses (x, y, phi)")
-    with pytest.raises(fb.InputError, match=r": legs.rho_max: this rpr3 has no bounded space of poses to pave "
-                       r"\(give rho_max\)$"):
-        fb.verify(UNBOUNDED, 4)
+    # every call that needs the space of poses of a 3-RPR with unbounded legs gives the one reason
+    # (`Mechanism.no_pose_space`), which the 3-RPR's own commands gave already
+    reason = ("legs.rho_max: 'auto' is unbounded here (every point of the singularity circle is within rho_min "
+              "of some C_i)")
+    for call in (lambda: fb.verify(UNBOUNDED, 4), lambda: fb.aspects(UNBOUNDED, 3),
+                 lambda: fb.pave(UNBOUNDED, "workspace", 3), lambda: fb.locate(UNBOUNDED, pose=(0, 0, 100)),
+                 lambda: fb.rpr3.verify(UNBOUNDED)):
+        with pytest.raises(fb.InputError, match=re.escape(reason)):
+            call()
+    path = tmp_path / "unbounded.yaml"
+    path.write_text(yaml.safe_dump(UNBOUNDED))
+    for args in (("workspace",), ("aspects",), ("rpr3", "pave")):
+        one_line(run_cli(*args, path, "-o", tmp_path / "out"), 2, f"{path}: {reason}")
+    assert not (tmp_path / "out").exists()
     # a mapping is named `<mapping>` by every call (aspects named it by the whole dict's repr)
     for call in (fb.verify, fb.aspects, lambda m, d: fb.dkp(m, (1, 1, 1), d)):
         with pytest.raises(fb.InputError) as caught:

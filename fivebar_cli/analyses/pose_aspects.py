@@ -51,16 +51,12 @@ PROBE_LEVELS = 1  # the band of every outer component holding an aspect is paved
 
 
 def pose_model(m: Mechanism, source: str = "") -> PoseAspectModel:
-    """The kind's pose-space aspect model. InputError when it has none: on `type` for a kind whose
-    configurations are not poses (a five-bar, a 2-RPR), on `legs.rho_max` for a 3-RPR whose legs
-    leave its space of poses unbounded."""
+    """The kind's pose-space aspect model; when it has none, `m.no_pose_space`'s InputError (on
+    `type` for a kind whose configurations are not poses, a five-bar or a 2-RPR; on `legs.rho_max`
+    for a 3-RPR whose legs leave its space of poses unbounded)."""
     model = m.pose_aspect_model()
     if model is None:
-        if m.has_poses:
-            raise InputError(source, "legs.rho_max",
-                             f"this {m.kind} has no bounded space of poses to pave (give rho_max)")
-        raise InputError(source, "type", f"{article(m.kind)} has no space of poses (x, y, phi): "
-                         "only a 3-RPR or a 3-RRR has one")
+        raise m.no_pose_space(source)
     return model
 
 

@@ -83,10 +83,8 @@ def with_aspects(m: Mechanism, source) -> Mechanism:
     """`m`, checked to have working and assembly modes or aspects over its poses (InputError on its
     `type` otherwise; a kind with poses whose space of poses is unbounded, on `legs.rho_max`)."""
     if m.aspect_model() is None and m.pose_aspect_model() is None:
-        if m.has_poses:
-            from fivebar_cli.analyses.pose_aspects import pose_model
-
-            pose_model(m, str(source))  # (its message: give rho_max)
+        if m.has_poses:  # (a 3-RPR whose legs are unbounded: why)
+            raise m.no_pose_space(str(source))
         raise InputError(str(source), "type", f"{article(m.kind)} has no working and assembly modes (no aspects)")
     return m
 
@@ -121,15 +119,18 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
 
     depth = check_depth(depth, MAX_DEPTH)
     m = widened(_mechanism(mech), tolerance or 0.0, source_name(mech))
+    # (the call's own arguments: named without a source, as `depth` is)
     if space not in m.spaces():
-        raise InputError(m.name, "space", f"{space!r} is not a space of {article(m.kind)} "
+        if not m.spaces() and m.has_poses:  # (a 3-RPR whose legs are unbounded: why)
+            raise m.no_pose_space(source_name(mech))
+        raise InputError("", param("space"), f"{space!r} is not a space of {article(m.kind)} "
                          f"(it has: {', '.join(m.spaces())})")
     own = None if region is None or region == m.spaces()[space].region else region
     if own is not None and own not in m.regions(space):
-        raise InputError(m.name, "region", f"{region!r} is not a region of its {space} "
+        raise InputError("", param("region"), f"{region!r} is not a region of its {space} "
                          f"(it has: {', '.join(m.regions(space))})")
     if procedure not in m.procedures:
-        raise InputError(m.name, "procedure", f"{article(m.kind)} has no {procedure!r} procedure "
+        raise InputError("", param("procedure"), f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
     depth = check_paving_depth(depth, m.spaces()[space].dim)
     p = spaces.pave_space(m, space, depth, procedure, per_level(advance), own)

@@ -478,8 +478,7 @@ def bounded(mech):
 
     m = load(mech, kind="rpr3")
     if "workspace" not in m.spaces():
-        raise InputError(source_name(mech), "legs.rho_max", "'auto' is unbounded here (every point of the "
-                         "singularity circle is within rho_min of some C_i): give rho_max to pave or verify")
+        raise m.no_pose_space(source_name(mech))
     return m
 
 

@@ -157,6 +157,12 @@ class Mechanism:
         needs, or None when the kind has none."""
         return None
 
+    def no_pose_space(self, source: str) -> ConfigError:
+        """The error to raise where a space of poses is needed and `pose_aspect_model` is None:
+        this kind has none (`type`); a kind with poses says why its own is missing."""
+        return ConfigError(source, "type", f"{article(self.kind)} has no space of poses (x, y, phi): "
+                           "only a 3-RPR or a 3-RRR has one")
+
     # Capabilities a kind may declare (the five-bar declares them all), asked instead of probed.
     widens: ClassVar[bool] = False  # its lengths can be widened into intervals (`widened`)
     crosses_serial: ClassVar[bool] = False  # its aspect model has `parallel_free_test` (path --allow-serial)

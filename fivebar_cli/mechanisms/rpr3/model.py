@@ -152,6 +152,11 @@ class Rpr3(Mechanism):
             axes += (Axis("phi", phi1, phi2, "deg", periodic=self.full_turn, label=r"$\varphi$"),)
         return {"workspace": Space("workspace", REACHABLE, axes)}
 
+    def no_pose_space(self, source: str) -> schema.ConfigError:
+        """Its space of poses is missing only when rho_max auto is infinite (`spaces`)."""
+        return schema.ConfigError(source, "legs.rho_max", "'auto' is unbounded here (every point of the singularity "
+                                  "circle is within rho_min of some C_i): give rho_max to pave or verify")
+
     @property
     def full_turn(self) -> bool:
         """Whether the orientation range is one whole turn (phi2 - phi1 = 360 degrees exactly, e.g.
