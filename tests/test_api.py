@@ -207,6 +207,8 @@ def test_atlas_and_view():
     assert int(m1["aspects"]) == len(fb.aspects("m1", 5))  # the aspects listed (not certified at depth 5)
     page = fb.view(GOLDEN / "M1")
     assert page.startswith("<!DOCTYPE html>") and "aspect-01.workspace.qt" in page
+    with pytest.raises(fb.InputError, match="^`paths`: give at least one .qt file or output folder$"):
+        fb.view([])  # (a page of nothing, once; the command needs a PATH)
 
 
 def test_results_are_immutable_values_with_one_line_reprs(m1_aspects):

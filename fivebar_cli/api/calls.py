@@ -371,4 +371,7 @@ def view(paths) -> str:
     from fivebar_cli.analyses.view import gather
     from fivebar_cli.webpage.page import render_page
 
-    return render_page(gather([paths] if isinstance(paths, (str, Path)) else list(paths)))
+    paths = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    if not paths:  # (a page of nothing, before; the command needs one PATH at least)
+        raise InputError("", param("paths"), "give at least one .qt file or output folder")
+    return render_page(gather(paths))
