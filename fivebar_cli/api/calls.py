@@ -71,7 +71,12 @@ def source_name(source) -> str:
 
 def widened(m: Mechanism, tolerance: float, source) -> Mechanism:
     """The mechanism with its lengths widened by `tolerance` (0: unchanged); InputError for a kind
-    without interval lengths."""
+    without interval lengths, or for a tolerance that is no number (a str, a bool: a TypeError from
+    deep inside, or True taken as 1)."""
+    from numbers import Real
+
+    if isinstance(tolerance, bool) or not isinstance(tolerance, Real):
+        raise InputError(str(source), param("tolerance"), f"must be a finite number >= 0, got {tolerance!r}")
     if not tolerance:
         return m
     if not m.widens:
@@ -118,7 +123,7 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     from fivebar_cli.analyses import spaces
 
     depth = check_depth(depth, MAX_DEPTH)
-    m = widened(_mechanism(mech), tolerance or 0.0, source_name(mech))
+    m = widened(_mechanism(mech), 0.0 if tolerance is None else tolerance, source_name(mech))
     # (the call's own arguments: named without a source, as `depth` is)
     if space not in m.spaces():
         if not m.spaces() and m.has_poses:  # (a 3-RPR whose legs are unbounded: why)
@@ -194,7 +199,8 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     """
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 
-    m = with_aspects(widened(_mechanism(mech), tolerance or 0.0, source_name(mech)), source_name(mech))
+    source = source_name(mech)
+    m = with_aspects(widened(_mechanism(mech), 0.0 if tolerance is None else tolerance, source), source)
     budget = check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     step = advance or (lambda n=1: None)
@@ -202,7 +208,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
         from fivebar_cli.analyses.pose_aspects import analyse_pose_aspects
         from fivebar_cli.api.pose_space import pose_depth, pose_mechanism
 
-        depth = pose_depth(pose_mechanism(m, source=source_name(mech)), depth)
+        depth = pose_depth(pose_mechanism(m, source=source), depth)
         analysis = analyse_pose_aspects(m, depth, step, budget, jobs)
         found = tuple(Aspect(a.number, dict(a.signs.fields), a.tree, None, tuple(a.pose), tuple(a.joints),
                              bool(a.certified)) for a in analysis.aspects)
