@@ -131,6 +131,7 @@ def test_verify_is_the_command_as_a_value(tmp_path):
     (lambda: fb.pave("m1", "workspace", 4, tolerance=True), "`tolerance`"),
     (lambda: fb.locate("m1", pose=(4, 5), depth=4, tolerance=""), "`tolerance`"),
     (lambda: fb.load("m1", tolerance=[0.05]), "`tolerance`"),
+    (lambda: fb.rpr3.sweep([], "phi"), "`mechs`"),  # (a table of no rows, before)
     (lambda: fb.tolerance("m1", [-0.1], 5), "`tolerances`"),
     (lambda: fb.tolerance("m1", [], 5), "`tolerances`"),
     (lambda: fb.tolerance("m1", [5.0], 5), "`tolerance`"),  # would make L2 reach 0

@@ -117,7 +117,9 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=None, ad
     if over not in ("phi", "rho_min", "t2"):
         raise InputError("", param("over"), f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
-    check_span(span)
+    if not ms:  # (a table of no rows, before; the command needs one CONFIG)
+        raise InputError("", param("mechs"), "give at least one 3-RPR")
+    span = check_span(span)
     steps = check_count(steps, "steps", 2, MAX_STEPS, none="None: the paper's")
     if angles is not None and over != "t2":  # (taken without a word before)
         raise InputError("", param("angles"), "only the sweep over t2 (" + param("over", "t2")
@@ -129,10 +131,12 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=None, ad
                   (f"rpr3-sweep-{over}", files, f"fivebar rpr3 sweep --over {over}", files[0]), tuple(zip(files[1:], drawings)))
 
 
-def check_span(span) -> None:
-    """A swept interval (lo, hi): finite, at most 1e6 in magnitude, lo < hi (InputError on `range`)."""
+def check_span(span) -> tuple[float, float] | None:
+    """A swept interval (lo, hi), as two floats: finite, at most 1e6 in magnitude, lo < hi
+    (InputError on `span`); None (the paper's) stays None. Any pair of numbers is one: a tuple, a
+    list, a numpy array (whose truth value a default `span or ...` could not take)."""
     if span is None:
-        return
+        return None
     if (isinstance(span, (str, bytes)) or not hasattr(span, "__len__") or len(span) != 2
             or not all(isinstance(v, numbers.Real) for v in span)):
         raise InputError("", param("span"), f"expected (LO, HI), two numbers, got {span!r}")
@@ -140,6 +144,7 @@ def check_span(span) -> None:
         raise InputError("", param("span"), f"LO and HI must be at most 1e6 in magnitude, got {span[0]:g} {span[1]:g}")
     if not span[0] < span[1]:
         raise InputError("", param("span"), f"LO must be smaller than HI, got {span[0]:g} {span[1]:g}")
+    return float(span[0]), float(span[1])
 
 
 def _sweep_phi(mechs, span, steps, angles, advance):
