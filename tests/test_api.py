@@ -299,3 +299,19 @@ def test_count_is_none_unless_certified(m1_aspects):
     lo, hi = coarse.bounds
     assert lo <= 10 <= hi and len(coarse) == len(list(coarse)) == len(coarse.rows())
     assert m1_aspects.certified and m1_aspects.count == len(m1_aspects) == 10 and m1_aspects.bounds == (10, 10)
+
+
+def test_a_save_into_a_file_and_an_unknown_column_are_told_so(tmp_path):
+    """`save(folder)` where the folder is a file is refused before anything is written, as the
+    commands' `-o` is (it was told 'FILE/kratio.csv: cannot write: Not a directory'); a column that
+    the table does not have is a KeyError naming the columns (a ValueError of tuple.index before)."""
+    k = fb.kratio("m1", [3])
+    taken = tmp_path / "taken"
+    taken.write_text("mine\n")
+    for folder in (taken, taken / "below"):
+        with pytest.raises(fb.FivebarError, match=f"^{folder}: cannot create output folder: {taken} exists and is "
+                                                  "not a folder$"):
+            k.save(folder)
+    assert taken.read_text() == "mine\n"
+    with pytest.raises(KeyError, match=r"no column 'nope' \(the columns: space, mechanism, depth, "):
+        k.column("nope")

@@ -516,6 +516,9 @@ class Table:
         return _rows(self.columns, self.data)
 
     def column(self, name: str) -> list:
+        """The cells of one column (KeyError naming the columns for another name, as a dict's)."""
+        if name not in self.columns:
+            raise KeyError(f"no column {name!r} (the columns: {', '.join(self.columns)})")
         k = self.columns.index(name)
         return [row[k] for row in self.data]
 

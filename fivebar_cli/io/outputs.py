@@ -38,7 +38,7 @@ from pathlib import Path
 from typing import Iterable, Iterator
 
 from fivebar_cli.errors import FivebarWarning
-from fivebar_cli.io.files import ACTIVE_SET, write_text
+from fivebar_cli.io.files import ACTIVE_SET, check_writable_dir, write_text
 
 MANIFESTS = ".fivebar"
 FORMAT = "fivebar-output-set 1"
@@ -115,8 +115,11 @@ class OutputSet:
 def output_set(folder: str | Path, name: str, owns: Iterable[str], command: str | None = None) -> Iterator[OutputSet]:
     """Write one run's files into `folder` as the set `name` (file `.fivebar/<name>.json`); `owns`
     are the glob patterns (relative to the folder) of the files this set writes in any of its runs;
-    `command` names what writes it, for readers' messages (`fivebar <name>` by default)."""
-    s = OutputSet(Path(folder), name, command or f"fivebar {name}", tuple(owns))
+    `command` names what writes it, for readers' messages (`fivebar <name>` by default). A folder
+    that is a file (or under one) is refused before anything is written (`check_writable_dir`), as
+    the commands' `-o` is: a library `save(folder)` was told 'folder/file: cannot write: Not a
+    directory'."""
+    s = OutputSet(check_writable_dir(folder), name, command or f"fivebar {name}", tuple(owns))
     token = ACTIVE_SET.set(s)
     try:
         yield s
