@@ -272,8 +272,10 @@ BAD_CONFIGS = [
     ("yaml list", "- name: M1\n- type: fivebar\n", ""),
     ("binary garbage", b"\x89PNG\r\n\x1a\n\x00\x00\xff\xfe\x00", ""),
     ("bad yaml", "name: M1\ntype: fivebar\nlengths: {L0: 9, L1: 8\n", "line"),
-    # a 3-RPR has a workspace (issue 11), but not with unbounded legs (rho_max auto = inf here)
-    ("no workspace", "name: R\ntype: rpr3\nbase: {t1: 1, t2: 0.5, t3: 1}\nk: 0.5\nlegs: {rho_min: 5}\nphi: 10\n", "type"),
+    # a 3-RPR has a workspace (issue 11), but not with unbounded legs (rho_max auto = inf here): told
+    # why, on legs.rho_max (it was 'type: an rpr3 has no workspace to pave (its spaces: none)')
+    ("no workspace", "name: R\ntype: rpr3\nbase: {t1: 1, t2: 0.5, t3: 1}\nk: 0.5\nlegs: {rho_min: 5}\nphi: 10\n",
+     "legs.rho_max: 'auto' is unbounded here"),
 ]
 
 
