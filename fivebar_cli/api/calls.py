@@ -69,12 +69,14 @@ def source_name(source) -> str:
     return "<mapping>" if isinstance(source, Mapping) else str(source)
 
 
-def widened(m: Mechanism, tolerance: float, source) -> Mechanism:
-    """The mechanism with its lengths widened by `tolerance` (0: unchanged); InputError for a kind
-    without interval lengths, or for a tolerance that is no number (a str, a bool: a TypeError from
-    deep inside, or True taken as 1)."""
+def widened(m: Mechanism, tolerance: float | None, source) -> Mechanism:
+    """The mechanism with its lengths widened by `tolerance` (0 or None: unchanged); InputError for
+    a kind without interval lengths, or for a tolerance that is no number (a str, a bool: a
+    TypeError from deep inside, or True taken as 1)."""
     from numbers import Real
 
+    if tolerance is None:
+        return m
     if isinstance(tolerance, bool) or not isinstance(tolerance, Real):
         raise InputError(str(source), param("tolerance"), f"must be a finite number >= 0, got {tolerance!r}")
     if not tolerance:
@@ -123,7 +125,7 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     from fivebar_cli.analyses import spaces
 
     depth = check_depth(depth, MAX_DEPTH)
-    m = widened(_mechanism(mech), 0.0 if tolerance is None else tolerance, source_name(mech))
+    m = widened(_mechanism(mech), tolerance, source_name(mech))
     # (the call's own arguments: named without a source, as `depth` is)
     if space not in m.spaces():
         if not m.spaces() and m.has_poses:  # (a 3-RPR whose legs are unbounded: why)
@@ -200,7 +202,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
     from fivebar_cli.analyses.aspects import DEFAULT_BUDGET
 
     source = source_name(mech)
-    m = with_aspects(widened(_mechanism(mech), 0.0 if tolerance is None else tolerance, source), source)
+    m = with_aspects(widened(_mechanism(mech), tolerance, source), source)
     budget = check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     step = advance or (lambda n=1: None)

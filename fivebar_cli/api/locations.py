@@ -196,7 +196,7 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     [('++', 1)]
     """
     source = source or source_name(mech)
-    m = with_aspects(widened(_mechanism(mech), 0.0 if tolerance is None else tolerance, source), source)
+    m = with_aspects(widened(_mechanism(mech), tolerance, source), source)
     check_aspects(aspects, m, source)
     if m.pose_aspect_model() is not None:
         if assembly_mode is not None:  # (taken without a word before)
