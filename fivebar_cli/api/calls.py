@@ -71,8 +71,8 @@ def source_name(source) -> str:
 
 def widened(m: Mechanism, tolerance: float | None, source) -> Mechanism:
     """The mechanism with its lengths widened by `tolerance` (0 or None: unchanged); InputError for
-    a kind without interval lengths, or for a tolerance that is no number (a str, a bool: a
-    TypeError from deep inside, or True taken as 1)."""
+    a kind without interval lengths, or for a tolerance that is no number (a str; a bool, not
+    taken as 0 or 1)."""
     from numbers import Real
 
     if tolerance is None:
@@ -380,6 +380,6 @@ def view(paths) -> str:
     from fivebar_cli.webpage.page import render_page
 
     paths = [paths] if isinstance(paths, (str, Path)) else list(paths)
-    if not paths:  # (a page of nothing, before; the command needs one PATH at least)
+    if not paths:  # (as the command needs one PATH at least)
         raise InputError("", param("paths"), "give at least one .qt file or output folder")
     return render_page(gather(paths))

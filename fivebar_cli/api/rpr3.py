@@ -117,7 +117,7 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=None, ad
     if over not in ("phi", "rho_min", "t2"):
         raise InputError("", param("over"), f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
-    if not ms:  # (a table of no rows, before; the command needs one CONFIG)
+    if not ms:  # (as the command needs one CONFIG at least)
         raise InputError("", param("mechs"), "give at least one 3-RPR")
     span = check_span(span)
     steps = check_count(steps, "steps", 2, MAX_STEPS, none="None: the paper's")

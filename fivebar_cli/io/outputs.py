@@ -117,8 +117,7 @@ def output_set(folder: str | Path, name: str, owns: Iterable[str], command: str 
     are the glob patterns (relative to the folder) of the files this set writes in any of its runs;
     `command` names what writes it, for readers' messages (`fivebar <name>` by default). A folder
     that is a file (or under one) is refused before anything is written (`check_writable_dir`), as
-    the commands' `-o` is: a library `save(folder)` was told 'folder/file: cannot write: Not a
-    directory'."""
+    the commands' `-o` is."""
     s = OutputSet(check_writable_dir(folder), name, command or f"fivebar {name}", tuple(owns))
     token = ACTIVE_SET.set(s)
     try:
