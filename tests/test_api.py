@@ -185,6 +185,9 @@ def test_rpr3_studies_equal_the_golden_tables():
     assert [r["area"] for r in area.rows()] == pytest.approx([float(r["area"]) for r in golden], rel=1e-9)
     sweep = fb.rpr3.sweep(["rpr3-equilateral"], "rho_min", span=(0.0, 0.5), steps=6)
     assert [r["rho_min"] for r in sweep.rows()] == pytest.approx([0, 0.1, 0.2, 0.3, 0.4, 0.5])
+    # cells as Python values, as the five-bar reports' (a sweep's were np.float64(...) in a notebook)
+    assert {type(v) for r in sweep.rows() for v in r.values()} == {str, float}
+    assert {type(v) for v in sweep.column("area")} == {float}
     # a numpy pair is a span too (its truth value raised a ValueError)
     assert fb.rpr3.sweep(["rpr3-equilateral"], "rho_min", span=np.array([0.0, 0.5]), steps=6).rows() == sweep.rows()
     v = fb.rpr3.verify("rpr3-verify/obtuse-phi1-rule", depth=14)

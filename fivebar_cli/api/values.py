@@ -82,8 +82,14 @@ def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool
     return paths
 
 
+def _plain(value):
+    """A cell as Python has it: a numpy scalar (np.float64(10.0), np.int64, np.bool_) as its
+    Python value, as every other table's cells are; anything else as it is."""
+    return value.item() if isinstance(value, np.generic) else value
+
+
 def _rows(header, rows) -> list[dict]:
-    return [dict(zip(header, row)) for row in rows]
+    return [{k: _plain(v) for k, v in zip(header, row)} for row in rows]
 
 
 # ---------------------------------------------------------------- pavings
@@ -520,7 +526,7 @@ class Table:
         if name not in self.columns:
             raise KeyError(f"no column {name!r} (the columns: {', '.join(self.columns)})")
         k = self.columns.index(name)
-        return [row[k] for row in self.data]
+        return [_plain(row[k]) for row in self.data]
 
     def __len__(self) -> int:
         return len(self.data)
