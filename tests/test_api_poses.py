@@ -74,6 +74,12 @@ def test_aspects_of_another_mechanism_are_refused(caro):
     (lambda: fb.dkp("rpr3-caro", (31, 31, 31, 31), 2), "`joints`"),
     (lambda: fb.dkp("rpr3-caro", "abc", 2), "`joints`"),
     (lambda: fb.dkp("rpr3-caro", (15, float("nan"), 12), 2), "`joints`"),
+    # legs are lengths (a 3-RPR's): a 3-RRR's angles given as legs, and another word for `what`,
+    # were taken as joints
+    (lambda: fb.locate("rrr3-symmetric", legs=(1, 1, 1), depth=2), "`legs`"),
+    (lambda: fb.path("rrr3-symmetric", 1, 2, legs=(1, 1, 1), depth=2), "`legs`"),
+    (lambda: fb.dkp("rrr3-symmetric", (1, 1, 1), 2, what="legs"), "`legs`"),
+    (lambda: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 2, what="leg"), "`what`"),
     (lambda: fb.dkp("rpr3-caro", 15, 2), "`joints`"),
     (lambda: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 10), "`depth`"),
     # a kind without poses (x, y, phi) is told so on `type`; a 3-RPR whose legs leave its space of poses

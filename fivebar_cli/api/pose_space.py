@@ -11,7 +11,7 @@ from pathlib import Path
 from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH, check_count, check_depth
 from fivebar_cli.api.values import finite_points
 from fivebar_cli.errors import InputError, param
-from fivebar_cli.mechanisms.base import Mechanism
+from fivebar_cli.mechanisms.base import Mechanism, article
 
 DEFAULT_POSE_DEPTH = 7
 
@@ -64,13 +64,17 @@ def check_joints(m: Mechanism, joints, field: str = "joints") -> None:
 
 def joint_poses(m: Mechanism, joints, field: str = "joints"):
     """Every pose with these joint values (`analyses.dkp.DkpResult`); InputError on `field` for
-    values out of their ranges or that give no pose at all (certified)."""
+    values out of their ranges or that give no pose at all (certified), or for `legs` of a kind
+    whose joints are angles (a 3-RRR's: legs are lengths, a 3-RPR's)."""
     from fivebar_cli.analyses.dkp import solve
 
     model = m.pose_aspect_model()
+    names = ", ".join(axis.name for axis in model.joint_axes)
+    if field == "legs" and any(axis.unit == "deg" for axis in model.joint_axes):
+        raise InputError("", param("legs"), f"{article(m.kind)}'s joints are angles ({names}), not legs: give "
+                         + param("joints"))
     values = finite_points(joints, len(model.joint_axes))
     if values is None:
-        names = ", ".join(axis.name for axis in model.joint_axes)
         raise InputError("", param(field), f"expected ({names}), finite numbers, got {joints!r}")
     check_joints(m, values[0], field)
     result = solve(model, m.spaces()[model.space], [float(j) for j in values[0]])

@@ -11,6 +11,7 @@ from fivebar_cli.api.pose_space import (
     DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
 from fivebar_cli.api.values import Drawing, Report, Verified
+from fivebar_cli.errors import InputError, param
 
 # ---------------------------------------------------------------- dkp
 
@@ -60,6 +61,8 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG
 
     source = source or source_name(mech)
+    if what not in ("joints", "legs"):  # (it names the joint values: another word was taken as joints)
+        raise InputError("", param("what"), f"expected 'joints' or 'legs', got {what!r}")
     m = _mechanism(mech)
     check_aspects(aspects, m, source)
     m = pose_mechanism(m, poses=True, source=source)
