@@ -19,6 +19,8 @@ from fivebar_cli.io.files import csv_text
 from tests.cli_helpers import REPO, ok, run_cli
 
 M1_YAML = REPO / "configs" / "m1.yaml"
+TINY_ATLAS = {"type": "fivebar-atlas", "name": "tiny", "depth": 3,
+              "lengths": {"L0": 9, "L1": [7, 8, 2], "L2": 5, "L3": 5, "L4": 8}}
 
 
 def _printed(lines) -> list[str]:
@@ -132,6 +134,9 @@ def test_verify_is_the_command_as_a_value(tmp_path):
     (lambda: fb.locate("m1", pose=(4, 5), depth=4, tolerance=""), "`tolerance`"),
     (lambda: fb.load("m1", tolerance=[0.05]), "`tolerance`"),
     (lambda: fb.rpr3.sweep([], "phi"), "`mechs`"),  # (a table of no rows, before)
+    # an atlas's tolerance is checked as the spec's (a negative one was taken as none)
+    (lambda: fb.atlas(TINY_ATLAS, tolerance=-1), "`tolerance`"),
+    (lambda: fb.atlas(TINY_ATLAS, tolerance="0.1"), "`tolerance`"),
     (lambda: fb.tolerance("m1", [-0.1], 5), "`tolerances`"),
     (lambda: fb.tolerance("m1", [], 5), "`tolerances`"),
     (lambda: fb.tolerance("m1", [5.0], 5), "`tolerance`"),  # would make L2 reach 0

@@ -107,14 +107,15 @@ def parse_spec(data: dict, source: str) -> AtlasSpec:
     if size > MAX_DESIGNS:
         raise ConfigError(source, "lengths", f"{size} designs: at most {MAX_DESIGNS} in one atlas")
     depth = schema.integer(data.get("depth", DEFAULT_DEPTH), source, "depth", 0, MAX_DEPTH)
-    tolerance = check_tolerance(schema.number(data.get("tolerance", 0.0), source, "tolerance", nonnegative=True),
-                                grid, source, "tolerance")
+    tolerance = check_tolerance(data.get("tolerance", 0.0), grid, source, "tolerance")
     batch = schema.integer(data["batch"], source, "batch", 1, MAX_BATCH) if "batch" in data else None
     return AtlasSpec(name, grid, depth, tolerance, batch, constraints.parse(data, source))
 
 
-def check_tolerance(tolerance: float, grid, source: str, field: str) -> float:
-    """The tolerance, when every length of the grid stays positive once widened by it."""
+def check_tolerance(tolerance, grid, source: str, field: str) -> float:
+    """The tolerance, when it is a number >= 0 (`schema.number`: the spec's `tolerance:` and the
+    library's argument alike) and every length of the grid stays positive once widened by it."""
+    tolerance = schema.number(tolerance, source, field, nonnegative=True)
     shortest = min(min(values) for values in grid)
     if tolerance >= shortest:
         raise ConfigError(source, field, f"{tolerance!r} would make the shortest length ({shortest!r}) reach "
