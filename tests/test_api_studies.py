@@ -134,6 +134,12 @@ def test_verify_is_the_command_as_a_value(tmp_path):
     (lambda: fb.locate("m1", pose=(4, 5), depth=4, tolerance=""), "`tolerance`"),
     (lambda: fb.load("m1", tolerance=[0.05]), "`tolerance`"),
     (lambda: fb.rpr3.sweep([], "phi"), "`mechs`"),  # (a table of no rows, before)
+    # a key of neither endpoint form (a joints endpoint's own assembly mode was ignored), no sequence
+    # of numbers or depths (True was a tolerance of 1; '3-5' was read character by character)
+    (lambda: fb.path("m1", {"joints": (-0.1, -2.06), "assembly_mode": "+"}, {"joints": (0.88, 1.47)}, depth=8),
+     "`start`"),
+    (lambda: fb.tolerance("m1", [True], 3), "`tolerances`"),
+    (lambda: fb.kratio("m1", "3-5"), "`depths`"),
     # an atlas's tolerance is checked as the spec's (a negative one was taken as none)
     (lambda: fb.atlas(TINY_ATLAS, tolerance=-1), "`tolerance`"),
     (lambda: fb.atlas(TINY_ATLAS, tolerance="0.1"), "`tolerance`"),

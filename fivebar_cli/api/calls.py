@@ -315,6 +315,12 @@ def _endpoint(e, which: str, working_mode: str | None, source):
     if point is None:
         raise InputError(str(source), param(which), f"expected (x, y), {{'pose': (x, y), 'working_mode': '++'}} "
                          f"or {{'joints': (th1, th2)}}, got {e!r}")
+    # (a key of neither form, e.g. a joints endpoint's own assembly mode, would be ignored)
+    unknown = sorted(set(e) - {"pose": {"pose", "working_mode"}, "joints": {"joints"}}[kinds[0]]) \
+        if isinstance(e, Mapping) else []
+    if unknown:
+        raise InputError(str(source), param(which), f"unknown key {unknown[0]!r} in {e!r}: a pose takes 'pose' and "
+                         "'working_mode', joints 'joints' only (" + param("assembly_mode") + " is the call's)")
     pair = tuple(map(float, point[0]))
     if kinds[0] == "joints":
         return Endpoint("joints", pair)
