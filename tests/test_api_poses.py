@@ -80,6 +80,8 @@ def test_aspects_of_another_mechanism_are_refused(caro):
     (lambda: fb.path("rrr3-symmetric", 1, 2, legs=(1, 1, 1), depth=2), "`legs`"),
     (lambda: fb.dkp("rrr3-symmetric", (1, 1, 1), 2, what="legs"), "`legs`"),
     (lambda: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 2, what="leg"), "`what`"),
+    # a working mode with assembly modes of joint values (it was ignored: their classes decide)
+    (lambda: fb.path("rpr3-caro", 1, 2, legs=(14.98, 15.38, 12), depth=4, working_mode="+++"), "`working_mode`"),
     (lambda: fb.dkp("rpr3-caro", 15, 2), "`joints`"),
     (lambda: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 10), "`depth`"),
     # a kind without poses (x, y, phi) is told so on `type`; a 3-RPR whose legs leave its space of poses

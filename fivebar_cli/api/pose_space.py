@@ -134,6 +134,9 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
     if joints is not None and legs is not None:
         raise InputError(source, param("legs"), "give joints or legs, not both")
     values, field = (legs, "legs") if legs is not None else (joints, "joints")
+    if values is not None and working_mode is not None:  # (it was ignored: the poses' classes decide)
+        raise InputError(source, param("working_mode"), "is that of a motion between two poses: the assembly modes "
+                         f"of {field} are poses of their own classes (their working modes)")
     if values is not None:
         result = joint_poses(m, values, field)
         count = len(result.solutions)
