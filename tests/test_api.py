@@ -220,7 +220,7 @@ def test_results_are_immutable_values_with_one_line_reprs(m1_aspects):
     p = fb.pave("m1", "workspace", 5)
     path = fb.path("m1", {"pose": (4, 5), "working_mode": "++"}, {"pose": (6, 8), "working_mode": "++"}, depth=8)
     for value in (p, m1_aspects, m1_aspects[0], path, fb.rpr3.area("rpr3-equilateral"),
-                  fb.locate("m1", pose=(4, 5), depth=8, aspects=m1_aspects)):
+                  fb.locate("m1", pose=(4, 5), aspects=m1_aspects)):
         assert "\n" not in repr(value) and repr(value).startswith("<")
         field = dataclasses.fields(value)[0].name
         with pytest.raises(dataclasses.FrozenInstanceError):

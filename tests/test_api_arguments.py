@@ -62,7 +62,8 @@ def point(n: int):
 CALLS = [
     ("depth", lambda v: fb.pave("m1", "workspace", v), depth(20), lambda v: v > 6),
     ("depth", lambda v: fb.refine(fb.pave("rpr2", "workspace", 2), v), depth(20), lambda v: v > 6),
-    ("depth", lambda v: fb.aspects("rpr2", v), depth(16), lambda v: v > 6),
+    # (None: the kind's default depth, 10 here: costly)
+    ("depth", lambda v: fb.aspects("rpr2", v), lambda v: v is None or depth(16)(v), lambda v: v is None or v > 6),
     ("depth", lambda v: fb.rpr3.pave("rpr3-general", v), depth(12), lambda v: v > 3),
     ("depth", lambda v: fb.rpr3.verify("rpr3-verify/table1-legs-1-1.5", v), depth(17), lambda v: False),
     ("jobs", lambda v: fb.aspects("rpr2", 3, jobs=v), lambda v: v is None or _int(v) is not None and v >= 1,

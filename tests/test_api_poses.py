@@ -80,6 +80,9 @@ def test_aspects_of_another_mechanism_are_refused(caro):
     (lambda: fb.path("rrr3-symmetric", 1, 2, legs=(1, 1, 1), depth=2), "`legs`"),
     (lambda: fb.dkp("rrr3-symmetric", (1, 1, 1), 2, what="legs"), "`legs`"),
     (lambda: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 2, what="leg"), "`what`"),
+    # a depth that is not the aspects' given (it was ignored: theirs was used)
+    (lambda: fb.locate("m1", pose=(4, 5), depth=8, aspects=fb.aspects("m1", 4)), "`depth`"),
+    (lambda: fb.dkp("rpr3-caro", (20.6315, 23.2633, 16.0359), 5, aspects=fb.aspects("rpr3-caro", 2)), "`depth`"),
     # a working mode with assembly modes of joint values (it was ignored: their classes decide)
     (lambda: fb.path("rpr3-caro", 1, 2, legs=(14.98, 15.38, 12), depth=4, working_mode="+++"), "`working_mode`"),
     (lambda: fb.dkp("rpr3-caro", 15, 2), "`joints`"),
@@ -124,6 +127,16 @@ def test_bad_input_names_the_field(call, field):
         call()
     assert caught.value.field == field
     assert " a rpr" not in str(caught.value)  # (an rpr2, an rpr3: `article`)
+
+
+def test_a_depth_left_out_is_the_kinds_default():
+    """None is 10 for a five-bar or a 2-RPR and 7 over a space of poses, as the commands' defaults:
+    a default of 10 refused every call over poses that left the depth out (an octree allows 9)."""
+    from fivebar_cli.api.calls import depth_or_default
+
+    assert [depth_or_default(fb.load(n), None) for n in ("m1", "rpr2", "rpr3-caro", "rrr3-symmetric")] == [10, 10, 7, 7]
+    assert depth_or_default(fb.load("rpr3-caro"), 9) == 9
+    assert fb.path("rpr3-caro", (8, -9, -5.6), (-10.0195, -18.0352, -11.25)).notes[0].endswith(", depth 7")
 
 
 def test_a_kind_without_poses_is_told_which_kinds_have_them(tmp_path):

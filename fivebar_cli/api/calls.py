@@ -179,14 +179,15 @@ def read_qt(path):
 # ---------------------------------------------------------------- aspects
 
 
-def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tolerance: float | None = None,
+def aspects(mech, depth: int | None = None, *, budget: int | None = None, tolerance: float | None = None,
             shapes: bool = True, compare: bool = False, advance=None, jobs: int | None = 1) -> Aspects:
     """The generalized aspects of a five-bar or 2-RPR (in both spaces) or of a 3-RPR (over its
     space of poses), with a certified count (or its bounds).
 
     With `compare`, also what `fivebar aspects` reports beside them: for interval lengths the
     nominal aspects and what each becomes (`fates`), with constraints the unconstrained aspects
-    and where each constrained one comes from (`split`). `jobs`: worker processes for the
+    and where each constrained one comes from (`split`). `depth`: None gives 10, or 7 over a space
+    of poses (`depth_or_default`). `jobs`: worker processes for the
     independent pavings (None: one per core; 1: this process); the result is the same for any.
     `advance(n=1)`: told of each region paved (six for a five-bar, in each analysis) and of the end.
 
@@ -203,6 +204,7 @@ def aspects(mech, depth: int = DEFAULT_DEPTH, *, budget: int | None = None, tole
 
     source = source_name(mech)
     m = with_aspects(widened(_mechanism(mech), tolerance, source), source)
+    depth = depth_or_default(m, depth)
     budget = check_count(budget, "budget", 0, none=f"None: {DEFAULT_BUDGET:,}")
     budget = DEFAULT_BUDGET if budget is None else budget
     step = advance or (lambda n=1: None)
@@ -247,7 +249,7 @@ def _aspect(a, signs_text) -> Aspect:
 # ---------------------------------------------------------------- path (locate: locations.py)
 
 
-def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = False,
+def path(mech, start, goal, *, depth: int | None = None, allow_serial: bool = False,
          assembly_mode: str | None = None, working_mode: str | None = None, joints=None, legs=None,
          folder=None, source: str | None = None) -> Path_:
     """A certified singularity-free motion from `start` to `goal` (NoPath, a FivebarError, when none
@@ -262,7 +264,8 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     in `dkp`'s rows (a non-singular change of assembly mode). `folder`: an `aspects`
     output folder whose trees are reused (and whose workspace tree of the motion's aspect is the
     figure's backdrop). `source`: how messages name the mechanism (default: its file, or its
-    name). `depth` is at most `MAX_ASPECT_DEPTH` (16; an octree of poses: 9); the result's `notes`
+    name). `depth` is at most `MAX_ASPECT_DEPTH` (16; an octree of poses: 9; None: 10, or 7 over
+    poses, as `depth_or_default`); the result's `notes`
     are the lines `fivebar path` prints, `save(folder, figures=True)` writes its path.csv and path.png.
 
     Examples
@@ -275,6 +278,7 @@ def path(mech, start, goal, *, depth: int = DEFAULT_DEPTH, allow_serial: bool = 
     """
     source = source or source_name(mech)
     m = with_aspects(_mechanism(mech), source)
+    depth = depth_or_default(m, depth)
     if m.pose_aspect_model() is not None:
         from fivebar_cli.api.pose_space import pose_path
 
@@ -341,10 +345,11 @@ def check_modes(m: Mechanism, source, working_modes=(), assembly_mode: str | Non
                 raise InputError(str(source), param(name), f"{value!r} is none of {article(m.kind)}'s: {', '.join(texts)}")
 
 
-def check_aspects(aspects, m: Mechanism, source) -> None:
+def check_aspects(aspects, m: Mechanism, source, depth: int | None = None) -> None:
     """`aspects`, when given, must be what `aspects` gives for this very mechanism: TypeError for
     another type, InputError for another mechanism's (whose trees were read as this one's: a
-    wrong answer, or an AttributeError from deep inside)."""
+    wrong answer, or an AttributeError from deep inside), or for a `depth` given that is not
+    theirs (theirs is the depth the call works at)."""
     if aspects is None:
         return
     if not isinstance(aspects, Aspects):
@@ -352,6 +357,20 @@ def check_aspects(aspects, m: Mechanism, source) -> None:
     if aspects.mechanism != m:
         raise InputError(str(source), param("aspects"), f"were computed for another mechanism "
                          f"({aspects.mechanism.name!r}, {article(aspects.mechanism.kind)}), not for this one")
+    if depth is not None and depth != aspects.depth:
+        raise InputError(str(source), param("depth"), f"{depth!r} is not the depth of the aspects given "
+                         f"({aspects.depth}): leave it out, or give aspects of depth {depth!r}")
+
+
+def depth_or_default(m: Mechanism, depth):
+    """`depth`, or when None the calls' default for this kind: `DEFAULT_DEPTH` (10), or
+    `DEFAULT_POSE_DEPTH` (7) over a space of poses, whose octrees allow 9 at most (a default of 10
+    refused every call that left it out)."""
+    if depth is not None:
+        return depth
+    from fivebar_cli.api.pose_space import DEFAULT_POSE_DEPTH
+
+    return DEFAULT_POSE_DEPTH if m.pose_aspect_model() is not None else DEFAULT_DEPTH
 
 
 def check_serial(m: Mechanism, allow_serial: bool, source) -> None:

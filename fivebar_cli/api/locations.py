@@ -9,7 +9,7 @@ from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
 from fivebar_cli.api.calls import (
-    DEFAULT_DEPTH, _mechanism, check_aspects, check_modes, source_name, widened, with_aspects,
+    _mechanism, check_aspects, check_modes, depth_or_default, source_name, widened, with_aspects,
 )
 from fivebar_cli.api.pose_space import (
     check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
@@ -164,7 +164,7 @@ def _points(value, which: str, axes, source: str) -> list[tuple[float, ...]]:
     return [tuple(map(float, p)) for p in a]
 
 
-def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects: Aspects | None = None,
+def locate(mech, *, pose=None, joints=None, depth: int | None = None, aspects: Aspects | None = None,
            working_mode: str | None = None, assembly_mode: str | None = None, budget: int | None = None,
            folder=None, source: str | None = None, advance=None, legs=None,
            tolerance: float | None = None) -> Location:
@@ -173,8 +173,9 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
 
     Five-bar and 2-RPR: `pose` and `joints` may each be one point or a list of them (the locations,
     poses first, as `fivebar locate --pose ... --joints ...`); only the configurations of
-    `working_mode` and `assembly_mode` are kept when given. The aspects are `aspects` when given,
-    else those an `aspects` run wrote into `folder` for this mechanism at this depth, else computed
+    `working_mode` and `assembly_mode` are kept when given. The aspects are `aspects` when given
+    (their depth is the call's: another `depth` is refused), else those an `aspects` run wrote into
+    `folder` for this mechanism at `depth` (None: 10, or 7 over poses), else computed
     (with `budget`; `advance` as for `aspects`). `lines()` gives the command's report, with the
     answer for each pair of locations; `csv()` its `--csv` output. `source`: how messages name the
     mechanism (default: its file, or its name). `tolerance`: the lengths widened by it, as
@@ -197,7 +198,8 @@ def locate(mech, *, pose=None, joints=None, depth: int = DEFAULT_DEPTH, aspects:
     """
     source = source or source_name(mech)
     m = with_aspects(widened(_mechanism(mech), tolerance, source), source)
-    check_aspects(aspects, m, source)
+    check_aspects(aspects, m, source, depth)
+    depth = aspects.depth if aspects is not None else depth_or_default(m, depth)
     if m.pose_aspect_model() is not None:
         if assembly_mode is not None:  # (taken without a word before)
             raise InputError(source, param("assembly_mode"), f"{article(m.kind)}'s pose decides its class (an "

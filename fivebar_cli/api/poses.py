@@ -16,7 +16,7 @@ from fivebar_cli.errors import InputError, param
 # ---------------------------------------------------------------- dkp
 
 
-def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = None, folder=None,
+def dkp(mech, joints, depth: int | None = None, *, budget: int | None = None, folder=None,
         aspects=None, source: str | None = None, what: str = "joints", solved=None) -> Report:
     """Every pose (assembly mode) with the given joint values, certified: a 3-RPR's leg lengths, a
     3-RRR's actuated angles in degrees.
@@ -34,8 +34,9 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
         A 3-RPR or 3-RRR with an orientation range (what `load` takes).
     joints : sequence of 3 float
         The joint values, in their ranges.
-    depth : int
-        Depth of the aspects' trees (at most 9 for an octree).
+    depth : int, optional
+        Depth of the aspects' trees (at most 9 for an octree; None: 7, or the depth of `aspects`,
+        when given: another depth is then refused).
     what : str
         How the notes name the joint values: 'joints', or 'legs' (a 3-RPR's, as `fivebar rpr3 dkp`,
         whose command `save` then records).
@@ -64,9 +65,9 @@ def dkp(mech, joints, depth: int = DEFAULT_POSE_DEPTH, *, budget: int | None = N
     if what not in ("joints", "legs"):  # (it names the joint values: another word was taken as joints)
         raise InputError("", param("what"), f"expected 'joints' or 'legs', got {what!r}")
     m = _mechanism(mech)
-    check_aspects(aspects, m, source)
+    check_aspects(aspects, m, source, depth)
     m = pose_mechanism(m, poses=True, source=source)
-    depth = aspects.depth if aspects is not None else pose_depth(m, depth)
+    depth = aspects.depth if aspects is not None else pose_depth(m, DEFAULT_POSE_DEPTH if depth is None else depth)
     model = m.pose_aspect_model()
     result = solved if solved is not None else joint_poses(m, joints, "legs" if what == "legs" else "joints")
     aspects, where = ((aspects.analysis.aspects, "given") if aspects is not None else
