@@ -318,3 +318,14 @@ def test_a_save_into_a_file_and_an_unknown_column_are_told_so(tmp_path):
     assert taken.read_text() == "mine\n"
     with pytest.raises(KeyError, match=r"no column 'nope' \(the columns: space, mechanism, depth, "):
         k.column("nope")
+    # plot's columns alike, checked before any axes are made (a bare KeyError 'nope' came from the
+    # middle of the drawing), and a table without two numeric columns asks for x and y (IndexError)
+    import matplotlib.pyplot as plt
+
+    before = plt.get_fignums()
+    for kwargs in ({"x": "nope"}, {"x": "depth", "y": "K", "by": "nope"}):
+        with pytest.raises(KeyError, match="no column 'nope'"):
+            k.plot(**kwargs)
+    with pytest.raises(ValueError, match="^t: no two numeric columns to plot by default: give x and y$"):
+        fb.Table("t", ("a", "b"), ()).plot()
+    assert plt.get_fignums() == before

@@ -523,10 +523,13 @@ class Table:
 
     def column(self, name: str) -> list:
         """The cells of one column (KeyError naming the columns for another name, as a dict's)."""
+        k = self._index(name)
+        return [_plain(row[k]) for row in self.data]
+
+    def _index(self, name: str) -> int:
         if name not in self.columns:
             raise KeyError(f"no column {name!r} (the columns: {', '.join(self.columns)})")
-        k = self.columns.index(name)
-        return [_plain(row[k]) for row in self.data]
+        return self.columns.index(name)
 
     def __len__(self) -> int:
         return len(self.data)
@@ -545,8 +548,13 @@ class Table:
         """Column `y` against column `x` (default: the first two numeric columns), one line per value
         of column `by` (e.g. `config`); returns the axes."""
         numeric = [c for c, v in zip(self.columns, self.data[0] if self.data else ()) if _number(v) is not None]
-        x = x or numeric[0]
-        y = y or next(c for c in numeric if c != x)
+        x = x or next(iter(numeric), None)
+        y = y or next((c for c in numeric if c != x), None)
+        if x is None or y is None:
+            raise ValueError(f"{self.what}: no two numeric columns to plot by default: give x and y")
+        for name in (x, y, by):  # (checked before any axes are made)
+            if name is not None:
+                self._index(name)
         ax = axes_of(ax)
         groups = {} if by is None else dict.fromkeys(self.column(by))
         for value in groups or [None]:
