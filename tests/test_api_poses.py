@@ -232,3 +232,9 @@ def test_compare_is_a_cell_by_cell_comparison_and_the_command(tmp_path):
     assert cli.status == files.exit_code == 1 and cli.stdout.splitlines() == [as_flags(x) for x in files.notes]
     assert run_cli("diff", qt, qt).status == fb.compare(qt, qt).exit_code == 0
     assert "0 cells only in A" not in repr(files) and "\n" not in repr(files)
+    # two pavings: their inside trees with the headers of their saved files (a TypeError-like
+    # refusal before), the same comparison as of the files
+    fine.save(tmp_path / "fine")
+    pavings, saved = fb.compare(fine, coarse), fb.compare(tmp_path / "fine" / "workspace.qt", qt)
+    assert (pavings.same, pavings.headers, pavings.notes[2:]) == (saved.same, saved.headers, saved.notes[2:])
+    assert ("evaluations", str(fine.evaluations), str(coarse.evaluations)) in pavings.headers

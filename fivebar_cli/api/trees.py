@@ -66,8 +66,9 @@ def compare(a, b, *, sets_only: bool = False) -> Comparison:
 
     Parameters
     ----------
-    a, b : str, Path, QtFile or Tree
-        `.qt` files, what `read_qt` returns, or trees (`Paving.inside`: no header).
+    a, b : str, Path, QtFile, Paving or Tree
+        `.qt` files, what `read_qt` returns, pavings (their inside trees, with the header their
+        saved `.qt` file has), or trees (`Paving.inside`: no header).
 
     Returns
     -------
@@ -94,7 +95,10 @@ def compare(a, b, *, sets_only: bool = False) -> Comparison:
 
 
 def _tree(value, label: str):
-    """(name, QtFile) of a path, a QtFile or a bare tree."""
+    """(name, QtFile) of a path, a QtFile, a paving (its inside tree and the header of its saved
+    `.qt` file, as text) or a bare tree."""
+    from fivebar_cli.analyses.spaces import qt_fields
+    from fivebar_cli.api.values import Paving
     from fivebar_cli.io.qtfile import QtFile, read_qt
     from fivebar_cli.paving.tree import Tree
 
@@ -102,6 +106,10 @@ def _tree(value, label: str):
         return str(value), read_qt(value)
     if isinstance(value, QtFile):
         return label, value
+    if isinstance(value, Paving):
+        fields = qt_fields(value.mechanism, value.space, "inside", value.procedure, value.evaluations, value.region)
+        return label, QtFile(value.inside, {k: str(v) for k, v in fields.items()})
     if isinstance(value, Tree):
         return label, QtFile(value, {})
-    raise InputError("", param(label.lower()), f"expected a .qt path, a QtFile or a tree, got {type(value).__name__}")
+    raise InputError("", param(label.lower()), f"expected a .qt path, a QtFile, a paving or a tree, got "
+                     f"{type(value).__name__}")
