@@ -12,7 +12,7 @@ from fivebar_cli.api.calls import (
     _mechanism, check_aspects, check_modes, depth_or_default, source_name, widened, with_aspects,
 )
 from fivebar_cli.api.pose_space import (
-    check_joints, class_values, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
+    class_values, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
 from fivebar_cli.api.values import Aspects, finite_points
 from fivebar_cli.errors import InputError, param
@@ -261,11 +261,12 @@ def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_
                  for p in _points(value, kind, space.axes if kind == "pose" else model.joint_axes, source)]
     if not locations:
         raise InputError(source, param("pose"), "give pose, joints or legs (or several)")
-    for kind, value in locations:  # bad input named before anything is computed
+    solved = {}  # joint values' poses, solved first: bad input is named before any aspect is computed
+    for k, (kind, value) in enumerate(locations, start=1):
         if kind == "pose":
             check_pose(m, wrap_pose(space, value), f"pose ({numbers(value)})", source)
         else:
-            check_joints(m, value, kind)
+            solved[k] = joint_poses(m, value, kind)
     if aspects is not None:
         found, where = aspects.analysis.aspects, "given"
     else:
@@ -275,7 +276,7 @@ def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_
         if kind == "pose":
             here = [(wrap_pose(space, value), sheet, None) for sheet in sheets]
         else:
-            result = joint_poses(m, value, kind)
+            result = solved[k]
             here = [(s.pose, sheet_of(model, s.cls) if s.cls >= 0 else 0, s.cls) for s in result.solutions]
             undecided[k] = "" if result.certified else f", {len(result.undecided_lo)} boxes of poses not decided"
         for at, sheet, known in here:
