@@ -527,6 +527,7 @@ class Table:
         return [_plain(row[k]) for row in self.data]
 
     def _index(self, name: str) -> int:
+        """The position of column `name`; KeyError naming the columns for a name of none."""
         if name not in self.columns:
             raise KeyError(f"no column {name!r} (the columns: {', '.join(self.columns)})")
         return self.columns.index(name)
