@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
-from cli_helpers import csv_rows, run_cli
+from cli_helpers import csv_rows, one_line, run_cli
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import shape
@@ -96,6 +96,25 @@ def test_space_geojson(tmp_path, space):
         minx, miny, maxx, maxy = geometry.bounds
         assert -np.pi <= minx and maxx <= np.pi and -np.pi <= miny and maxy <= np.pi
     assert not (tmp_path / "workspace.geojson").exists() or space == "workspace"
+    # the library writes the same file (the command wrote it itself before: a paving's GeoJSON
+    # could not be had from Python)
+    import fivebar_cli as fb
+
+    paths = fb.pave("m1", space, 7).save(tmp_path / "api", geojson=True)
+    assert paths[-1] == tmp_path / "api" / f"{space}.geojson"
+    assert paths[-1].read_bytes() == (tmp_path / f"{space}.geojson").read_bytes()
+
+
+def test_geojson_is_for_quadtrees(tmp_path):
+    """A space of three axes has no GeoJSON: refused before anything is computed or written, by the
+    command (on --geojson, as the library's parameter) and by `Paving.save`."""
+    import fivebar_cli as fb
+
+    one_line(run_cli("workspace", REPO / "configs" / "rpr3-caro.yaml", "--depth", 3, "--geojson", "-o",
+                     tmp_path / "cli"), 2, "--geojson: GeoJSON is for 2-D spaces; the workspace of an rpr3 has 3 axes")
+    with pytest.raises(fb.InputError, match="`geojson`: GeoJSON is for 2-D spaces"):
+        fb.pave("rpr3-caro", "workspace", 2).save(tmp_path / "api", geojson=True)
+    assert not (tmp_path / "cli").exists() and not (tmp_path / "api").exists()
 
 
 def test_without_the_flag_no_geojson(tmp_path):

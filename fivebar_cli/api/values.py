@@ -65,6 +65,17 @@ class Drawing:
         return self.function(*self.args)
 
 
+def check_geojson(m: Mechanism, space: str, geojson: bool, source: str) -> None:
+    """GeoJSON is for 2-D spaces: InputError on `geojson` for a space of three axes or more."""
+    dim = m.spaces()[space].dim
+    if geojson and dim != 2:
+        from fivebar_cli.errors import InputError, param
+        from fivebar_cli.mechanisms.base import article
+
+        raise InputError(str(source), param("geojson"), f"GeoJSON is for 2-D spaces; the {space} of "
+                         f"{article(m.kind)} has {dim} axes")
+
+
 def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool = False) -> list[Path]:
     """A command's files in `folder` as one output set (`output`: its name, the patterns it owns,
     the command): its tables as CSV ((file name, columns, data) each) and, with `figures`, its
@@ -170,20 +181,24 @@ class Paving:
         return head + (f"certified inside {'area' if dim == 2 else 'volume'} {p.inside.area:.10g}, "
                        f"undetermined {p.undetermined_area:.4g}")
 
-    def save(self, folder: str | Path, figures: bool = False, command: str | None = None) -> list[Path]:
+    def save(self, folder: str | Path, figures: bool = False, command: str | None = None,
+             geojson: bool = False) -> list[Path]:
         """The `.qt` pair (and band) and the summary CSV, as `fivebar workspace|jointspace` writes them,
-        with `figures` the two PNG figures too (on the backend in use); returns the paths written."""
+        with `figures` the two PNG figures too (on the backend in use), with `geojson` the inside
+        cells as `<space>.geojson` (`--geojson`; a quadtree's only); returns the paths written."""
         from fivebar_cli.io.layout import paving_files
         from fivebar_cli.io.outputs import output_set
 
+        check_geojson(self.mechanism, self.space, geojson, self.mechanism.name)
         with output_set(folder, self.stem, paving_files(self.stem), command or f"fivebar {self.space}"):
-            return self.write(Path(folder), figures)
+            return self.write(Path(folder), figures, geojson)
 
-    def write(self, folder: Path, figures: bool = False) -> list[Path]:
-        """The files, inside an output set the caller opened (the command adds its GeoJSON to it)."""
+    def write(self, folder: Path, figures: bool = False, geojson: bool = False) -> list[Path]:
+        """The files, inside an output set the caller opened."""
         from fivebar_cli.analyses.spaces import write_paving
 
         m, p = self.mechanism, self.paving
+        check_geojson(m, self.space, geojson, m.name)
         paths = write_paving(folder, m, self.space, p, self.procedure, self.evaluations, self.region, self.stem)
         if figures:
             from fivebar_cli.io.layout import paving_figure
@@ -196,6 +211,13 @@ class Paving:
                 paths.append(draw_and_save(lambda: figure_paving(m.name, s, p.inside, p.outside, und, complement,
                                                                  p.band, self.region, marks),
                                            folder / paving_figure(self.stem, complement)))
+        if geojson:
+            from fivebar_cli.io.geojson import write_geojson
+            from fivebar_cli.io.layout import geojson_path
+
+            properties = {"name": m.name, "space": self.space, "region": self.region or m.spaces()[self.space].region,
+                          "depth": self.depth, "procedure": self.procedure, "area": self.inside_area}
+            paths.append(write_geojson(geojson_path(folder, self.stem), p.inside, properties))
         return paths
 
     def plot(self, ax=None):

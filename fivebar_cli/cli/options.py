@@ -75,7 +75,7 @@ def refuse_stdout(out: Path | None, what: str) -> None:
 
 FLAGS = {  # a library parameter -> the option that sets it (`option_errors` adds a command's own)
     "allow_serial": "--allow-serial", "assembly_mode": "--assembly-mode", "budget": "--budget", "depth": "--depth",
-    "folder": "-o", "pose": "--pose", "procedure": "--procedure", "restart": "--restart",
+    "folder": "-o", "geojson": "--geojson", "pose": "--pose", "procedure": "--procedure", "restart": "--restart",
     "scheduler": "--scheduler", "sets_only": "--sets-only", "tolerance": "--tolerance",
     "working_mode": "--working-mode",
 }

@@ -7,12 +7,13 @@ from pathlib import Path
 import click
 
 from fivebar_cli.api.calls import pave
+from fivebar_cli.api.values import check_geojson
 from fivebar_cli.cli.options import (
     CONFIG, common_options, depth_option, offscreen, option_errors, prepare_out, progress, report, tolerance_option,
     with_tolerance, wrote,
 )
 from fivebar_cli.errors import InputError
-from fivebar_cli.io.layout import geojson_path, paving_files
+from fivebar_cli.io.layout import paving_files
 from fivebar_cli.io.outputs import output_set
 from fivebar_cli.mechanisms.base import article
 from fivebar_cli.mechanisms.registry import load_config
@@ -48,22 +49,14 @@ def _space_command(space: str, config_path: Path, depth: int, procedure: str, to
     if procedure not in m.procedures:
         raise InputError(str(config_path), "--procedure", f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
-    if geojson and m.spaces()[space].dim != 2:
-        raise InputError(str(config_path), "--geojson", f"GeoJSON is for 2-D spaces; the {space} of {article(m.kind)} "
-                         f"has {m.spaces()[space].dim} axes")
+    check_geojson(m, space, geojson, str(config_path))  # (before anything is computed)
     folder = prepare_out(out, m.name)
     with progress(quiet, depth + 1, f"{space} depth {depth}") as advance:
         paving = pave(m, space, depth, procedure=procedure, advance=advance)
     if not no_plot:
         offscreen()
     with output_set(folder, space, paving_files(space), f"fivebar {space}"):
-        paths = paving.write(folder, figures=not no_plot)
-        if geojson:
-            from fivebar_cli.io.geojson import write_geojson
-
-            properties = {"name": m.name, "space": space, "region": m.spaces()[space].region, "depth": depth,
-                          "procedure": procedure, "area": paving.inside_area}
-            paths.append(write_geojson(geojson_path(folder, space), paving.inside, properties))
+        paths = paving.write(folder, figures=not no_plot, geojson=geojson)
     report(quiet, paving.summary())
     wrote(quiet, paths)
 
