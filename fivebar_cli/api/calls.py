@@ -73,11 +73,11 @@ def widened(m: Mechanism, tolerance: float | None, source) -> Mechanism:
     """The mechanism with its lengths widened by `tolerance` (0 or None: unchanged); InputError for
     a kind without interval lengths, or for a tolerance that is no number (a str; a bool, not
     taken as 0 or 1)."""
-    from numbers import Real
+    from fivebar_cli.io.schema import is_number
 
     if tolerance is None:
         return m
-    if isinstance(tolerance, bool) or not isinstance(tolerance, Real):
+    if not is_number(tolerance):
         raise InputError(str(source), param("tolerance"), f"must be a finite number >= 0, got {tolerance!r}")
     if not tolerance:
         return m
@@ -90,8 +90,7 @@ def with_aspects(m: Mechanism, source) -> Mechanism:
     """`m`, checked to have working and assembly modes or aspects over its poses (InputError on its
     `type` otherwise; a kind with poses whose space of poses is unbounded, on `legs.rho_max`)."""
     if m.aspect_model() is None and m.pose_aspect_model() is None:
-        if m.has_poses:  # (a 3-RPR whose legs are unbounded: why)
-            raise m.no_pose_space(str(source))
+        m.check_bounded(str(source))  # (a 3-RPR whose legs are unbounded: why)
         raise InputError(str(source), "type", f"{article(m.kind)} has no working and assembly modes (no aspects)")
     return m
 
@@ -128,8 +127,7 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     m = widened(_mechanism(mech), tolerance, source_name(mech))
     # (the call's own arguments: named without a source, as `depth` is)
     if space not in m.spaces():
-        if not m.spaces() and m.has_poses:  # (a 3-RPR whose legs are unbounded: why)
-            raise m.no_pose_space(source_name(mech))
+        m.check_bounded(source_name(mech))  # (a 3-RPR whose legs are unbounded: why)
         raise InputError("", param("space"), f"{space!r} is not a space of {article(m.kind)} "
                          f"(it has: {', '.join(m.spaces())})")
     own = None if region is None or region == m.spaces()[space].region else region

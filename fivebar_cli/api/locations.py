@@ -219,7 +219,7 @@ def locate(mech, *, pose=None, joints=None, depth: int | None = None, aspects: A
 
     saved = load_aspects(Path(folder), m, depth) if folder is not None and aspects is None else None
     if aspects is not None:
-        found, depth, where = aspects.analysis.aspects, aspects.depth, "given"
+        found, where = aspects.analysis.aspects, "given"
     elif saved is not None:
         found, where = saved, f"read from {folder}"
     else:
@@ -253,7 +253,7 @@ def locate_poses(m: Mechanism, pose, legs, joints, depth: int, aspects, working_
     from fivebar_cli.analyses.pose_paths import check_pose, wrap_pose
 
     m = pose_mechanism(m, poses=True, source=source)
-    depth = aspects.depth if aspects is not None else pose_depth(m, depth)
+    depth = pose_depth(m, depth)  # (the aspects' when given: `locate` decided it)
     model = m.pose_aspect_model()
     space = m.spaces()[model.space]
     sheets = working_sheets(m, working_mode)

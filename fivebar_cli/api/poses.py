@@ -6,9 +6,9 @@ certificate that no valid pose is singular, or a singular pose (what they share 
 from __future__ import annotations
 
 from fivebar_cli.analyses.limits import MAX_VERIFY_DEPTH, check_depth
-from fivebar_cli.api.calls import _mechanism, check_aspects, source_name
+from fivebar_cli.api.calls import _mechanism, check_aspects, depth_or_default, source_name
 from fivebar_cli.api.pose_space import (
-    DEFAULT_POSE_DEPTH, joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
+    joint_poses, numbers, pose_aspects_for, pose_depth, pose_mechanism,
 )
 from fivebar_cli.api.values import Drawing, Report, Verified
 from fivebar_cli.errors import InputError, param
@@ -67,7 +67,7 @@ def dkp(mech, joints, depth: int | None = None, *, budget: int | None = None, fo
     m = _mechanism(mech)
     check_aspects(aspects, m, source, depth)
     m = pose_mechanism(m, poses=True, source=source)
-    depth = aspects.depth if aspects is not None else pose_depth(m, DEFAULT_POSE_DEPTH if depth is None else depth)
+    depth = aspects.depth if aspects is not None else pose_depth(m, depth_or_default(m, depth))
     model = m.pose_aspect_model()
     result = solved if solved is not None else joint_poses(m, joints, "legs" if what == "legs" else "joints")
     aspects, where = ((aspects.analysis.aspects, "given") if aspects is not None else

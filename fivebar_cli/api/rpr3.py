@@ -66,6 +66,7 @@ def area(mech) -> Report:
     """
     from fivebar_cli.mechanisms.rpr3 import closed_form as geo
     from fivebar_cli.mechanisms.rpr3.model import to_radians
+    from fivebar_cli.plotting.rpr3 import construction
 
     m = similar(mech)
     t = m.design
@@ -90,8 +91,6 @@ def area(mech) -> Report:
         notes.append(f"    area of W = {a:.9f}, boundary: {len(arcs_)} arcs on {', '.join(on) if on else '-'}")
 
     title = f"{m.name}: singularity-free workspace, k = {m.k:g}, phi = {', '.join(f'{p:g}' for p in phis)} deg"
-    from fivebar_cli.plotting.rpr3 import construction
-
     construction_figure = Drawing(construction, (m, phis, m.rho_min, rho_max, title))
     return Report(f"Area {m.name}", AREA_HEADER, tuple(rows), tuple(notes),
                   ("rpr3-area", AREA_FILES, "fivebar rpr3 area", AREA_CSV), ((AREA_FILES[1], construction_figure),))
@@ -482,8 +481,7 @@ def bounded(mech):
     from fivebar_cli.api.calls import load, source_name
 
     m = load(mech, kind="rpr3")
-    if "workspace" not in m.spaces():
-        raise m.no_pose_space(source_name(mech))
+    m.check_bounded(source_name(mech))
     return m
 
 

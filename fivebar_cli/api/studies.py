@@ -40,8 +40,10 @@ def tolerance_mechanism(mech, tolerances) -> tuple[Mechanism, list[float]]:
 def tolerance_values(tolerances, source: str = "") -> list[float]:
     """The tolerances sorted, each once: 1 to `MAX_TOLERANCES` finite numbers >= 0 (InputError
     naming `tolerances` otherwise: a str or a bool is no number, as for `tolerance`)."""
+    from fivebar_cli.io.schema import is_number
+
     items = None if isinstance(tolerances, (str, bytes)) or not hasattr(tolerances, "__iter__") else list(tolerances)
-    if items is None or any(isinstance(t, bool) or not isinstance(t, numbers.Real) for t in items):
+    if items is None or not all(is_number(t) for t in items):
         raise InputError(source, param("tolerances"), f"expected a sequence of numbers, got {tolerances!r}")
     values = sorted({float(t) for t in items})
     if not 1 <= len(values) <= MAX_TOLERANCES:
@@ -170,12 +172,10 @@ def kratio(mechs, depths=DEFAULT_DEPTHS, *, advance=None) -> Report:
     from fivebar_cli.io.layout import KRATIO_CSV, KRATIO_FILES, KRATIO_PNG
 
     ms = [kratio_mechanism(m) for m in ([mechs] if isinstance(mechs, (str, Path, Mechanism, Mapping)) else mechs)]
-    try:  # (one depth, as one mechanism; a str is no sequence of depths: its characters were read as depths)
-        if isinstance(depths, (str, bytes)):
-            raise TypeError
-        depths = [depths] if isinstance(depths, numbers.Integral) else list(depths)
-    except TypeError:
-        raise InputError("", param("depths"), f"expected a depth or a sequence of depths, got {depths!r}") from None
+    # one depth, as one mechanism; a str is no sequence of depths (its characters were read as depths)
+    if isinstance(depths, (str, bytes)) or not (isinstance(depths, numbers.Integral) or hasattr(depths, "__iter__")):
+        raise InputError("", param("depths"), f"expected a depth or a sequence of depths, got {depths!r}")
+    depths = [depths] if isinstance(depths, numbers.Integral) else list(depths)
     if not depths:
         raise InputError("", param("depths"), "give at least one depth")
     depths = [check_depth(d, MAX_DEPTH, "depths") for d in depths]

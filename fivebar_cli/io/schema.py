@@ -209,12 +209,18 @@ def mapping(data: Mapping, key: str, source: str) -> Mapping:
     return value
 
 
+def is_number(value: Any) -> bool:
+    """A real number of Python or numpy, not a boolean (Python's or numpy's, a real number to
+    `numbers` but a yes or no to a user)."""
+    return not (isinstance(value, bool) or type(value).__name__ == "bool_") and isinstance(value, numbers.Real)
+
+
 def number(value: Any, source: str, field: str, *, positive: bool = False, nonnegative: bool = False) -> float:
     """A finite float of magnitude at most LIMIT (and at least 1/LIMIT when positive); any real
     number of Python or numpy (built from Python, a model takes numpy floats too), not a boolean."""
     if value is None:
         raise ConfigError(source, field, "expected a number, got an empty value")
-    if isinstance(value, bool) or type(value).__name__ == "bool_" or not isinstance(value, numbers.Real):
+    if not is_number(value):
         hint = ""
         if isinstance(value, str):
             try:

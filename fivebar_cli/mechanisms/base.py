@@ -157,6 +157,12 @@ class Mechanism:
         needs, or None when the kind has none."""
         return None
 
+    def check_bounded(self, source: str) -> None:
+        """A kind with poses whose space of poses is missing (a 3-RPR's, when rho_max auto is
+        infinite) raises `no_pose_space`'s error; any other mechanism passes."""
+        if self.has_poses and not self.spaces():
+            raise self.no_pose_space(source)
+
     def no_pose_space(self, source: str) -> ConfigError:
         """The error to raise where a space of poses is needed and `pose_aspect_model` is None:
         this kind has none (`type`); a kind with poses says why its own is missing."""

@@ -71,8 +71,7 @@ def check_kind(mech: Mechanism, source: str, kind: str | None = None, space: str
     if kind is not None and mech.kind != kind:
         raise ConfigError(source, "type", f"expected {article(kind)} ('type: {kind}') here, got {mech.kind!r}")
     if space is not None and space not in mech.spaces():
-        if not mech.spaces() and mech.has_poses:  # (a 3-RPR whose legs are unbounded: why)
-            raise mech.no_pose_space(source)
+        mech.check_bounded(source)  # (a 3-RPR whose legs are unbounded: why)
         known = ", ".join(mech.spaces()) or "none"
         raise ConfigError(source, "type", f"{article(mech.kind)} has no {space} to pave (its spaces: {known})")
     return mech
