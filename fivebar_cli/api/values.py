@@ -189,12 +189,12 @@ class Paving:
         from fivebar_cli.io.layout import paving_files
         from fivebar_cli.io.outputs import output_set
 
-        check_geojson(self.mechanism, self.space, geojson, self.mechanism.name)
         with output_set(folder, self.stem, paving_files(self.stem), command or f"fivebar {self.space}"):
             return self.write(Path(folder), figures, geojson)
 
     def write(self, folder: Path, figures: bool = False, geojson: bool = False) -> list[Path]:
-        """The files, inside an output set the caller opened."""
+        """The files, inside an output set the caller opened (a GeoJSON of three axes refused
+        before any is written)."""
         from fivebar_cli.analyses.spaces import write_paving
 
         m, p = self.mechanism, self.paving
