@@ -10,7 +10,8 @@ from typing import Callable
 
 import numpy as np
 
-from fivebar_cli.mechanisms.base import Mechanism, plural
+from fivebar_cli.errors import InputError, param
+from fivebar_cli.mechanisms.base import Mechanism, article, plural
 from fivebar_cli.paving.tree import Tree
 
 
@@ -69,9 +70,6 @@ def check_geojson(m: Mechanism, space: str, geojson: bool, source: str) -> None:
     """GeoJSON is for 2-D spaces: InputError on `geojson` for a space of three axes or more."""
     dim = m.spaces()[space].dim
     if geojson and dim != 2:
-        from fivebar_cli.errors import InputError, param
-        from fivebar_cli.mechanisms.base import article
-
         raise InputError(str(source), param("geojson"), f"GeoJSON is for 2-D spaces; the {space} of "
                          f"{article(m.kind)} has {dim} axes")
 
