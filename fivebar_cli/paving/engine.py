@@ -1,7 +1,8 @@
 """Certified subdivision: (grid, box test, depth) -> Paving.
 
 Breadth-first: all boxes of a level go to the box test in one vectorised call (in chunks, to bound
-memory). A box test takes arrays lo, hi of shape (m, dim) and returns int8: 1 if every point of
+memory). A box test takes arrays lo, hi of shape (m, dim) (and, when it has a parameter `ends`,
+the boxes' ends per axis as tables, `grid.AxisEnds`) and returns int8: 1 if every point of
 the box has the property, -1 if no point has it, 0 if it cannot tell. Boxes answering 0 are split
 into their 2^dim children until the maximum depth. A test may also answer 2 (BAND): the box is
 certified to lie in a region that is neither inside nor outside, such as the uncertain band of a
@@ -18,6 +19,7 @@ from the exact dyadic cells of the root box by a few ulps, so every box is widen
 from __future__ import annotations
 
 import ctypes
+import inspect
 import sys
 from dataclasses import dataclass
 from typing import Callable
@@ -147,8 +149,19 @@ def _classify_many(grid: Grid, level: int, coords: np.ndarray, open_: np.ndarray
 
 
 def single(test: BoxTest) -> MultiTest:
-    """A box test as a multi-test of one column."""
+    """A box test as a multi-test of one column; a test with an `ends` parameter is given the
+    boxes' ends as tables (`grid.AxisEnds`), for what depends on one axis alone."""
+    if _takes_ends(test):
+        return lambda lo, hi, open_, ends=None: test(lo, hi, ends=ends)[:, None]
     return lambda lo, hi, open_, ends=None: test(lo, hi)[:, None]
+
+
+def _takes_ends(test) -> bool:
+    """Whether the callable `test` has a parameter `ends`."""
+    try:
+        return "ends" in inspect.signature(test).parameters
+    except (TypeError, ValueError):  # (no signature: a builtin)
+        return False
 
 
 def stacked(tests: list[BoxTest]) -> MultiTest:

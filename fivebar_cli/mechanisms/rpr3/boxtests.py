@@ -90,26 +90,46 @@ def _det3(a, b, c, minors=None):
 ONE_PASS = 2048  # up to this many boxes the three legs are evaluated as one (3, n) pass; beyond, leg by leg
 
 
-def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval):
+def _columns(g: Geometry, x: Interval, y: Interval, phi_deg: Interval, index=(None, None, None)):
     """Interval columns of J and the pieces its derivatives need: e_x, e_y, q x e, q_x, q_y, u, v,
     each a list of the three legs' intervals (`_leg_passes`)."""
-    return legs_apart(_leg_passes(g, x, y, phi_deg), 7)
+    return legs_apart(_leg_passes(g, x, y, phi_deg, index), 7)
 
 
-def _leg_passes(g: Geometry, x: Interval, y: Interval, phi_deg: Interval) -> list[tuple]:
+def _leg_passes(g: Geometry, x: Interval, y: Interval, phi_deg: Interval, index=(None, None, None)) -> list[tuple]:
     """e_x, e_y, q x e, q_x, q_y, u, v with the legs on a first axis ((k, n) Intervals), in the
-    passes of `platform.leg_groups` (the legs' constants are (k, 1) columns)."""
+    passes of `platform.leg_groups` (the legs' constants are (k, 1) columns). `index`: per axis,
+    None (x, y, phi_deg hold each box's interval) or each box's entry in the axis's distinct
+    intervals (`_axes`): what depends on one axis alone (u, v; q_x, q_y) is computed once per
+    entry and gathered, the same bounds."""
+    ix, iy, ip = index
     ph = (phi_deg - g.shift) * _D2R
     out = []
-    for first, stop in leg_groups(len(ph.lo), ONE_PASS):
+    for first, stop in leg_groups(len(x.lo) if ix is None else len(ix), ONE_PASS):
         legs = slice(first, stop)
         radius, angle = (v[legs] for v in _leg_constants(g))
         base = np.asarray(g.base, float)[legs]
         c, s = iv.cos_sin(ph + angle)
-        qx, qy = radius * c, radius * s
-        u, v = x - base[:, :1], y - base[:, 1:]
+        qx, qy = _gather(radius * c, ip), _gather(radius * s, ip)
+        u, v = _gather(x - base[:, :1], ix), _gather(y - base[:, 1:], iy)
         out.append((u + qx, v + qy, qx * v - qy * u, qx, qy, u, v))
     return out
+
+
+def _gather(a: Interval, index) -> Interval:
+    """Each box's interval from the entries `a` (last axis) of `index` (None: `a` has them)."""
+    return a if index is None else Interval._of(np.take(a.lo, index, axis=-1), np.take(a.hi, index, axis=-1))
+
+
+def _axes(lo: np.ndarray, hi: np.ndarray, ends) -> tuple[list[Interval], list]:
+    """The intervals of the axes x, y, phi of boxes (m, 3) and their index (`_leg_passes`): per axis
+    the paving's table of its distinct intervals (`ends`, `grid.AxisEnds`) when shorter than the
+    boxes, else each box's interval (index None)."""
+    axes, index = [Interval(lo[:, k], hi[:, k]) for k in range(3)], [None] * 3
+    for k, e in enumerate(ends or ()):
+        if e.index is not None and len(e.low) < len(e.index):
+            axes[k], index[k] = Interval(e.low, e.high), e.index
+    return axes, index
 
 
 def _leg_constants(g: Geometry) -> tuple[Interval, Interval]:
@@ -129,46 +149,51 @@ def det_enclosure(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarr
     return _det_bounds(g, lo, hi, everywhere=True)
 
 
-def det_sign(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """+1 / -1 where det J is certified positive / negative on the whole box, else 0."""
-    dlo, dhi = _det_bounds(g, lo, hi, everywhere=False)
+def det_sign(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
+    """+1 / -1 where det J is certified positive / negative on the whole box, else 0 (`ends`: the
+    boxes' ends as tables, `grid.AxisEnds`, when the caller has them)."""
+    dlo, dhi = _det_bounds(g, lo, hi, everywhere=False, ends=ends)
     return verdict(dlo > 0, dhi < 0)
 
 
-def _det_bounds(g: Geometry, lo: np.ndarray, hi: np.ndarray, everywhere: bool) -> tuple[np.ndarray, np.ndarray]:
+def _det_bounds(g: Geometry, lo: np.ndarray, hi: np.ndarray, everywhere: bool, ends=None) -> tuple[np.ndarray, np.ndarray]:
     """`det_enclosure`, or (not `everywhere`) with the mean-value form only on the boxes whose
     natural enclosure has no sign: elsewhere it cannot change the sign (both forms enclose det J)
-    and it costs most of the work. Every operation is elementwise: the same values on those boxes."""
+    and it costs most of the work. Every operation is elementwise: the same values on those boxes,
+    and the same values whether an axis comes as a table (`_axes`) or box by box."""
     lo, hi = g.poses(lo), g.poses(hi)
-    box = [Interval(lo[:, k], hi[:, k]) for k in range(3)]
-    columns = _columns(g, *box)
+    axes, index = _axes(lo, hi, ends)
+    columns = _columns(g, *axes, index)
     minors = _minors(*columns[:2])
     natural = _det3(*columns[:3], minors)
     if everywhere:
-        mean = _mean_value(g, lo, hi, box, columns, minors)
+        mean = _mean_value(g, axes, index, columns, minors)
         return np.maximum(natural.lo, mean.lo), np.minimum(natural.hi, mean.hi)
     d_lo, d_hi = natural.lo.copy(), natural.hi.copy()
     at = np.flatnonzero(~((d_lo > 0) | (d_hi < 0)))
     if len(at):
         pick = lambda items: [v[at] for v in items]  # noqa: E731
-        mean = _mean_value(g, lo[at], hi[at], pick(box), [pick(c) for c in columns], pick(minors))
+        axes = [a if i is not None else a[at] for a, i in zip(axes, index)]
+        index = [i if i is None else i[at] for i in index]
+        mean = _mean_value(g, axes, index, [pick(c) for c in columns], pick(minors))
         d_lo[at], d_hi[at] = np.maximum(d_lo[at], mean.lo), np.minimum(d_hi[at], mean.hi)
     return d_lo, d_hi
 
 
-def _mean_value(g: Geometry, lo, hi, box, columns, minors) -> Interval:
-    """The mean-value form det(mid) + grad(box) . (box - mid) of det J, given the box's columns and
-    the minors of e_x, e_y."""
+def _mean_value(g: Geometry, axes, index, columns, minors) -> Interval:
+    """The mean-value form det(mid) + grad(box) . (box - mid) of det J, given the boxes' axes and
+    their index (`_axes`), the box's columns and the minors of e_x, e_y."""
     ex, ey, mm, qx, qy, u, v = columns
-    mid = 0.5 * (lo + hi)
-    point = _det3(*_columns(g, *(Interval.point(mid[:, k]) for k in range(3)))[:3])
+    mid = [0.5 * (a.lo + a.hi) for a in axes]
+    point = _det3(*_columns(g, *(Interval.point(m) for m in mid), index)[:3])
+    offset = [_gather(a - m, i) for a, m, i in zip(axes, mid, index)]  # box - mid
     one = [Interval.point(1.0)] * 3
     minus_qy = [-q for q in qy]
     gx = _det3(one, ey, mm) + _det3(ex, ey, minus_qy, minors)
     gy = _det3(ex, one, mm) + _det3(ex, ey, qx, minors)
     dm = [-(qx[i] * u[i] + qy[i] * v[i]) for i in range(3)]
     gp = (_det3(minus_qy, ey, mm) + _det3(ex, qx, mm) + _det3(ex, ey, dm, minors)) * _D2R
-    return point + gx * (box[0] - mid[:, 0]) + gy * (box[1] - mid[:, 1]) + gp * (box[2] - mid[:, 2])
+    return point + gx * offset[0] + gy * offset[1] + gp * offset[2]
 
 
 def det_point_sign(g: Geometry, poses: np.ndarray) -> np.ndarray:
@@ -209,12 +234,12 @@ def region_test(m, region: str):
         raise KeyError(region)
     want = 1 if region == PLUS else -1
 
-    def test(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    def test(lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
         reach = reach_status(g, lo, hi)
         sign = np.zeros(len(lo), dtype=np.int8)
         some = np.flatnonzero(reach != -1)
         if len(some):
-            sign[some] = det_sign(g, lo[some], hi[some])
+            sign[some] = det_sign(g, lo[some], hi[some], ends and tuple(e.rows(some) for e in ends))
         status = np.where((reach == 1) & (sign == want), 1, 0)
         return np.where((reach == -1) | (sign == -want), -1, status).astype(np.int8)
 
