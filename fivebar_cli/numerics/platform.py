@@ -57,35 +57,42 @@ class Platform:
 
     def distance_ranges(self, lo: np.ndarray, hi: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
         """Exact (min, max) of each |C_i - A_i| over boxes of poses (m, 3), before margins."""
-        turns = self._turns(lo, hi)
-        return [self._distance_range(i, lo, hi, *turns) for i in range(3)]
+        turns, index = self._turns(lo, hi)
+        return [self._distance_range(i, lo, hi, turns, index) for i in range(3)]
 
-    def _turns(self, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The boxes' orientation ranges in radians (phi - shift), the part every leg's arc shares."""
-        return (lo[:, 2] - self.shift) * D2R, (hi[:, 2] - self.shift) * D2R
+    def _turns(self, lo: np.ndarray, hi: np.ndarray, ends=None) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray | None]:
+        """The orientation ranges in radians (phi - shift), the part every leg's arc shares, and
+        their index: of the paving's table of the boxes' orientations (`ends`, `grid.AxisEnds`)
+        when it has one shorter than the boxes, each box's entry; else each box's range, None."""
+        phi = ends[2] if ends is not None and len(ends) == 3 else None
+        if phi is not None and phi.index is not None and len(phi.low) < len(phi.index):
+            return ((phi.low - self.shift) * D2R, (phi.high - self.shift) * D2R), phi.index
+        return ((lo[:, 2] - self.shift) * D2R, (hi[:, 2] - self.shift) * D2R), None
 
-    def _distance_range(self, i: int, lo, hi, turn_lo, turn_hi) -> tuple[np.ndarray, np.ndarray]:
+    def _distance_range(self, i: int, lo, hi, turns, index) -> tuple[np.ndarray, np.ndarray]:
         start = self.angle[i] + math.pi  # A_i - C_i + (x, y) = -R(phi) c_i
         cx, cy = self.base[i]
         return rect_arc_distance(lo[:, 0], hi[:, 0], lo[:, 1], hi[:, 1], cx, cy, self.radius[i],
-                                 turn_lo + start - ANGLE_TOL, turn_hi + start + ANGLE_TOL)
+                                 turns[0] + start - ANGLE_TOL, turns[1] + start + ANGLE_TOL, index)
 
-    def legs_verdict(self, lo: np.ndarray, hi: np.ndarray, decide) -> np.ndarray:
+    def legs_verdict(self, lo: np.ndarray, hi: np.ndarray, decide, ends=None) -> np.ndarray:
         """1 / -1 / 0 over boxes of poses (m, 2 or 3): every leg inside / some leg outside / cannot
         tell, from `decide(i, near, far)` -> (inside, outside) of leg i given its distance ranges.
-        A box found outside is not measured for the next legs (the verdict is -1 whatever they give)."""
+        A box found outside is not measured for the next legs (the verdict is -1 whatever they give).
+        `ends`: the boxes' ends as tables (`grid.AxisEnds`), when the caller has them (`_turns`)."""
         lo, hi = self.poses(lo), self.poses(hi)
-        turns = self._turns(lo, hi)
+        turns, index = self._turns(lo, hi, ends)
         inside = np.ones(len(lo), dtype=bool)
         outside = np.zeros(len(lo), dtype=bool)
         for i in range(3):
             if i and outside.any():
                 at = np.flatnonzero(~outside)
-                ins, out = decide(i, *self._distance_range(i, lo[at], hi[at], turns[0][at], turns[1][at]))
+                rows = (turns, index[at]) if index is not None else ((turns[0][at], turns[1][at]), None)
+                ins, out = decide(i, *self._distance_range(i, lo[at], hi[at], *rows))
                 inside[at] &= ins
                 outside[at] |= out
             else:
-                ins, out = decide(i, *self._distance_range(i, lo, hi, *turns))
+                ins, out = decide(i, *self._distance_range(i, lo, hi, turns, index))
                 inside &= ins
                 outside |= out
         return verdict(inside, outside)
@@ -167,14 +174,19 @@ def _farthest_corner(px, py, xlo, xhi, ylo, yhi):
     return far
 
 
-def rect_arc_distance(xlo, xhi, ylo, yhi, cx, cy, r, t_lo, t_hi):
+def rect_arc_distance(xlo, xhi, ylo, yhi, cx, cy, r, t_lo, t_hi, index=None):
     """Range of |X - C| for X in the rectangles and C on the arcs c + r (cos t, sin t), t in [t_lo, t_hi]:
     the minimum at an arc end, an arc point where the arc crosses or faces a side, or a corner
     facing the arc; the maximum at a corner and an arc end or the arc point opposite it.
 
     Each candidate that lies on the arc of only some boxes (a corner's nearest or farthest arc
-    point, a radius along an axis, a crossing of a side) is measured on those boxes alone."""
-    ends = [(cx + r * np.cos(t), cy + r * np.sin(t)) for t in (t_lo, t_hi)]
+    point, a radius along an axis, a crossing of a side) is measured on those boxes alone.
+    `index`: t_lo, t_hi hold distinct arcs and box j has arc index[j]: what depends on the arc
+    alone (its ends, the axis directions it holds) is computed once per arc and gathered."""
+    per_box = (lambda v: v) if index is None else (lambda v: np.take(v, index))
+    ends = [(per_box(cx + r * np.cos(t)), per_box(cy + r * np.sin(t))) for t in (t_lo, t_hi)]
+    axes = [per_box(angle_inside(k * _HALF_PI, t_lo, t_hi, 0.0)) for k in range(4)]
+    t_lo, t_hi = per_box(t_lo), per_box(t_hi)
     # farthest: an arc end and a corner, or a corner and the arc point opposite it
     far = np.maximum(*(_farthest_corner(ex, ey, xlo, xhi, ylo, yhi) for ex, ey in ends))
     near = np.minimum(*(_box_distance(ex, ey, xlo, xhi, ylo, yhi) for ex, ey in ends))
@@ -194,8 +206,7 @@ def rect_arc_distance(xlo, xhi, ylo, yhi, cx, cy, r, t_lo, t_hi):
                 far[at] = np.maximum(far[at], np.where(opposite[at], rho + r, 0.0))
     for k in range(4):
         t = k * _HALF_PI
-        _nearer(near, np.flatnonzero(angle_inside(t, t_lo, t_hi, 0.0)), cx + r * math.cos(t), cy + r * math.sin(t),
-                xlo, xhi, ylo, yhi)
+        _nearer(near, np.flatnonzero(axes[k]), cx + r * math.cos(t), cy + r * math.sin(t), xlo, xhi, ylo, yhi)
     # crossings of the horizontal sides (y = y0), then of the vertical ones (x = x0)
     for horizontal, sides, c_across, c_along in ((True, (ylo, yhi), cy, cx), (False, (xlo, xhi), cx, cy)):
         for side in sides:

@@ -62,14 +62,15 @@ def leg_distance_ranges(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> list[tup
     return g.distance_ranges(lo, hi)
 
 
-def reach_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """1: every pose of each box has its three legs in range; -1: no pose has; 0: cannot tell."""
+def reach_status(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
+    """1: every pose of each box has its three legs in range; -1: no pose has; 0: cannot tell
+    (`ends`: the boxes' ends as tables, `grid.AxisEnds`, when the caller has them)."""
     def decide(i, near, far):
         near, far = np.maximum(near - g.eta, 0.0), far + g.eta
         a, b = g.rho_min[i], g.rho_max[i]
         return (near >= a) & (far <= b), (far < a) | (near > b)
 
-    return g.legs_verdict(lo, hi, decide)
+    return g.legs_verdict(lo, hi, decide, ends)
 
 
 # ---------------------------------------------------------------- det J
@@ -229,13 +230,13 @@ def region_test(m, region: str):
     """The box test of one region of the workspace (see the module docstring)."""
     g = Geometry.of(m)
     if region == REACHABLE:
-        return lambda lo, hi: reach_status(g, lo, hi)
+        return lambda lo, hi, ends=None: reach_status(g, lo, hi, ends)
     if region not in (PLUS, MINUS):
         raise KeyError(region)
     want = 1 if region == PLUS else -1
 
     def test(lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
-        reach = reach_status(g, lo, hi)
+        reach = reach_status(g, lo, hi, ends)
         sign = np.zeros(len(lo), dtype=np.int8)
         some = np.flatnonzero(reach != -1)
         if len(some):
