@@ -60,10 +60,14 @@ class Platform:
         turns, index = self._turns(lo, hi)
         return [self._distance_range(i, lo, hi, turns, index) for i in range(3)]
 
-    def _turns(self, lo: np.ndarray, hi: np.ndarray, ends=None) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray | None]:
+    def _turns(self, lo: np.ndarray, hi: np.ndarray, ends=None, fixed: bool = False) -> tuple[tuple[np.ndarray, np.ndarray], np.ndarray | None]:
         """The orientation ranges in radians (phi - shift), the part every leg's arc shares, and
-        their index: of the paving's table of the boxes' orientations (`ends`, `grid.AxisEnds`)
-        when it has one shorter than the boxes, each box's entry; else each box's range, None."""
+        their index: of the single orientation (`fixed`: boxes of (x, y)) or the paving's table of
+        the boxes' orientations (`ends`, `grid.AxisEnds`) when shorter than the boxes, each box's
+        entry; else each box's range, None."""
+        if fixed:
+            turn = (np.full(1, self.phi) - self.shift) * D2R
+            return (turn, turn), np.zeros(len(lo), np.intp)
         phi = ends[2] if ends is not None and len(ends) == 3 else None
         if phi is not None and phi.index is not None and len(phi.low) < len(phi.index):
             return ((phi.low - self.shift) * D2R, (phi.high - self.shift) * D2R), phi.index
@@ -80,8 +84,9 @@ class Platform:
         tell, from `decide(i, near, far)` -> (inside, outside) of leg i given its distance ranges.
         A box found outside is not measured for the next legs (the verdict is -1 whatever they give).
         `ends`: the boxes' ends as tables (`grid.AxisEnds`), when the caller has them (`_turns`)."""
+        fixed = np.shape(lo)[1] == 2
         lo, hi = self.poses(lo), self.poses(hi)
-        turns, index = self._turns(lo, hi, ends)
+        turns, index = self._turns(lo, hi, ends, fixed)
         inside = np.ones(len(lo), dtype=bool)
         outside = np.zeros(len(lo), dtype=bool)
         for i in range(3):

@@ -122,14 +122,19 @@ def _gather(a: Interval, index) -> Interval:
     return a if index is None else Interval._of(np.take(a.lo, index, axis=-1), np.take(a.hi, index, axis=-1))
 
 
-def _axes(lo: np.ndarray, hi: np.ndarray, ends) -> tuple[list[Interval], list]:
-    """The intervals of the axes x, y, phi of boxes (m, 3) and their index (`_leg_passes`): per axis
-    the paving's table of its distinct intervals (`ends`, `grid.AxisEnds`) when shorter than the
-    boxes, else each box's interval (index None)."""
+def _axes(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends) -> tuple[list[Interval], list]:
+    """The intervals of the axes x, y, phi of boxes (m, 2 or 3) and their index (`_leg_passes`): per
+    axis the paving's table of its distinct intervals (`ends`, `grid.AxisEnds`) when shorter than
+    the boxes, else each box's interval (index None); boxes of (x, y) share the fixed phi (one entry)."""
+    n = len(lo)
+    fixed = lo.shape[1] == 2
+    lo, hi = g.poses(lo), g.poses(hi)
     axes, index = [Interval(lo[:, k], hi[:, k]) for k in range(3)], [None] * 3
     for k, e in enumerate(ends or ()):
         if e.index is not None and len(e.low) < len(e.index):
             axes[k], index[k] = Interval(e.low, e.high), e.index
+    if fixed:
+        axes[2], index[2] = Interval(np.full(1, g.phi), np.full(1, g.phi)), np.zeros(n, np.intp)
     return axes, index
 
 
@@ -162,8 +167,7 @@ def _det_bounds(g: Geometry, lo: np.ndarray, hi: np.ndarray, everywhere: bool, e
     natural enclosure has no sign: elsewhere it cannot change the sign (both forms enclose det J)
     and it costs most of the work. Every operation is elementwise: the same values on those boxes,
     and the same values whether an axis comes as a table (`_axes`) or box by box."""
-    lo, hi = g.poses(lo), g.poses(hi)
-    axes, index = _axes(lo, hi, ends)
+    axes, index = _axes(g, np.asarray(lo, float), np.asarray(hi, float), ends)
     columns = _columns(g, *axes, index)
     minors = _minors(*columns[:2])
     natural = _det3(*columns[:3], minors)

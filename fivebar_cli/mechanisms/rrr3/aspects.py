@@ -59,10 +59,11 @@ class Rrr3PoseAspects:
 
     def class_test(self, k: int):
         signs, want = self._signs(k), 1 if k % 2 == 0 else -1
-        return self._constrained(lambda lo, hi: boxtests.class_status(self.g, signs, want, lo, hi), self._modes(k // 2))
+        return self._constrained(lambda lo, hi, ends=None: boxtests.class_status(self.g, signs, want, lo, hi, ends),
+                                 self._modes(k // 2))
 
     def valid_test(self, sheet: int | None = None):
-        return self._constrained(lambda lo, hi: boxtests.valid_status(self.g, lo, hi), self._modes(sheet))
+        return self._constrained(lambda lo, hi, ends=None: boxtests.valid_status(self.g, lo, hi, ends), self._modes(sheet))
 
     def classes_of_boxes(self, lo: np.ndarray, hi: np.ndarray, sheet: int = 0) -> np.ndarray:
         lo, hi = np.asarray(lo, float), np.asarray(hi, float)

@@ -93,14 +93,15 @@ class Geometry(Platform):
 # ---------------------------------------------------------------- validity
 
 
-def valid_status(g: Geometry, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """1: every pose of each box has every leg strictly inside its annulus; -1: no pose has; 0: cannot tell."""
+def valid_status(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
+    """1: every pose of each box has every leg strictly inside its annulus; -1: no pose has; 0: cannot tell
+    (`ends`: the boxes' ends as tables, `grid.AxisEnds`, when the caller has them)."""
     def decide(i, near, far):
         near, far = near - g.eta, far + g.eta
         a, b = g.inner[i], g.outer[i]
         return (near > a) & (far < b), (far < a) | (near > b)
 
-    return g.legs_verdict(lo, hi, decide)
+    return g.legs_verdict(lo, hi, decide, ends)
 
 
 # ---------------------------------------------------------------- det A
@@ -116,25 +117,30 @@ def _det3(a, b, c):
 ONE_PASS = 8192  # up to this many boxes the three legs are evaluated as one (3, m) pass; beyond, leg by leg
 
 
-def _det_a(g: Geometry, signs, x, y, phi):
+def _det_a(g: Geometry, signs, x, y, phi, index=None):
     """det A, rows scaled by 2 rho_i^2 (module docstring), at (x, y, phi in degrees) given as
     Intervals or `gradients.Dual`s (x first in every sum, so that a Dual absorbs the constants),
-    the legs in the passes of `platform.leg_groups`."""
+    the legs in the passes of `platform.leg_groups`. `index`: phi (an Interval) holds distinct
+    orientations and box j has phi[index[j]] (`_rows`)."""
     boxes = max(np.size((v.v if isinstance(v, gr.Dual) else v).lo) for v in (x, y, phi))
+    boxes = boxes if index is None else len(index)
     rows = []
     for first, stop in leg_groups(boxes, ONE_PASS):
-        columns = _rows(g, signs[first:stop], x, y, phi, first, stop)
+        columns = _rows(g, signs[first:stop], x, y, phi, first, stop, index)
         rows += [[column[k] for column in columns] for k in range(stop - first)]
     return _det3(*rows)
 
 
-def _rows(g: Geometry, signs, x, y, phi, first: int, stop: int):
+def _rows(g: Geometry, signs, x, y, phi, first: int, stop: int, index=None):
     """The three entries of the scaled rows of legs first..stop-1, each with those legs on its
-    first axis."""
+    first axis. `index` (`_det_a`): q_x, q_y, which depend on phi alone, are computed once per
+    orientation and gathered, the same bounds."""
     radius, angle, l21, inner2, outer2, base_x, base_y = g.leg_constants(first, stop)
     t = (phi - g.shift) * _D2R + angle
     c, s = gr.cos_sin(t)
     qx, qy = c * radius, s * radius
+    if index is not None:
+        qx, qy = (Interval._of(np.take(q.lo, index, axis=-1), np.take(q.hi, index, axis=-1)) for q in (qx, qy))
     dx = x - base_x + qx
     dy = y - base_y + qy
     rho2 = gr.sqr(dx) + gr.sqr(dy)
@@ -145,18 +151,26 @@ def _rows(g: Geometry, signs, x, y, phi, first: int, stop: int):
     return p * dx - root * dy, p * dy + root * dx, p * cross + root * dot
 
 
-def _phi_column(g: Geometry, a: np.ndarray):
-    return a[:, 2] if a.shape[1] == 3 else np.full(len(a), g.phi)
+def _orientations(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends) -> tuple[Interval, np.ndarray | None]:
+    """The boxes' orientations for `_det_a`: the single orientation of a space of (x, y) boxes (one
+    entry, which every box shares by broadcasting), the paving's table of them (`ends`,
+    `grid.AxisEnds`) when shorter than the boxes with each box's entry, else each box's (None)."""
+    if lo.shape[1] == 2:
+        return Interval(np.full(1, g.phi), np.full(1, g.phi)), None
+    phi = ends[2] if ends is not None else None
+    if phi is not None and phi.index is not None and len(phi.low) < len(phi.index):
+        return Interval(phi.low, phi.high), phi.index
+    return Interval(lo[:, 2], hi[:, 2]), None
 
 
-def det_enclosure(g: Geometry, signs, lo: np.ndarray, hi: np.ndarray, valid: np.ndarray | None = None):
+def det_enclosure(g: Geometry, signs, lo: np.ndarray, hi: np.ndarray, valid: np.ndarray | None = None, ends=None):
     """Certified bounds of det A (rows scaled) in working mode `signs` over boxes (m, 2 or 3): the
     natural enclosure, tightened by the mean-value form on the boxes where it includes 0 and
-    `valid` (every pose valid: the function is differentiable there) is set."""
+    `valid` (every pose valid: the function is differentiable there) is set (`ends`: the boxes'
+    ends as tables, `grid.AxisEnds`, when the caller has them: the same bounds)."""
     lo, hi = np.asarray(lo, float), np.asarray(hi, float)
     box = [Interval(lo[:, k], hi[:, k]) for k in range(2)]
-    phi = Interval(_phi_column(g, lo), _phi_column(g, hi))
-    natural = _det_a(g, signs, *box, phi)
+    natural = _det_a(g, signs, *box, *_orientations(g, lo, hi, ends))
     d_lo, d_hi = natural.lo.copy(), natural.hi.copy()
     if valid is not None:
         redo = np.flatnonzero(valid & (d_lo <= 0) & (d_hi >= 0))
@@ -171,21 +185,23 @@ def det_enclosure(g: Geometry, signs, lo: np.ndarray, hi: np.ndarray, valid: np.
     return d_lo, d_hi
 
 
-def det_sign(g: Geometry, signs, lo: np.ndarray, hi: np.ndarray, valid: np.ndarray | None = None) -> np.ndarray:
+def det_sign(g: Geometry, signs, lo: np.ndarray, hi: np.ndarray, valid: np.ndarray | None = None,
+             ends=None) -> np.ndarray:
     """+1 / -1 where det A (working mode `signs`) is certified positive / negative at every valid
-    pose of the box, else 0 (`valid` as in `det_enclosure`)."""
-    d_lo, d_hi = det_enclosure(g, signs, lo, hi, valid)
+    pose of the box, else 0 (`valid`, `ends` as in `det_enclosure`)."""
+    d_lo, d_hi = det_enclosure(g, signs, lo, hi, valid, ends)
     return verdict(d_lo > 0, d_hi < 0)
 
 
-def class_status(g: Geometry, signs, want: int, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+def class_status(g: Geometry, signs, want: int, lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
     """1: every pose of each box is valid with det A of sign `want` in working mode `signs`;
-    -1: no pose of the box is (invalid everywhere, or det A of the other sign); 0: cannot tell."""
-    valid = valid_status(g, lo, hi)
+    -1: no pose of the box is (invalid everywhere, or det A of the other sign); 0: cannot tell
+    (`ends`: the boxes' ends as tables, `grid.AxisEnds`, when the caller has them)."""
+    valid = valid_status(g, lo, hi, ends)
     sign = np.zeros(len(lo), dtype=np.int8)
     some = np.flatnonzero(valid != -1)
     if len(some):
-        sign[some] = det_sign(g, signs, lo[some], hi[some], valid[some] == 1)
+        sign[some] = det_sign(g, signs, lo[some], hi[some], valid[some] == 1, ends and tuple(e.rows(some) for e in ends))
     status = np.where((valid == 1) & (sign == want), 1, 0)
     return np.where((valid == -1) | (sign == -want), -1, status).astype(np.int8)
 

@@ -144,12 +144,12 @@ class Rrr3(Mechanism):
             return jointspace.assembly_test(self)
         g = boxtests.Geometry.of(self)
         if region in (None, REACHABLE):
-            return self._constrained(lambda lo, hi: boxtests.valid_status(g, lo, hi), self.working_modes)
+            return self._constrained(lambda lo, hi, ends=None: boxtests.valid_status(g, lo, hi, ends), self.working_modes)
         for w in self.working_modes:
             for s in "+-":
                 if region == sign_region(w, s):
                     signs, want = signs_of(w), 1 if s == "+" else -1
-                    return self._constrained(lambda lo, hi: boxtests.class_status(g, signs, want, lo, hi), (w,))
+                    return self._constrained(lambda lo, hi, ends=None: boxtests.class_status(g, signs, want, lo, hi, ends), (w,))
         raise KeyError(region)
 
     def _constrained(self, test, modes):
