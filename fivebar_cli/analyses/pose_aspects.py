@@ -3,7 +3,9 @@ every kind whose model declares a `PoseAspectModel` (mechanisms/base.py): the 3-
 (x, y, phi), a 3-RRR per working mode, any dimension, with periodic axes.
 
 1. Regions: the space is paved once per sign class (the class's box test: black = valid and
-   non-singular in that class, so singularities stay undetermined and separate the aspects).
+   non-singular in that class, so singularities stay undetermined and separate the aspects);
+   the classes of one sheet are paved together when the model tests them at once (the same
+   pavings, their shared work done once).
 2. Mode sets: each class's set S has an inner approximation (its black cells) and an outer one
    (adding every undetermined cell: the class test could not exclude it); cells touching at a
    corner share a point, so components are taken with corner contact, wrapping periodic axes
@@ -35,11 +37,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
-from fivebar_cli.analyses.jobs import run_tasks
+from fivebar_cli.analyses.jobs import run_tasks, workers
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass, article
-from fivebar_cli.paving.engine import Paving, pave
+from fivebar_cli.paving.engine import Paving, pave, pave_many
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree
 
@@ -147,10 +149,12 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
     space = m.spaces()[model.space]
     timings = {"paving": 0.0}
     regions = []
-    for region, seconds in run_tasks(_class_task, [(m, depth, k) for k in range(len(model.classes))], jobs, advance):
-        region.model = model
+    for found, seconds in run_tasks(_class_task, [(m, depth, ks) for ks in _class_groups(model, jobs)], jobs):
+        for region in found:
+            region.model = model
+            regions.append(region)
+            advance(1)
         timings["paving"] += seconds
-        regions.append(region)
     t0 = time.perf_counter()
     sets = [ModeSet(region, ()) for region in regions]
     count = _Count(model, sets, Budget(budget), depth)
@@ -180,20 +184,43 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
                               count.budget.spent + probe.spent, timings)
 
 
-def _class_task(task: tuple) -> tuple[ClassRegion, float]:
-    """One class's region, in a worker: (region without its model, seconds)."""
-    m, depth, k = task
+def _class_groups(model: PoseAspectModel, jobs: int | None) -> list[tuple[int, ...]]:
+    """The class tasks: the classes of each sheet together (their pavings share their tests' work,
+    `class_regions`) when that leaves a task for every worker, else one class a task."""
+    groups = [tuple(sheet_classes(model, s)) for s in range(len(model.sheets))]
+    if sorted(k for ks in groups for k in ks) != list(range(len(model.classes))) or \
+            len(groups) < workers(jobs, len(model.classes)):
+        return [(k,) for k in range(len(model.classes))]
+    return groups
+
+
+def _class_task(task: tuple) -> tuple[list[ClassRegion], float]:
+    """The regions of some classes, in a worker: (regions without their model, seconds)."""
+    m, depth, ks = task
     t0 = time.perf_counter()
     model = pose_model(m)
-    region = class_region(model, m.spaces()[model.space].grid(depth), k)
-    region.model = None
-    return region, time.perf_counter() - t0
+    regions = class_regions(model, m.spaces()[model.space].grid(depth), ks)
+    for region in regions:
+        region.model = None
+    return regions, time.perf_counter() - t0
+
+
+def class_regions(model: PoseAspectModel, grid, ks) -> list[ClassRegion]:
+    """`class_region` of each class of `ks`; paved together (`engine.pave_many`: the same pavings)
+    when the model tests them at once (its optional `class_tests(ks)`, a `MultiTest` sharing the
+    classes' work: the boxes of one level are mostly open in all of them)."""
+    if len(ks) == 1 or not hasattr(model, "class_tests"):
+        return [class_region(model, grid, k) for k in ks]
+    return [_region(model, k, paving) for k, paving in zip(ks, pave_many(grid, model.class_tests(ks), len(ks)))]
 
 
 def class_region(model: PoseAspectModel, grid, k: int) -> ClassRegion:
     """The paving of class k with its black components and undetermined neighbour pairs."""
-    test = model.class_test(k)
-    paving = pave(grid, test)
+    return _region(model, k, pave(grid, model.class_test(k)))
+
+
+def _region(model: PoseAspectModel, k: int, paving: Paving) -> ClassRegion:
+    """Class k's region of its paving: its black components and undetermined neighbour pairs."""
     region = ClassRegion(model.space, k, paving, model)
     # two closed black cells of one class touching at a point are in one aspect: corner contact
     region.black_labels, _ = paving.inside.components(corners=True)

@@ -422,6 +422,11 @@ class PoseAspectModel(Protocol):
     def class_test(self, k: int) -> BoxTest:
         """1: every pose of the box is valid, non-singular and of class k; -1: none is."""
 
+    # Optional: the tests of several classes of one sheet at once, sharing their work (a
+    # `paving.engine.MultiTest`, column c that of `class_test(ks[c])`): their pavings are made
+    # together (`pose_aspects.class_regions`).
+    # def class_tests(self, ks: tuple[int, ...]) -> MultiTest: ...
+
     def valid_test(self, sheet: int | None = None) -> BoxTest:
         """1: every pose of the box is valid (joints in range, no serial singularity, within the
         constraints of `sheet`, or of some sheet when None); -1: none is."""

@@ -41,6 +41,9 @@ class Rpr3PoseAspects:
     def class_test(self, k: int):
         return boxtests.region_test(self.m, REGIONS[k])
 
+    def class_tests(self, ks):
+        return boxtests.region_tests(self.m, [REGIONS[k] for k in ks])
+
     def valid_test(self, sheet: int | None = None):
         return boxtests.region_test(self.m, boxtests.REACHABLE)
 

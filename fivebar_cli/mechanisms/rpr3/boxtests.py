@@ -235,17 +235,46 @@ def region_test(m, region: str):
     g = Geometry.of(m)
     if region == REACHABLE:
         return lambda lo, hi, ends=None: reach_status(g, lo, hi, ends)
-    if region not in (PLUS, MINUS):
-        raise KeyError(region)
-    want = 1 if region == PLUS else -1
+    want = _want(region)
 
     def test(lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
-        reach = reach_status(g, lo, hi, ends)
-        sign = np.zeros(len(lo), dtype=np.int8)
-        some = np.flatnonzero(reach != -1)
-        if len(some):
-            sign[some] = det_sign(g, lo[some], hi[some], ends and tuple(e.rows(some) for e in ends))
-        status = np.where((reach == 1) & (sign == want), 1, 0)
-        return np.where((reach == -1) | (sign == -want), -1, status).astype(np.int8)
+        return _status(*_reach_and_sign(g, lo, hi, ends), want)
 
     return test
+
+
+def region_tests(m, regions):
+    """The box tests of several regions PLUS / MINUS at once (a `paving.engine.MultiTest`: statuses
+    (n, len(regions)), column c that of `region_test(m, regions[c])`), sharing the reach test and
+    det J's sign: the pavings of both signs test the same boxes down to where they part."""
+    g = Geometry.of(m)
+    wants = [_want(region) for region in regions]
+
+    def test(lo: np.ndarray, hi: np.ndarray, open_=None, ends=None) -> np.ndarray:
+        reach, sign = _reach_and_sign(g, lo, hi, ends)
+        return np.column_stack([_status(reach, sign, want) for want in wants])
+
+    return test
+
+
+def _want(region: str) -> int:
+    """The sign of det J of a singularity-free region (KeyError for another region)."""
+    if region not in (PLUS, MINUS):
+        raise KeyError(region)
+    return 1 if region == PLUS else -1
+
+
+def _reach_and_sign(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends) -> tuple[np.ndarray, np.ndarray]:
+    """`reach_status` of boxes, and `det_sign` where some pose may be reachable (0 elsewhere)."""
+    reach = reach_status(g, lo, hi, ends)
+    sign = np.zeros(len(lo), dtype=np.int8)
+    some = np.flatnonzero(reach != -1)
+    if len(some):
+        sign[some] = det_sign(g, lo[some], hi[some], ends and tuple(e.rows(some) for e in ends))
+    return reach, sign
+
+
+def _status(reach: np.ndarray, sign: np.ndarray, want: int) -> np.ndarray:
+    """A singularity-free region's status from the boxes' reach and sign of det J."""
+    status = np.where((reach == 1) & (sign == want), 1, 0)
+    return np.where((reach == -1) | (sign == -want), -1, status).astype(np.int8)

@@ -27,6 +27,7 @@ from fivebar_cli.mechanisms.rrr3.jointspace import joint_axes
 from fivebar_cli.numerics import interval as iv
 from fivebar_cli.numerics.interval import Interval
 from fivebar_cli.numerics.platform import leg_enclosure, leg_groups, legs_apart
+from fivebar_cli.paving.engine import stacked
 
 OUTSIDE = -2  # a DKP solution certified in a working mode the model leaves out (`working_mode:` set)
 
@@ -61,6 +62,14 @@ class Rrr3PoseAspects:
         signs, want = self._signs(k), 1 if k % 2 == 0 else -1
         return self._constrained(lambda lo, hi, ends=None: boxtests.class_status(self.g, signs, want, lo, hi, ends),
                                  self._modes(k // 2))
+
+    def class_tests(self, ks):
+        """The tests of classes `ks` of one working mode at once (`boxtests.class_statuses`),
+        each as `class_test`; with constraints, each on its own."""
+        if self.m.constraints or len({k // 2 for k in ks}) > 1:
+            return stacked([self.class_test(k) for k in ks])
+        signs, wants = self._signs(ks[0]), [1 if k % 2 == 0 else -1 for k in ks]
+        return lambda lo, hi, open_=None, ends=None: boxtests.class_statuses(self.g, signs, wants, lo, hi, ends)
 
     def valid_test(self, sheet: int | None = None):
         return self._constrained(lambda lo, hi, ends=None: boxtests.valid_status(self.g, lo, hi, ends), self._modes(sheet))

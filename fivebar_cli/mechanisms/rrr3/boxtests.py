@@ -197,13 +197,22 @@ def class_status(g: Geometry, signs, want: int, lo: np.ndarray, hi: np.ndarray, 
     """1: every pose of each box is valid with det A of sign `want` in working mode `signs`;
     -1: no pose of the box is (invalid everywhere, or det A of the other sign); 0: cannot tell
     (`ends`: the boxes' ends as tables, `grid.AxisEnds`, when the caller has them)."""
+    return class_statuses(g, signs, (want,), lo, hi, ends)[:, 0]
+
+
+def class_statuses(g: Geometry, signs, wants, lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
+    """`class_status` of each sign in `wants` (statuses (n, len(wants))), sharing the validity
+    test and det A's sign."""
     valid = valid_status(g, lo, hi, ends)
     sign = np.zeros(len(lo), dtype=np.int8)
     some = np.flatnonzero(valid != -1)
     if len(some):
         sign[some] = det_sign(g, signs, lo[some], hi[some], valid[some] == 1, ends and tuple(e.rows(some) for e in ends))
-    status = np.where((valid == 1) & (sign == want), 1, 0)
-    return np.where((valid == -1) | (sign == -want), -1, status).astype(np.int8)
+    out = np.empty((len(lo), len(wants)), np.int8)
+    for c, want in enumerate(wants):
+        status = np.where((valid == 1) & (sign == want), 1, 0)
+        out[:, c] = np.where((valid == -1) | (sign == -want), -1, status)
+    return out
 
 
 # ---------------------------------------------------------------- floating point (reports, IKP, figures)
