@@ -96,6 +96,22 @@ def components(cells: CellSet, mask: np.ndarray | None = None) -> tuple[np.ndarr
     return out, count
 
 
+def components_with_black(cells: CellSet) -> tuple[tuple[np.ndarray, int], tuple[np.ndarray, int]]:
+    """(`components(cells)`, `components` of its black cells `cells.select(cells.black)`), from one
+    neighbour search (`Tree.components_within`): the same labels as each alone."""
+    if len(cells.level) == 0:
+        return (np.zeros(0, np.int64), 0), (np.zeros(0, np.int64), 0)
+    order = finest_order(cells.code, cells.level, cells.grid.dim, cells.grid.depth)
+    tree = Tree(cells.grid, cells.level[order], cells.code[order], canonical=True)
+    black = cells.black[order]
+    (labels, count), (black_labels, black_count) = tree.components_within(black, corners=True)
+    out = np.empty_like(labels)
+    out[order] = labels
+    place = np.empty(len(order), np.int64)
+    place[order] = np.cumsum(black) - 1  # each cell's index among the black cells, in the tree's order
+    return (out, count), (black_labels[place[cells.black]], black_count)
+
+
 class ModeSet:
     """One mode set S of one space: its cells, anchors and outer components.
 
@@ -359,11 +375,10 @@ class ModeSet:
         if deeper is None:
             return 0, 1
         black = deeper.select(deeper.black)
-        labels, count = components(black)
+        (parts, n_parts), (labels, count) = components_with_black(deeper)
         joined = np.isin(np.arange(count), labels[_position(black, old.level, old.code)])
         for island in np.flatnonzero(~joined):
             joined[island] = self._joins(deeper, black, labels, joined, island, budget)
-        parts, n_parts = components(deeper)
         anchored = np.zeros(n_parts, bool)
         anchored[parts[_position(deeper, old.level, old.code)]] = True
         island_cells = np.flatnonzero(deeper.black)[~joined[labels]]

@@ -329,6 +329,24 @@ class Tree:
         pairs = self._pairs(None, corners, dtype=index_type(len(self)), index=index)
         return root_labels(union_find_blocks(len(self), pairs))
 
+    def components_within(self, mask: np.ndarray, corners: bool = False) -> tuple[tuple[np.ndarray, int], tuple[np.ndarray, int]]:
+        """`components(corners)` of the leaves, and those of the leaves `mask` alone (of the tree
+        `subset(mask)`: labels in its order), from one neighbour search: a leaf's neighbour in a
+        direction is the leaf holding the cell across, the same leaf in either tree (leaves are
+        disjoint), so the subset's pairs are the pairs with both ends in it; the union-find's roots
+        (each component's smallest index) do not depend on the pairs' order."""
+        count = int(np.count_nonzero(mask))
+        rank = (np.cumsum(mask) - 1).astype(index_type(count))  # a masked leaf's index in the subset
+        parent = np.arange(len(self), dtype=index_type(len(self)))
+        within = np.arange(count, dtype=index_type(count))
+        fresh = True  # (as `union_find_blocks`: every node its own root before the first block)
+        for i, j in self._pairs(None, corners, dtype=parent.dtype):
+            keep = np.flatnonzero(mask[i] & mask[j])
+            _join(within, rank[i[keep]], rank[j[keep]], fresh)
+            _join(parent, i, j, fresh)
+            fresh = False
+        return root_labels(parent), root_labels(within)
+
     def split_components(self) -> list["Tree"]:
         """The face-connected components as trees, in Morton order of their first leaf."""
         labels, count = self.components()
