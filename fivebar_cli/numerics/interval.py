@@ -60,11 +60,12 @@ def _up(x):
 
 
 def _may_reach(x, end: float) -> bool:
-    """False when x is an array whose values are all finite on the side of `end` (+inf or -inf),
-    so that clipping it to [-MAX, MAX] on that side would return its very values: on a large
-    array a reduction costs a seventh of np.minimum / np.maximum with a scalar (numpy's slow loop
-    for a scalar operand); a small one is clipped (True). NaN makes the reduction NaN: True."""
-    if type(x) is not np.ndarray or x.size < _CLIP_CHECK:
+    """False when x is a float64 array whose values are all finite on the side of `end` (+inf or
+    -inf), so that clipping it to [-MAX, MAX] on that side would return its very values: on a
+    large array a reduction costs a seventh of np.minimum / np.maximum with a scalar (numpy's slow
+    loop for a scalar operand); a small one, or another type (which the clip makes float64), is
+    clipped (True). NaN makes the reduction NaN: True."""
+    if type(x) is not np.ndarray or x.size < _CLIP_CHECK or x.dtype != np.float64:
         return True
     return not (x.max() < end) if end > 0 else not (x.min() > end)
 
