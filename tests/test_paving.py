@@ -349,6 +349,29 @@ def test_pave_many_equals_one_paving_per_test(discs, depth):
         assert _same_paving(one, many)
 
 
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.floats(-0.8, 0.8), st.floats(-0.8, 0.8), st.floats(0.05, 0.9)), min_size=1, max_size=4),
+       st.integers(2, 5), st.integers(0, 3), st.integers(0, 2**32 - 1))
+def test_deepen_many_equals_one_deepening_per_test(discs, depth, extra, seed):
+    """Deepening several lists of cells (overlapping, empty, one out of Morton order) in one
+    descent gives each list its own `deepen`: the same trees, cells, order and evaluations."""
+    from fivebar_cli.paving.engine import deepen, deepen_many, stacked
+
+    grid = Grid(((-1.0, 1.0), (-1.0, 1.0)), depth, (False, False))
+    tests = [ball_test((x, y), r) for x, y, r in discs]
+    rng = np.random.default_rng(seed)
+    cells = []
+    for k in range(len(tests)):
+        und = pave(grid, tests[k]).undetermined
+        cells.append(und[rng.random(len(und)) < 0.7] if k % 2 else und)
+    cases = [cells]
+    if len(cells[0]) > 1:
+        cases.append([cells[0][::-1]] + cells[1:])  # out of order: one list at a time
+    for case in cases:
+        many = deepen_many(grid, stacked(tests), case, extra)
+        assert [_same_paving(deepen(grid, t, c, extra), p) for t, c, p in zip(tests, case, many)] == [True] * len(tests)
+
+
 def test_pave_many_of_five_bar_modes_equals_the_single_mode_pavings():
     """The five-bar's multi-tests (exact and interval lengths, with and without constraints) pave
     every mode as its own test does."""

@@ -231,13 +231,15 @@ class ModeSet:
 
     # -- refinement
 
-    def _deeper(self, cells: CellSet, extra: int, budget: Budget) -> CellSet | None:
+    def _deeper(self, cells: CellSet, extra: int, budget: Budget, local: Paving | None = None) -> CellSet | None:
         """`cells` with their undetermined cells paved `extra` levels deeper: new black cells join
         the black ones, new undetermined cells that may meet S replace the old ones. None when the
-        budget cannot pay for it."""
+        budget cannot pay for it. `local`: that paving (`deepen` of the undetermined cells), when
+        made beforehand (with other sets', `engine.deepen_many`)."""
         if not budget.allows(int(np.count_nonzero(~cells.black)), extra, cells.grid.dim):
             return None
-        local = deepen(cells.grid, self.region.test, cells.undetermined_coords(), extra)
+        if local is None:
+            local = deepen(cells.grid, self.region.test, cells.undetermined_coords(), extra)
         budget.take(local.evaluations)
         deeper = local.grid
         new_black = local.inside
@@ -360,7 +362,8 @@ class ModeSet:
                 return True
         return False
 
-    def hidden_parts(self, o: int, extra: int, budget: Budget, limit: int) -> tuple[int, int]:
+    def hidden_parts(self, o: int, extra: int, budget: Budget, limit: int,
+                     local: Paving | None = None) -> tuple[int, int]:
         """What outer component `o` hides below the paving's depth: its undetermined cells are
         paved `extra` levels deeper and the new black cells that touch no black cell joined to
         the paving's leaves (islands) are joined to them by local refinement (growing windows
@@ -368,10 +371,11 @@ class ModeSet:
         deeper outer set holds none of the paving's leaves are components of S of their own that
         the paving's black cells missed (found, proven); an island left in a part with the
         paving's leaves may be one (open), as may a part without black cells that does not vanish
-        under refinement."""
+        under refinement. `local`: the deepening of `outer_cells(o)`'s undetermined cells, when
+        made beforehand (`_deeper`)."""
         cells = self.outer_cells(o)
         old = cells.select(cells.leaf >= 0)
-        deeper = self._deeper(cells, extra, budget)
+        deeper = self._deeper(cells, extra, budget, local)
         if deeper is None:
             return 0, 1
         black = deeper.select(deeper.black)

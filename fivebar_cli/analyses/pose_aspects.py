@@ -41,7 +41,7 @@ from fivebar_cli.analyses.jobs import run_tasks, workers
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass, article
-from fivebar_cli.paving.engine import Paving, pave, pave_many
+from fivebar_cli.paving.engine import Paving, deepen_many, pave, pave_many
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree
 
@@ -164,13 +164,14 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
     limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // space.dim)
     found = opened = 0  # aspects the probe proved, and parts it left that may hide one
     hiding = set()  # (set, outer component) where it found either
-    for k, s in enumerate(sets):
-        for o in range(s.n_outer):
-            if len(s.anchors_in(o)) and depth + PROBE_LEVELS <= limit:
-                black, still = s.hidden_parts(o, PROBE_LEVELS, probe, limit)
-                if black or still:
-                    found, opened = found + black, opened + still
-                    hiding.add((k, o))
+    probed = [(k, o) for k, s in enumerate(sets) for o in range(s.n_outer)
+              if len(s.anchors_in(o)) and depth + PROBE_LEVELS <= limit]
+    pavings = _probe_pavings(model, sets, probed)
+    for k, o in probed:
+        black, still = sets[k].hidden_parts(o, PROBE_LEVELS, probe, limit, pavings.pop((k, o), None))
+        if black or still:
+            found, opened = found + black, opened + still
+            hiding.add((k, o))
     timings["probe"] = time.perf_counter() - t0
 
     def certified(g: int) -> bool:
@@ -182,6 +183,24 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
                               count.upper + found + opened, count.undecided + len(hiding),
                               count.empty_undecided + found + opened, count.merged,
                               count.budget.spent + probe.spent, timings)
+
+
+def _probe_pavings(model: PoseAspectModel, sets: list[ModeSet], probed: list[tuple[int, int]]) -> dict:
+    """The probe's deeper pavings of the outer components `probed` ((set, outer) pairs), those of
+    one sheet made together when the model tests its classes at once (`engine.deepen_many` with
+    `class_tests`: the two signs' bands overlap, a shared box is tested once): {(set, outer):
+    the paving `hidden_parts` would make}; the others are left to `hidden_parts`."""
+    if not hasattr(model, "class_tests"):
+        return {}
+    out = {}
+    for sheet in range(len(model.sheets)):
+        mine = [(k, o) for k, o in probed if sheet_of(model, sets[k].region.index) == sheet]
+        if len(mine) < 2:
+            continue
+        cells = [sets[k].outer_cells(o).undetermined_coords() for k, o in mine]
+        tests = model.class_tests(tuple(sets[k].region.index for k, _ in mine))
+        out.update(zip(mine, deepen_many(sets[mine[0][0]].grid, tests, cells, PROBE_LEVELS)))
+    return out
 
 
 def _class_groups(model: PoseAspectModel, jobs: int | None) -> list[tuple[int, ...]]:

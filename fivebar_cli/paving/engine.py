@@ -233,6 +233,36 @@ def deepen(grid: Grid, test: BoxTest, cells: np.ndarray, extra: int) -> Paving:
     return _descend(deeper, test, grid.depth + 1, children(cells), [], [], [0] * (grid.depth + 1), None)
 
 
+def deepen_many(grid: Grid, tests: MultiTest, cells: list[np.ndarray], extra: int) -> list[Paving]:
+    """`deepen(grid, test c, cells[c], extra)` for each c, from one descent over the cells of all
+    (`tests`: a `MultiTest` of the tests, a column each, as `pave_many`'s): a box is tested once
+    where several lists hold it (the deeper band of classes of one sheet). Each list in Morton
+    order (a paving's undetermined cells, or a subset of them in order), so that its own cells,
+    children of the union in Morton order, come in the order `deepen` gives them: the same
+    pavings. Lists out of that order are deepened one at a time."""
+    codes = [interleave(c, grid.depth) if len(c) else np.zeros(0, np.int64) for c in cells]
+    if any(np.any(c[1:] <= c[:-1]) for c in codes):
+        return [deepen(grid, _column(tests, c, len(cells)), cell, extra) for c, cell in enumerate(cells)]
+    deeper = grid.with_depth(grid.depth + extra)
+    union, first = np.unique(np.concatenate(codes), return_index=True)
+    if extra <= 0 or len(union) == 0:
+        return [deepen(grid, None, cell, extra) for cell in cells]
+    member = np.column_stack([np.isin(union, c, assume_unique=True) for c in codes])
+    coords = np.concatenate(cells)[first]
+    per_level = [[0] * (grid.depth + 1) for _ in cells]
+    open_ = np.repeat(member, 1 << grid.dim, axis=0)
+    return _descend_many(deeper, tests, len(cells), grid.depth + 1, children(coords), per_level=per_level, open_=open_)
+
+
+def _column(tests: MultiTest, c: int, count: int) -> BoxTest:
+    """Column c of a multi-test as a box test (given the boxes' ends)."""
+    def test(lo, hi, ends=None):
+        open_ = np.zeros((len(lo), count), bool)
+        open_[:, c] = True
+        return tests(lo, hi, open_, ends)[:, c]
+    return test
+
+
 def undetermined_cells(inside: Tree, outside: Tree, band: Tree | None = None) -> np.ndarray:
     """Depth-D coordinates of the cells certified neither inside nor outside (nor in the band)."""
     grid = inside.grid
@@ -262,13 +292,15 @@ def _descend(grid, test, level, coords, inside_parts, outside_parts, per_level, 
     return paving
 
 
-def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None, on_level=None) -> list[Paving]:
-    """Breadth-first descent for `count` tests at once: `open_[:, c]`, the boxes still open for test c.
-    The boxes' Morton codes follow them down (a child's is its parent's and its child index)."""
+def _descend_many(grid, tests, count, level, coords, parts=None, per_level=None, on_level=None, open_=None) -> list[Paving]:
+    """Breadth-first descent for `count` tests at once: `open_[:, c]`, the boxes still open for test c
+    (given: the first boxes' columns, else all open). The boxes' Morton codes follow them down (a
+    child's is its parent's and its child index)."""
     parts = parts or [{INSIDE: [], OUTSIDE: [], BAND: []} for _ in range(count)]
     per_level = per_level or [[] for _ in range(count)]
     undetermined = [np.zeros((0, grid.dim), dtype=np.int64)] * count
-    open_ = np.ones((len(coords), count), dtype=bool)
+    if open_ is None:
+        open_ = np.ones((len(coords), count), dtype=bool)
     codes = interleave(coords, level)
     while True:
         if on_level is not None:
