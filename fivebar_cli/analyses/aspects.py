@@ -35,7 +35,7 @@ from fivebar_cli.analyses.aspect_texts import aspect_texts, signs_text
 from fivebar_cli.analyses.crossings import Band, Crossing, find_crossings, serial_bands
 from fivebar_cli.analyses.inscribed import Disc, Square, largest_shapes
 from fivebar_cli.analyses.jobs import Texts, Workers
-from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet
+from fivebar_cli.analyses.pieces import SPLIT_EXTRA, SPLIT_STEP, Budget, ModeSet
 from fivebar_cli.analyses.pieces import undetermined_pairs as _undetermined_pairs
 from fivebar_cli.errors import FivebarError, param
 from fivebar_cli.mechanisms.base import AspectModel, Mechanism, plural
@@ -364,7 +364,11 @@ class _Count:
     outer component in that space.
     """
 
-    def __init__(self, model: AspectModel, sets: list[ModeSet], budget: Budget, depth: int, linked: dict | None = None):
+    def __init__(self, model: AspectModel, sets: list[ModeSet], budget: Budget, depth: int, linked: dict | None = None,
+                 deepen_many=None):
+        """`deepen_many(pairs, extra)`: when given, the deeper pavings of outer components (set,
+        outer) that `ModeSet._deeper` would make, made at once (sharing their box tests); the
+        first round of the empty outer components' `vanish` is taken from it."""
         self.model, self.sets, self.budget = model, sets, budget
         self.offset = np.cumsum([0] + [s.n_anchors for s in sets])
         total = int(self.offset[-1])
@@ -376,6 +380,7 @@ class _Count:
         self.undecided = self.empty_undecided = 0
         limit = min(depth + SPLIT_EXTRA, MAX_INDEX_BITS // max((s.grid.dim for s in sets), default=2))
         self.split_ok = {}
+        ready = self._first_rounds(deepen_many, limit)
         for k, s in enumerate(sets):
             local_roots = self.roots[self.offset[k]:self.offset[k + 1]]
             for o in range(s.n_outer):
@@ -385,11 +390,25 @@ class _Count:
                     self.split_ok[(k, o)] = (not self.strangers(k, o, held)
                                              and self._separate(s, o, anchors, local_roots, limit))
                     self.undecided += not self.split_ok[(k, o)]
-                elif len(held) == 0 and (k, o) not in self.partner_of and not s.vanish(o, budget, limit):
+                elif len(held) == 0 and (k, o) not in self.partner_of and not s.vanish(o, budget, limit,
+                                                                                      ready.pop((k, o), None)):
                     self.undecided += 1
                     self.empty_undecided += 1
         self.merged = total - len(unique(self.roots)) if total else 0
         self.lower, self.upper = self._bounds()
+
+    def _first_rounds(self, deepen_many, limit: int) -> dict:
+        """The first round of `vanish` of every outer component that will be asked to vanish (no
+        anchor, no partner), from `deepen_many` at once, when the budget pays for all of them now
+        and the depth limit allows a round ({} otherwise: each vanish paves its own). The budget
+        is still taken round by round as `vanish` goes (`ModeSet._deeper`): the same answers."""
+        pairs = [(k, o) for k, s in enumerate(self.sets) for o in range(s.n_outer)
+                 if not len(s.anchors_in(o)) and (k, o) not in self.partner_of]
+        if deepen_many is None or not pairs or any(self.sets[k].grid.depth + SPLIT_STEP > limit for k, _ in pairs):
+            return {}
+        cells = sum(int(np.count_nonzero(~self.sets[k].outer_cells(o).black)) for k, o in pairs)
+        dim = max(self.sets[k].grid.dim for k, _ in pairs)
+        return deepen_many(pairs, SPLIT_STEP) if self.budget.allows(cells, SPLIT_STEP, dim) else {}
 
     def strangers(self, k: int, o: int, held) -> set:
         """Partner groups in outer component o of set k that hold no anchor there. Separating the

@@ -420,16 +420,18 @@ class ModeSet:
                 return True
         return False
 
-    def vanish(self, o: int, budget: Budget, limit: int) -> bool:
+    def vanish(self, o: int, budget: Budget, limit: int, first: Paving | None = None) -> bool:
         """Whether outer component `o`, which holds no black cell, is proved to miss S: paved
         deeper until no cell of it may meet S (True), or a black cell shows a component of S in it,
-        or the budget or the depth limit ends the search (False)."""
-        return self.vanishes(self.outer_cells(o), budget, limit)
+        or the budget or the depth limit ends the search (False). `first`: the first round's
+        paving, when made beforehand (`_deeper`)."""
+        return self.vanishes(self.outer_cells(o), budget, limit, first)
 
-    def vanishes(self, cells: CellSet, budget: Budget, limit: int) -> bool:
+    def vanishes(self, cells: CellSet, budget: Budget, limit: int, first: Paving | None = None) -> bool:
         """`vanish` for any cells without black ones (a part of the outer set, e.g. found deeper)."""
         while budget.left > 0 and cells.grid.depth + SPLIT_STEP <= limit:
-            cells = self._deeper(cells, SPLIT_STEP, budget)
+            cells = self._deeper(cells, SPLIT_STEP, budget, first)
+            first = None
             if cells is None or cells.black.any():
                 return False
             if len(cells.level) == 0:

@@ -157,7 +157,7 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
         timings["paving"] += seconds
     t0 = time.perf_counter()
     sets = [ModeSet(region, ()) for region in regions]
-    count = _Count(model, sets, Budget(budget), depth)
+    count = _Count(model, sets, Budget(budget), depth, deepen_many=lambda pairs, extra: _deeper_pavings(model, sets, pairs, extra))
     timings["certificate"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     probe = Budget(1 << 62)  # part of the analysis at this depth, not of the refinement budget
@@ -166,7 +166,7 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
     hiding = set()  # (set, outer component) where it found either
     probed = [(k, o) for k, s in enumerate(sets) for o in range(s.n_outer)
               if len(s.anchors_in(o)) and depth + PROBE_LEVELS <= limit]
-    pavings = _probe_pavings(model, sets, probed)
+    pavings = _deeper_pavings(model, sets, probed, PROBE_LEVELS)
     for k, o in probed:
         black, still = sets[k].hidden_parts(o, PROBE_LEVELS, probe, limit, pavings.pop((k, o), None))
         if black or still:
@@ -185,21 +185,22 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
                               count.budget.spent + probe.spent, timings)
 
 
-def _probe_pavings(model: PoseAspectModel, sets: list[ModeSet], probed: list[tuple[int, int]]) -> dict:
-    """The probe's deeper pavings of the outer components `probed` ((set, outer) pairs), those of
-    one sheet made together when the model tests its classes at once (`engine.deepen_many` with
-    `class_tests`: the two signs' bands overlap, a shared box is tested once): {(set, outer):
-    the paving `hidden_parts` would make}; the others are left to `hidden_parts`."""
+def _deeper_pavings(model: PoseAspectModel, sets: list[ModeSet], pairs: list[tuple[int, int]], extra: int) -> dict:
+    """The undetermined cells of the outer components `pairs` ((set, outer)) paved `extra` levels
+    deeper, those of one sheet together when the model tests its classes at once
+    (`engine.deepen_many` with `class_tests`: the classes' bands overlap, a shared box is tested
+    once): {(set, outer): the paving `ModeSet._deeper` would make} (the probe's, the first round
+    of an empty component's `vanish`); the others are left to `_deeper`."""
     if not hasattr(model, "class_tests"):
         return {}
     out = {}
     for sheet in range(len(model.sheets)):
-        mine = [(k, o) for k, o in probed if sheet_of(model, sets[k].region.index) == sheet]
+        mine = [(k, o) for k, o in pairs if sheet_of(model, sets[k].region.index) == sheet]
         if len(mine) < 2:
             continue
         cells = [sets[k].outer_cells(o).undetermined_coords() for k, o in mine]
         tests = model.class_tests(tuple(sets[k].region.index for k, _ in mine))
-        out.update(zip(mine, deepen_many(sets[mine[0][0]].grid, tests, cells, PROBE_LEVELS)))
+        out.update(zip(mine, deepen_many(sets[mine[0][0]].grid, tests, cells, extra)))
     return out
 
 
