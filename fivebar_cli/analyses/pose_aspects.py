@@ -4,8 +4,8 @@ every kind whose model declares a `PoseAspectModel` (mechanisms/base.py): the 3-
 
 1. Regions: the space is paved once per sign class (the class's box test: black = valid and
    non-singular in that class, so singularities stay undetermined and separate the aspects);
-   the classes of one sheet are paved together when the model tests them at once (the same
-   pavings, their shared work done once).
+   the classes (all of them on one worker, a sheet's on several) are paved together when the
+   model tests them at once (the same pavings, their shared work done once).
 2. Mode sets: each class's set S has an inner approximation (its black cells) and an outer one
    (adding every undetermined cell: the class test could not exclude it); cells touching at a
    corner share a point, so components are taken with corner contact, wrapping periodic axes
@@ -185,29 +185,35 @@ def analyse_pose_aspects(m: Mechanism, depth: int, advance=lambda n=1: None,
                               count.budget.spent + probe.spent, timings)
 
 
+def _tests_at_once(model: PoseAspectModel) -> bool:
+    """Whether the model has the optional `class_tests` of `PoseAspectModel` (a member the
+    protocol leaves out: a third-party kind's model may not have it)."""
+    return hasattr(model, "class_tests")
+
+
 def _deeper_pavings(model: PoseAspectModel, sets: list[ModeSet], pairs: list[tuple[int, int]], extra: int) -> dict:
     """The undetermined cells of the outer components `pairs` ((set, outer)) paved `extra` levels
-    deeper, those of one sheet together when the model tests its classes at once
-    (`engine.deepen_many` with `class_tests`: the classes' bands overlap, a shared box is tested
-    once): {(set, outer): the paving `ModeSet._deeper` would make} (the probe's, the first round
-    of an empty component's `vanish`); the others are left to `_deeper`."""
-    if not hasattr(model, "class_tests"):
+    deeper, all together when the model tests its classes at once (`engine.deepen_many` with
+    `class_tests`: the classes' bands overlap, a shared box is tested once, and the tests share
+    work across classes): {(set, outer): the paving `ModeSet._deeper` would make} (the probe's,
+    the first round of an empty component's `vanish`); without `class_tests`, left to `_deeper`."""
+    if not _tests_at_once(model):
         return {}
-    out = {}
-    for sheet in range(len(model.sheets)):
-        mine = [(k, o) for k, o in pairs if sheet_of(model, sets[k].region.index) == sheet]
-        if len(mine) < 2:
-            continue
-        cells = [sets[k].outer_cells(o).undetermined_coords() for k, o in mine]
-        tests = model.class_tests(tuple(sets[k].region.index for k, _ in mine))
-        out.update(zip(mine, deepen_many(sets[mine[0][0]].grid, tests, cells, extra)))
-    return out
+    if len(pairs) < 2:
+        return {}
+    cells = [sets[k].outer_cells(o).undetermined_coords() for k, o in pairs]
+    tests = model.class_tests(tuple(sets[k].region.index for k, _ in pairs))
+    return dict(zip(pairs, deepen_many(sets[pairs[0][0]].grid, tests, cells, extra)))
 
 
 def _class_groups(model: PoseAspectModel, jobs: int | None) -> list[tuple[int, ...]]:
-    """The class tasks: the classes of each sheet together (their pavings share their tests' work,
-    `class_regions`) when that leaves a task for every worker, else one class a task."""
+    """The class tasks: on one worker, every class in one task when the model tests them at once
+    (their pavings share their tests' work, `class_regions`: a 3-RRR's validity test is every
+    working mode's); else the classes of each sheet together when that leaves a task for every
+    worker, else one class a task."""
     groups = [tuple(sheet_classes(model, s)) for s in range(len(model.sheets))]
+    if workers(jobs, len(model.classes)) == 1 and _tests_at_once(model):
+        return [tuple(range(len(model.classes)))]
     if sorted(k for ks in groups for k in ks) != list(range(len(model.classes))) or \
             len(groups) < workers(jobs, len(model.classes)):
         return [(k,) for k in range(len(model.classes))]
@@ -229,7 +235,7 @@ def class_regions(model: PoseAspectModel, grid, ks) -> list[ClassRegion]:
     """`class_region` of each class of `ks`; paved together (`engine.pave_many`: the same pavings)
     when the model tests them at once (its optional `class_tests(ks)`, a `MultiTest` sharing the
     classes' work: the boxes of one level are mostly open in all of them)."""
-    if len(ks) == 1 or not hasattr(model, "class_tests"):
+    if len(ks) == 1 or not _tests_at_once(model):
         return [class_region(model, grid, k) for k in ks]
     return [_region(model, k, paving) for k, paving in zip(ks, pave_many(grid, model.class_tests(ks), len(ks)))]
 

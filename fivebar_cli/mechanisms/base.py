@@ -422,9 +422,9 @@ class PoseAspectModel(Protocol):
     def class_test(self, k: int) -> BoxTest:
         """1: every pose of the box is valid, non-singular and of class k; -1: none is."""
 
-    # Optional: the tests of several classes of one sheet at once, sharing their work (a
+    # Optional: the tests of several classes at once (of any sheets), sharing their work (a
     # `paving.engine.MultiTest`, column c that of `class_test(ks[c])`): their pavings are made
-    # together (`pose_aspects.class_regions`).
+    # together (`pose_aspects.class_regions`), as are their deeper pavings (`_deeper_pavings`).
     # def class_tests(self, ks: tuple[int, ...]) -> MultiTest: ...
 
     def valid_test(self, sheet: int | None = None) -> BoxTest:

@@ -64,12 +64,13 @@ class Rrr3PoseAspects:
                                  self._modes(k // 2))
 
     def class_tests(self, ks):
-        """The tests of classes `ks` of one working mode at once (`boxtests.class_statuses`),
-        each as `class_test`; with constraints, each on its own."""
-        if self.m.constraints or len({k // 2 for k in ks}) > 1:
+        """The tests of classes `ks` at once (`boxtests.class_statuses`: the validity test shared
+        by all, det A by the classes of one working mode), each as `class_test`; with
+        constraints, each on its own."""
+        if self.m.constraints:
             return stacked([self.class_test(k) for k in ks])
-        signs, wants = self._signs(ks[0]), [1 if k % 2 == 0 else -1 for k in ks]
-        return lambda lo, hi, open_=None, ends=None: boxtests.class_statuses(self.g, signs, wants, lo, hi, ends)
+        signs, wants = [self._signs(k) for k in ks], [1 if k % 2 == 0 else -1 for k in ks]
+        return lambda lo, hi, open_=None, ends=None: boxtests.class_statuses(self.g, signs, wants, lo, hi, ends, open_)
 
     def valid_test(self, sheet: int | None = None):
         return self._constrained(lambda lo, hi, ends=None: boxtests.valid_status(self.g, lo, hi, ends), self._modes(sheet))

@@ -197,21 +197,27 @@ def class_status(g: Geometry, signs, want: int, lo: np.ndarray, hi: np.ndarray, 
     """1: every pose of each box is valid with det A of sign `want` in working mode `signs`;
     -1: no pose of the box is (invalid everywhere, or det A of the other sign); 0: cannot tell
     (`ends`: the boxes' ends as tables, `grid.AxisEnds`, when the caller has them)."""
-    return class_statuses(g, signs, (want,), lo, hi, ends)[:, 0]
+    return class_statuses(g, (tuple(signs),), (want,), lo, hi, ends)[:, 0]
 
 
-def class_statuses(g: Geometry, signs, wants, lo: np.ndarray, hi: np.ndarray, ends=None) -> np.ndarray:
-    """`class_status` of each sign in `wants` (statuses (n, len(wants))), sharing the validity
-    test and det A's sign."""
+def class_statuses(g: Geometry, signs, wants, lo: np.ndarray, hi: np.ndarray, ends=None,
+                   open_: np.ndarray | None = None) -> np.ndarray:
+    """`class_status` of working mode `signs[c]` and sign `wants[c]` for each column c (statuses
+    (n, len(wants))), sharing the validity test (of every working mode) and det A's sign (of one);
+    `open_` (n, len(wants)): where a column is read (`paving.engine.MultiTest`), so that a working
+    mode's det A is taken on the boxes open in its columns only (None: on every box)."""
     valid = valid_status(g, lo, hi, ends)
-    sign = np.zeros(len(lo), dtype=np.int8)
-    some = np.flatnonzero(valid != -1)
-    if len(some):
-        sign[some] = det_sign(g, signs, lo[some], hi[some], valid[some] == 1, ends and tuple(e.rows(some) for e in ends))
+    some = valid != -1
     out = np.empty((len(lo), len(wants)), np.int8)
-    for c, want in enumerate(wants):
-        status = np.where((valid == 1) & (sign == want), 1, 0)
-        out[:, c] = np.where((valid == -1) | (sign == -want), -1, status)
+    for mode in dict.fromkeys(signs):
+        columns = [c for c, s in enumerate(signs) if s == mode]
+        rows = np.flatnonzero(some if open_ is None else some & open_[:, columns].any(axis=1))
+        sign = np.zeros(len(lo), dtype=np.int8)
+        if len(rows):
+            sign[rows] = det_sign(g, mode, lo[rows], hi[rows], valid[rows] == 1, ends and tuple(e.rows(rows) for e in ends))
+        for c in columns:
+            status = np.where((valid == 1) & (sign == wants[c]), 1, 0)
+            out[:, c] = np.where((valid == -1) | (sign == -wants[c]), -1, status)
     return out
 
 
