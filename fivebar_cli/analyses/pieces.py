@@ -73,13 +73,18 @@ class CellSet:
     def tree(self, mask: np.ndarray | None = None) -> Tree:
         """The selected cells as a tree (their own leaves, sorted, not merged)."""
         level, code = (self.level, self.code) if mask is None else (self.level[mask], self.code[mask])
-        order = finest_order(code, level, self.grid.dim, self.grid.depth)
-        return Tree(self.grid, level[order], code[order], canonical=True)
+        return _sorted_tree(self.grid, level, code)[0]
 
     def undetermined_coords(self) -> np.ndarray:
         """Integer coordinates of the undetermined cells (all at the grid's depth)."""
         und = ~self.black
         return deinterleave(self.code[und], self.level[und], self.grid.dim)
+
+
+def _sorted_tree(grid, level: np.ndarray, code: np.ndarray) -> tuple[Tree, np.ndarray]:
+    """Cells as a tree (their own leaves, sorted, not merged) and the order that sorts them."""
+    order = finest_order(code, level, grid.dim, grid.depth)
+    return Tree(grid, level[order], code[order], canonical=True), order
 
 
 def components(cells: CellSet, mask: np.ndarray | None = None) -> tuple[np.ndarray, int]:
@@ -88,8 +93,7 @@ def components(cells: CellSet, mask: np.ndarray | None = None) -> tuple[np.ndarr
     code = cells.code if mask is None else cells.code[mask]
     if len(level) == 0:
         return np.zeros(0, np.int64), 0
-    order = finest_order(code, level, cells.grid.dim, cells.grid.depth)
-    tree = Tree(cells.grid, level[order], code[order], canonical=True)
+    tree, order = _sorted_tree(cells.grid, level, code)
     labels, count = tree.components(corners=True)
     out = np.empty_like(labels)
     out[order] = labels
@@ -101,8 +105,7 @@ def components_with_black(cells: CellSet) -> tuple[tuple[np.ndarray, int], tuple
     neighbour search (`Tree.components_within`): the same labels as each alone."""
     if len(cells.level) == 0:
         return (np.zeros(0, np.int64), 0), (np.zeros(0, np.int64), 0)
-    order = finest_order(cells.code, cells.level, cells.grid.dim, cells.grid.depth)
-    tree = Tree(cells.grid, cells.level[order], cells.code[order], canonical=True)
+    tree, order = _sorted_tree(cells.grid, cells.level, cells.code)
     black = cells.black[order]
     (labels, count), (black_labels, black_count) = tree.components_within(black, corners=True)
     out = np.empty_like(labels)

@@ -197,9 +197,7 @@ def _deeper_pavings(model: PoseAspectModel, sets: list[ModeSet], pairs: list[tup
     `class_tests`: the classes' bands overlap, a shared box is tested once, and the tests share
     work across classes): {(set, outer): the paving `ModeSet._deeper` would make} (the probe's,
     the first round of an empty component's `vanish`); without `class_tests`, left to `_deeper`."""
-    if not _tests_at_once(model):
-        return {}
-    if len(pairs) < 2:
+    if len(pairs) < 2 or not _tests_at_once(model):
         return {}
     cells = [sets[k].outer_cells(o).undetermined_coords() for k, o in pairs]
     tests = model.class_tests(tuple(sets[k].region.index for k, _ in pairs))
@@ -211,11 +209,11 @@ def _class_groups(model: PoseAspectModel, jobs: int | None) -> list[tuple[int, .
     (their pavings share their tests' work, `class_regions`: a 3-RRR's validity test is every
     working mode's); else the classes of each sheet together when that leaves a task for every
     worker, else one class a task."""
-    groups = [tuple(sheet_classes(model, s)) for s in range(len(model.sheets))]
-    if workers(jobs, len(model.classes)) == 1 and _tests_at_once(model):
+    processes = workers(jobs, len(model.classes))
+    if processes == 1 and _tests_at_once(model):
         return [tuple(range(len(model.classes)))]
-    if sorted(k for ks in groups for k in ks) != list(range(len(model.classes))) or \
-            len(groups) < workers(jobs, len(model.classes)):
+    groups = [tuple(sheet_classes(model, s)) for s in range(len(model.sheets))]
+    if sorted(k for ks in groups for k in ks) != list(range(len(model.classes))) or len(groups) < processes:
         return [(k,) for k in range(len(model.classes))]
     return groups
 

@@ -173,6 +173,10 @@ class Interval:
     def __getitem__(self, idx) -> Interval:
         return Interval(self.lo[idx], self.hi[idx])
 
+    def take(self, index: np.ndarray) -> Interval:
+        """The intervals at `index` along the last axis (np.take: each box's entry of a table)."""
+        return Interval._of(np.take(self.lo, index, axis=-1), np.take(self.hi, index, axis=-1))
+
     def __reduce__(self):
         return (Interval, (self.lo, self.hi))
 

@@ -69,7 +69,7 @@ class Platform:
             turn = (np.full(1, self.phi) - self.shift) * D2R
             return (turn, turn), np.zeros(len(lo), np.intp)
         phi = ends[2] if ends is not None and len(ends) == 3 else None
-        if phi is not None and phi.index is not None and len(phi.low) < len(phi.index):
+        if phi is not None and phi.shared:
             return ((phi.low - self.shift) * D2R, (phi.high - self.shift) * D2R), phi.index
         return ((lo[:, 2] - self.shift) * D2R, (hi[:, 2] - self.shift) * D2R), None
 

@@ -116,6 +116,12 @@ class AxisEnds:
         """The ends of boxes (lo, hi), shape (m, dim), one entry per box."""
         return tuple(cls(lo[:, k], hi[:, k]) for k in range(lo.shape[1]))
 
+    @property
+    def shared(self) -> bool:
+        """Whether the boxes share entries (a table shorter than the boxes): what depends on this
+        axis alone then costs less computed once per entry and gathered (`per_box`)."""
+        return self.index is not None and len(self.low) < len(self.index)
+
     def rows(self, rows: np.ndarray) -> "AxisEnds":
         """The ends of the boxes `rows` (indices) only: the same tables, the rows of the index
         (or of the per-box ends)."""

@@ -119,7 +119,7 @@ def _leg_passes(g: Geometry, x: Interval, y: Interval, phi_deg: Interval, index=
 
 def _gather(a: Interval, index) -> Interval:
     """Each box's interval from the entries `a` (last axis) of `index` (None: `a` has them)."""
-    return a if index is None else Interval._of(np.take(a.lo, index, axis=-1), np.take(a.hi, index, axis=-1))
+    return a if index is None else a.take(index)
 
 
 def _axes(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends) -> tuple[list[Interval], list]:
@@ -131,7 +131,7 @@ def _axes(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends) -> tuple[list[Inter
     lo, hi = g.poses(lo), g.poses(hi)
     axes, index = [Interval(lo[:, k], hi[:, k]) for k in range(3)], [None] * 3
     for k, e in enumerate(ends or ()):
-        if e.index is not None and len(e.low) < len(e.index):
+        if e.shared:
             axes[k], index[k] = Interval(e.low, e.high), e.index
     if fixed:
         axes[2], index[2] = Interval(np.full(1, g.phi), np.full(1, g.phi)), np.zeros(n, np.intp)
@@ -275,6 +275,6 @@ def _reach_and_sign(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends) -> tuple[
 
 
 def _status(reach: np.ndarray, sign: np.ndarray, want: int) -> np.ndarray:
-    """A singularity-free region's status from the boxes' reach and sign of det J."""
-    status = np.where((reach == 1) & (sign == want), 1, 0)
-    return np.where((reach == -1) | (sign == -want), -1, status).astype(np.int8)
+    """A singularity-free region's status from the boxes' reach and sign of det J (the two cases
+    exclude each other: `verdict`'s order does not matter)."""
+    return verdict((reach == 1) & (sign == want), (reach == -1) | (sign == -want))

@@ -140,7 +140,7 @@ def _rows(g: Geometry, signs, x, y, phi, first: int, stop: int, index=None):
     c, s = gr.cos_sin(t)
     qx, qy = c * radius, s * radius
     if index is not None:
-        qx, qy = (Interval._of(np.take(q.lo, index, axis=-1), np.take(q.hi, index, axis=-1)) for q in (qx, qy))
+        qx, qy = qx.take(index), qy.take(index)
     dx = x - base_x + qx
     dy = y - base_y + qy
     rho2 = gr.sqr(dx) + gr.sqr(dy)
@@ -158,7 +158,7 @@ def _orientations(g: Geometry, lo: np.ndarray, hi: np.ndarray, ends) -> tuple[In
     if lo.shape[1] == 2:
         return Interval(np.full(1, g.phi), np.full(1, g.phi)), None
     phi = ends[2] if ends is not None else None
-    if phi is not None and phi.index is not None and len(phi.low) < len(phi.index):
+    if phi is not None and phi.shared:
         return Interval(phi.low, phi.high), phi.index
     return Interval(lo[:, 2], hi[:, 2]), None
 
@@ -216,8 +216,7 @@ def class_statuses(g: Geometry, signs, wants, lo: np.ndarray, hi: np.ndarray, en
         if len(rows):
             sign[rows] = det_sign(g, mode, lo[rows], hi[rows], valid[rows] == 1, ends and tuple(e.rows(rows) for e in ends))
         for c in columns:
-            status = np.where((valid == 1) & (sign == wants[c]), 1, 0)
-            out[:, c] = np.where((valid == -1) | (sign == -wants[c]), -1, status)
+            out[:, c] = verdict((valid == 1) & (sign == wants[c]), (valid == -1) | (sign == -wants[c]))
     return out
 
 
