@@ -13,7 +13,7 @@ imports neither numpy's analyses nor click, matplotlib, shapely or dask.
 from fivebar_cli.version import __version__  # noqa: F401 - the package version
 
 __all__ = [
-    "load", "pave", "refine", "read_qt", "aspects", "locate", "path", "atlas", "atlas_plan", "view", "examples", "rpr3",
+    "load", "pave", "refine", "read_qt", "aspects", "locate", "path", "atlas", "atlas_plan", "view", "examples", "copy_examples", "rpr3",
     "tolerance", "kratio", "verify", "dkp", "compare", "Report",
     "Mechanism", "Paving", "Aspects", "Aspect", "Location", "Path", "Table", "Comparison", "FivebarError", "InputError",
 ]

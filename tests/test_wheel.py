@@ -14,7 +14,7 @@ import zipfile
 import pytest
 
 from fivebar_cli.cli import reproduce as reproduce_module
-from tests.cli_helpers import REPO, ok, run_cli
+from tests.cli_helpers import REPO, ok, one_line, run_cli, snapshot
 
 
 @pytest.fixture(scope="module")
@@ -96,3 +96,34 @@ def test_commands_take_an_examples_name_where_no_such_file_exists(tmp_path):
     shutil.copy(configs / "m2.yaml", tmp_path / "m1")  # a file named m1 here: it is the one read
     ok(run_cli("workspace", "m1", "--depth", "5", "-o", "local", "--no-plot", "-q", cwd=tmp_path))
     assert "M2" in (tmp_path / "local" / "workspace.qt").read_text().split("\n", 3)[1]
+
+
+def test_a_second_copy_never_replaces_an_edited_example(tmp_path):
+    """`fivebar examples --copy DIR` writes the shipped bytes; run again over an edited copy it
+    copies nothing (a file removed meanwhile stays removed), fails with one line naming the
+    edited file, and `--replace` then restores every example; `fb.copy_examples` is the same call."""
+    import fivebar_cli as fb
+
+    shipped = {f"{name}.yaml": path.read_bytes() for name, path in fb.examples().items()}
+    ok(run_cli("examples", "--copy", "mine", "-q", cwd=tmp_path))
+    assert snapshot(tmp_path / "mine") == shipped
+    (tmp_path / "mine" / "m1.yaml").write_text("name: mine\n")
+    (tmp_path / "mine" / "m2.yaml").unlink()
+    ok(run_cli("examples", "--copy", "elsewhere", "-q", cwd=tmp_path))  # (another folder: copied)
+    before = snapshot(tmp_path / "mine")
+    one_line(run_cli("examples", "--copy", "mine", cwd=tmp_path), 1, "mine/m1.yaml: not the shipped example's bytes",
+             "nothing copied; --replace replaces it")
+    assert snapshot(tmp_path / "mine") == before
+    (tmp_path / "mine" / "hard" / "thin-lens.yaml").write_text("name: mine too\n")
+    with pytest.raises(fb.FivebarError, match=r"hard/thin-lens\.yaml and 1 more: .* `replace=True` replaces them"):
+        fb.copy_examples(tmp_path / "mine")
+    assert snapshot(tmp_path / "mine") == before | {"hard/thin-lens.yaml": b"name: mine too\n"}
+    one_line(run_cli("examples", "--replace", cwd=tmp_path), 2, "--replace goes with --copy DIR")
+    assert [p.relative_to(tmp_path / "mine").as_posix() for p in fb.copy_examples(tmp_path / "mine", replace=True)] \
+        == list(shipped)
+    assert snapshot(tmp_path / "mine") == shipped
+    (tmp_path / "mine" / "rpr2.yaml").unlink()
+    os.symlink(tmp_path / "elsewhere" / "rpr2.yaml", tmp_path / "mine" / "rpr2.yaml")  # (refused before any write)
+    (tmp_path / "mine" / "m1.yaml").write_text("name: mine\n")
+    one_line(run_cli("examples", "--copy", "mine", "--replace", cwd=tmp_path), 1, "rpr2.yaml: is a symbolic link")
+    assert (tmp_path / "mine" / "m1.yaml").read_text() == "name: mine\n"

@@ -24,6 +24,38 @@ def examples() -> dict[str, Path]:
     return {p.relative_to(root).with_suffix("").as_posix(): p for p in sorted(root.rglob("*.yaml"))}
 
 
+def copy_examples(folder, *, replace: bool = False) -> list[Path]:
+    """Copy every shipped example into `folder` as `<name>.yaml` (`rpr3-verify/...` in its
+    subfolder), byte for byte, to edit them or to run `reproduce` on them; the paths written.
+
+    A file already there with other bytes is an edited copy: it is not replaced unless `replace`,
+    and then nothing is copied at all (OutputError naming it), so that a second copy into the same
+    folder never loses an edit. Files with the shipped bytes are written again, as new ones.
+
+    Examples
+    --------
+    >>> import tempfile, fivebar_cli as fb
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     written = fb.copy_examples(folder)
+    ...     (Path(folder) / "m1.yaml").read_bytes() == fb.examples()["m1"].read_bytes()
+    True
+    """
+    from fivebar_cli.errors import OutputError, Text
+    from fivebar_cli.io.files import check_writable_dir, refuse_special, write_text
+
+    folder = check_writable_dir(folder)
+    shipped = {folder / f"{name}.yaml": path.read_text(encoding="utf-8") for name, path in examples().items()}
+    for target in shipped:
+        refuse_special(target)  # (a link, a folder, a FIFO in the way: refused before anything is written)
+    edited = [target for target, text in shipped.items() if target.exists() and target.read_bytes() != text.encode()]
+    if edited and not replace:
+        which, what, them = (f"{edited[0]}", "the shipped example's bytes (an edited copy?)", "it") \
+            if len(edited) == 1 else (f"{edited[0]} and {len(edited) - 1} more", "the shipped examples' bytes "
+                                      "(edited copies?)", "them")
+        raise OutputError(Text(f"{which}: not {what}: nothing copied; ", param("replace", True), f" replaces {them}"))
+    return [write_text(target, text) for target, text in shipped.items()]
+
+
 def examples_folder() -> Path:
     """The folder of the shipped examples (the repository's configs/, as package data)."""
     return Path(__file__).resolve().parent.parent / "examples"

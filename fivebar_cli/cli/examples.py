@@ -13,29 +13,32 @@ from fivebar_cli.cli.options import option_errors, report, wrote
 @click.option("--copy", "copy_to", type=click.Path(file_okay=False, path_type=Path), default=None, metavar="DIR",
               help="Copy every example (YAML files, in their subfolders) into DIR, to edit them or to run "
                    "`fivebar reproduce --configs DIR`.")
+@click.option("--replace", is_flag=True,
+              help="With --copy: replace the files in DIR that differ from the shipped examples (edited copies), "
+                   "which are otherwise left alone, with nothing copied.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
-@option_errors()
-def examples(copy_to, quiet):
+@option_errors(replace="--replace")
+def examples(copy_to, replace, quiet):
     """The mechanisms of both papers, shipped with the package (the repository's configs/): M1 and
     M2 (five-bars), with joint limits and an obstacle, the 3-RPR designs, the 2-RPR and the atlas
-    specs. Prints each example's name and file; with --copy DIR, copies them into DIR (files of
-    the same name are replaced). They work from any folder after a plain `pip install`: every
-    command takes an example's name for its CONFIG (`fivebar aspects m1`; a file of that name in
-    the folder comes first); in Python, `fivebar_cli.load("m1")`; `fivebar reproduce` uses them
-    when ./configs does not exist.
+    specs. Prints each example's name and file; with --copy DIR, copies them into DIR. A file in
+    DIR that differs from the shipped one (an edited copy) is not replaced: the command then
+    copies nothing and says which (exit status 1), unless --replace. They work from any folder
+    after a plain `pip install`: every command takes an example's name for its CONFIG (`fivebar
+    aspects m1`; a file of that name in the folder comes first); in Python,
+    `fivebar_cli.load("m1")`; `fivebar reproduce` uses them when ./configs does not exist.
 
     \b
     Examples:
       fivebar examples
       fivebar examples --copy out/configs
     """
-    from fivebar_cli.api import examples as shipped
-    from fivebar_cli.io.files import check_writable_dir, write_text
+    from fivebar_cli.api import copy_examples, examples as shipped
 
-    found = shipped()
     if copy_to is None:
-        for name, path in found.items():
+        if replace:
+            raise click.UsageError("--replace goes with --copy DIR")
+        for name, path in shipped().items():
             report(quiet, f"{name:<34} {path}")
         return
-    folder = check_writable_dir(copy_to)
-    wrote(quiet, [write_text(folder / f"{name}.yaml", path.read_text(encoding="utf-8")) for name, path in found.items()])
+    wrote(quiet, copy_examples(copy_to, replace=replace))
