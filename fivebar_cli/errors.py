@@ -86,6 +86,11 @@ class OutputError(FivebarError, OSError):
     """An output could not be written, exit status 1."""
 
 
+class NotARegularFile(OutputError):
+    """An output's path is a FIFO, a socket or a device, never replaced by a file
+    (`io.files.refuse_special`); the command line adds how to write to standard output instead."""
+
+
 class Interrupted(BaseException):
     """Ctrl-C, SIGTERM or SIGHUP, raised by the CLI's signal handlers (cli/main.py); the atomic
     writer removes its temporary file on the way out. A BaseException, like KeyboardInterrupt, so

@@ -141,3 +141,22 @@ def test_both_verify_commands_advise_depth_from_the_one_library_line(tmp_path):
         r = run_cli(*argv, config, "--depth", 2, "-o", tmp_path / "-".join(argv), "--no-plot")
         assert r.status == 3 and expected in r.stdout.splitlines(), r.stdout
         assert f"undecided (depth 2 of 2, {result.evaluations} boxes tested)" in r.stdout
+
+
+def test_a_target_that_is_not_a_file_names_no_flag_in_the_library(tmp_path):
+    """A FIFO where an output goes: the library's error says what it is (`NotARegularFile`, no flag);
+    the command line adds its way around it, `-o -` (standard output)."""
+    import os
+
+    from fivebar_cli.errors import NotARegularFile
+
+    folder = tmp_path / "out"
+    folder.mkdir()
+    os.mkfifo(folder / "workspace.csv")
+    with pytest.raises(NotARegularFile) as info:
+        fb.pave(fb.load("m1"), "workspace", 2).save(folder)
+    assert str(info.value) == f"{folder / 'workspace.csv'}: is a FIFO (named pipe), not a regular file: not replaced"
+    line = one_line(run_cli("workspace", M1, "-d", 2, "--no-plot", "-o", "out", cwd=tmp_path), 1)
+    assert line == ("fivebar: error: out/workspace.csv: is a FIFO (named pipe), not a regular file: not replaced "
+                    "(-o - writes a single-file output to standard output)")
+    assert (folder / "workspace.csv").is_fifo()

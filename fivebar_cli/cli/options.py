@@ -15,7 +15,7 @@ import click
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, MAX_DEPTH, MAX_OCTREE_DEPTH  # noqa: F401 - the commands' depth ranges
 from fivebar_cli.cli.numbers import Number
-from fivebar_cli.errors import FivebarError, InputError, Param, Text
+from fivebar_cli.errors import FivebarError, InputError, NotARegularFile, Param, Text
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
@@ -114,6 +114,8 @@ def option_errors(**flags: str) -> Iterator[None]:
         if isinstance(exc, InputError):
             exc.source, exc.field, exc.message = (as_flags(t, flags) for t in (exc.source, exc.field, exc.message))
         exc.args = tuple(as_flags(a, flags) for a in exc.args)
+        if isinstance(exc, NotARegularFile):  # (the library's line, and the command line's way around it)
+            exc.args = (f"{exc.args[0]} (-o - writes a single-file output to standard output)", *exc.args[1:])
         raise
 
 

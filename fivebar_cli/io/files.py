@@ -20,7 +20,7 @@ from contextvars import ContextVar
 from pathlib import Path
 from typing import Callable, Iterable, Sequence
 
-from fivebar_cli.errors import InputError, OutputError
+from fivebar_cli.errors import InputError, NotARegularFile, OutputError
 
 FLOAT_FORMAT = "%.10g"
 NEEDS_QUOTES = frozenset(',"\n\r')  # RFC 4180: a cell holding one of these is quoted
@@ -118,8 +118,8 @@ def refuse_special(path: Path) -> None:
         raise OutputError(f"{path}: is a symbolic link: not replaced (write to its target, or remove the link)")
     for test, kind in _KINDS:
         if test(st.st_mode):
-            hint = "" if kind == "a folder" else " (-o - writes a single-file output to standard output)"
-            raise OutputError(f"{path}: is {kind}, not a regular file: not replaced{hint}")
+            raise (OutputError if kind == "a folder" else NotARegularFile)(f"{path}: is {kind}, not a regular file: "
+                                                                           "not replaced")
 
 
 def atomic_write(path: str | Path, write: Callable[[Path], None]) -> Path:
