@@ -14,8 +14,8 @@ from fivebar_cli.cli.options import option_errors, report, wrote
               help="Copy every example (YAML files, in their subfolders) into DIR, to edit them or to run "
                    "`fivebar reproduce --configs DIR`.")
 @click.option("--replace", is_flag=True,
-              help="With --copy: replace the files in DIR that differ from the shipped examples (edited copies), "
-                   "which are otherwise left alone, with nothing copied.")
+              help="With --copy: also replace the files in DIR that differ from the shipped examples (edited "
+                   "copies). Without it such a file stops the copy, and nothing is copied.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
 @option_errors(replace="--replace")
 def examples(copy_to, replace, quiet):
@@ -32,6 +32,7 @@ def examples(copy_to, replace, quiet):
     Examples:
       fivebar examples
       fivebar examples --copy out/configs
+      fivebar examples --copy out/configs --replace
     """
     from fivebar_cli.api import copy_examples, examples as shipped
 
