@@ -49,10 +49,11 @@ def copy_examples(folder, *, replace: bool = False) -> list[Path]:
         refuse_special(target)  # (a link, a folder, a FIFO in the way: refused before anything is written)
     edited = [target for target, text in shipped.items() if target.exists() and target.read_bytes() != text.encode()]
     if edited and not replace:
-        which, what, them = (f"{edited[0]}", "the shipped example's bytes (an edited copy?)", "it") \
-            if len(edited) == 1 else (f"{edited[0]} and {len(edited) - 1} more", "the shipped examples' bytes "
-                                      "(edited copies?)", "them")
-        raise OutputError(Text(f"{which}: not {what}: nothing copied; ", param("replace", True), f" replaces {them}"))
+        one = len(edited) == 1
+        which = f"{edited[0]}" if one else f"{edited[0]} and {len(edited) - 1} more"
+        what = "the shipped example's bytes (an edited copy?)" if one else "the shipped examples' bytes (edited copies?)"
+        raise OutputError(Text(f"{which}: not {what}: nothing copied; ", param("replace", True),
+                               " replaces " + ("it" if one else "them")))
     return [write_text(target, text) for target, text in shipped.items()]
 
 
