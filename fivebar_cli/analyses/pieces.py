@@ -222,9 +222,6 @@ class ModeSet:
         possible, signs = self.region.signs(lo, hi)
         return possible & _allow(signs, self.secondary)
 
-    def anchor_tree(self, anchor: int) -> Tree:
-        return self.region.tree.subset(self.black_leaves[self.leaf_anchors == anchor])
-
     def outer_cells(self, o: int) -> CellSet:
         mine, _, und = self._parts(self.outer == o)
         return self._cell_set(mine, und)

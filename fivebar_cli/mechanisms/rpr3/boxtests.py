@@ -201,13 +201,6 @@ def _mean_value(g: Geometry, axes, index, columns, minors) -> Interval:
     return point + gx * offset[0] + gy * offset[1] + gp * offset[2]
 
 
-def det_point_sign(g: Geometry, poses: np.ndarray) -> np.ndarray:
-    """Certified sign of det J at poses (m, 3) (0 where rounding cannot tell)."""
-    poses = g.poses(poses)
-    d = _det3(*_columns(g, *(Interval.point(poses[:, k]) for k in range(3)))[:3])
-    return verdict(d.lo > 0, d.hi < 0)
-
-
 def _legs_and_arms(m, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Leg vectors e_i and arms q_i = R(phi) P_i, each (m, 3, 2), at poses (m, 3) in floating point."""
     g = Geometry.of(m) if not isinstance(m, Geometry) else m
@@ -215,7 +208,7 @@ def _legs_and_arms(m, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def det_j(m, poses: np.ndarray) -> np.ndarray:
-    """det J at poses (m, 3) in floating point (for reports; signs come from `det_point_sign`)."""
+    """det J at poses (m, 3) in floating point (for reports; certified signs come from the box tests)."""
     e, q = _legs_and_arms(m, poses)
     moment = q[..., 0] * e[..., 1] - q[..., 1] * e[..., 0]
     return np.linalg.det(np.concatenate([e, moment[..., None]], -1))
