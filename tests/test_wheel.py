@@ -101,7 +101,8 @@ def test_commands_take_an_examples_name_where_no_such_file_exists(tmp_path):
 def test_a_second_copy_never_replaces_an_edited_example(tmp_path):
     """`fivebar examples --copy DIR` writes the shipped bytes; run again over an edited copy it
     copies nothing (a file removed meanwhile stays removed), fails with one line naming the
-    edited file, and `--replace` then restores every example; `fb.copy_examples` is the same call."""
+    edited file, and `--replace` then restores every example, writing only the files that were
+    edited or missing (the others keep their modification time); `fb.copy_examples` is the same call."""
     import fivebar_cli as fb
 
     shipped = {f"{name}.yaml": path.read_bytes() for name, path in fb.examples().items()}
@@ -119,9 +120,15 @@ def test_a_second_copy_never_replaces_an_edited_example(tmp_path):
         fb.copy_examples(tmp_path / "mine")
     assert snapshot(tmp_path / "mine") == before | {"hard/thin-lens.yaml": b"name: mine too\n"}
     one_line(run_cli("examples", "--replace", cwd=tmp_path), 2, "--replace goes with --copy DIR")
+    untouched = tmp_path / "mine" / "m1-obstacle.yaml"
+    os.utime(untouched, (1e9, 1e9))  # (2001: a copy that left it would keep this time)
     assert [p.relative_to(tmp_path / "mine").as_posix() for p in fb.copy_examples(tmp_path / "mine", replace=True)] \
-        == list(shipped)
-    assert snapshot(tmp_path / "mine") == shipped
+        == [name for name in shipped if name in ("m1.yaml", "m2.yaml", "hard/thin-lens.yaml")]
+    assert snapshot(tmp_path / "mine") == shipped and untouched.stat().st_mtime == 1e9
+    again = run_cli("examples", "--copy", "mine", cwd=tmp_path)
+    assert again.status == 0 and again.stdout.splitlines() == [
+        f"  left {len(shipped)} files in mine as they were (already the shipped bytes)"]
+    assert untouched.stat().st_mtime == 1e9
     (tmp_path / "mine" / "rpr2.yaml").unlink()
     os.symlink(tmp_path / "elsewhere" / "rpr2.yaml", tmp_path / "mine" / "rpr2.yaml")  # (refused before any write)
     (tmp_path / "mine" / "m1.yaml").write_text("name: mine\n")

@@ -30,7 +30,8 @@ def copy_examples(folder, *, replace: bool = False) -> list[Path]:
 
     A file already there with other bytes is an edited copy: it is not replaced unless `replace`,
     and then nothing is copied at all (OutputError naming it), so that a second copy into the same
-    folder never loses an edit. Files with the shipped bytes are written again, as new ones.
+    folder never loses an edit. A file already holding the shipped bytes is left as it is (not
+    in the paths written): its modification time stays, so `make`-like tools see nothing new.
 
     Examples
     --------
@@ -47,14 +48,16 @@ def copy_examples(folder, *, replace: bool = False) -> list[Path]:
     shipped = {folder / f"{name}.yaml": path.read_text(encoding="utf-8") for name, path in examples().items()}
     for target in shipped:
         refuse_special(target)  # (a link, a folder, a FIFO in the way: refused before anything is written)
-    edited = [target for target, text in shipped.items() if target.exists() and target.read_bytes() != text.encode()]
+    there = {target: target.read_bytes() for target in shipped if target.exists()}
+    to_write = {target: text for target, text in shipped.items() if there.get(target) != text.encode()}
+    edited = [target for target in to_write if target in there]
     if edited and not replace:
         one = len(edited) == 1
         which = f"{edited[0]}" if one else f"{edited[0]} and {len(edited) - 1} more"
         what = "the shipped example's bytes (an edited copy?)" if one else "the shipped examples' bytes (edited copies?)"
         raise OutputError(Text(f"{which}: not {what}: nothing copied; ", param("replace", True),
                                " replaces " + ("it" if one else "them")))
-    return [write_text(target, text) for target, text in shipped.items()]
+    return [write_text(target, text) for target, text in to_write.items()]
 
 
 def examples_folder() -> Path:

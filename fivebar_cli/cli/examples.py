@@ -23,7 +23,8 @@ def examples(copy_to, replace, quiet):
     M2 (five-bars), with joint limits and an obstacle, the 3-RPR designs, the 2-RPR and the atlas
     specs. Prints each example's name and file; with --copy DIR, copies them into DIR. A file in
     DIR that differs from the shipped one (an edited copy) is not replaced: the command then
-    copies nothing and says which (exit status 1), unless --replace. They work from any folder
+    copies nothing and says which (exit status 1), unless --replace. A file that already holds
+    the shipped bytes is left as it is (its modification time too). They work from any folder
     after a plain `pip install`: every command takes an example's name for its CONFIG (`fivebar
     aspects m1`; a file of that name in the folder comes first); in Python,
     `fivebar_cli.load("m1")`; `fivebar reproduce` uses them when ./configs does not exist.
@@ -35,6 +36,7 @@ def examples(copy_to, replace, quiet):
       fivebar examples --copy out/configs --replace
     """
     from fivebar_cli.api import copy_examples, examples as shipped
+    from fivebar_cli.mechanisms.base import plural
 
     if copy_to is None:
         if replace:
@@ -42,4 +44,8 @@ def examples(copy_to, replace, quiet):
         for name, path in shipped().items():
             report(quiet, f"{name:<34} {path}")
         return
-    wrote(quiet, copy_examples(copy_to, replace=replace))
+    written = copy_examples(copy_to, replace=replace)
+    wrote(quiet, written)
+    kept = len(shipped()) - len(written)
+    if kept:
+        report(quiet, f"  left {plural(kept, 'file')} in {copy_to} as they were (already the shipped bytes)")
