@@ -423,6 +423,25 @@ for _name in WRITERS:
     add(f"out-below-a-file/{_name}", blocked_case(_name, below=True))
     add(f"out-is-a-file/{_name}", blocked_case(_name, below=False))
 
+# An empty name where a path goes (`-o "$OUT"` with OUT unset) is a usage error naming the option,
+# not the current folder: nothing is written in the working folder, which '' would otherwise mean.
+EMPTY = "an empty name (an unset shell variable?)"
+for _name in WRITERS:
+    add(f"empty-name/-o/{_name}", option_case(lambda f, n=_name: WRITERS[n](f, ""), 2, "'--out' / '-o'",
+                                              EMPTY + "; . is the current folder"))
+for _name in ALL_CONFIG_COMMANDS:
+    if _name != "reproduce":
+        add(f"empty-name/CONFIG/{_name}", option_case(lambda f, n=_name: COMMANDS[n][1](""), 2, "'CONFIG", EMPTY))
+for _label, _args, _named in [
+    ("reproduce --configs", ["reproduce", "--configs", "", "--no-plot"], "'--configs'"),
+    ("refine TREE.qt", ["refine", "", "--depth", 5], "'TREE.qt'"),
+    ("view PATH", ["view", ""], "'PATH...'"),
+    ("view -o", ["view", CONFIGS, "-o", ""], "'--out' / '-o'"),
+    ("examples --copy", ["examples", "--copy", ""], "'--copy'"),
+    ("atlas SPEC", ["atlas", "", "--no-plot"], "'SPEC'"),
+]:
+    add(f"empty-name/{_label}", option_case(lambda f, a=_args: a, 2, _named, EMPTY))
+
 
 def target_is_folder(name: str, seed: str, args: Callable[[Path], list], target: str) -> Callable[[Path, dict], Case]:
     """One output file of the run is a folder: the run fails (status 1) when it gets there; every other
@@ -673,6 +692,26 @@ def test_bad_input_one_line_and_nothing_written(batch, case_id):
         assert snapshot(case.cwd) == case.before, "a failing run changed files"
     else:
         check_whole(case.cwd, case.before, allow_tmp=False)
+
+
+def test_every_path_a_command_takes_refuses_an_empty_name():
+    """Every path parameter of every command (a command added later too) is a `NamedPath`: the
+    cases "empty-name/..." above run the ones there are today."""
+    import click
+
+    from fivebar_cli.cli import cli
+    from fivebar_cli.cli.options import NamedPath
+
+    def paths(command, name):
+        ctx = click.Context(command, info_name=name)
+        found = [(name, p.name, p.type) for p in command.params if isinstance(p.type, click.Path)]
+        if isinstance(command, click.Group):
+            for sub in command.list_commands(ctx):
+                found += paths(command.get_command(ctx, sub), f"{name} {sub}")
+        return found
+
+    found = paths(cli, "fivebar")
+    assert len(found) >= 20 and [(c, p) for c, p, t in found if not isinstance(t, NamedPath)] == []
 
 
 def test_reproduce_failing_mid_run_keeps_the_earlier_outputs(batch):

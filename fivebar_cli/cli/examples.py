@@ -6,11 +6,11 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.cli.options import option_errors, report, wrote
+from fivebar_cli.cli.options import NamedPath, option_errors, plural, report, wrote
 
 
 @click.command(short_help="List the shipped example mechanisms, or copy them into a folder.")
-@click.option("--copy", "copy_to", type=click.Path(file_okay=False, path_type=Path), default=None, metavar="DIR",
+@click.option("--copy", "copy_to", type=NamedPath(file_okay=False, path_type=Path), default=None, metavar="DIR",
               help="Copy every example (YAML files, in their subfolders) into DIR, to edit them or to run "
                    "`fivebar reproduce --configs DIR`.")
 @click.option("--replace", is_flag=True,
@@ -36,7 +36,6 @@ def examples(copy_to, replace, quiet):
       fivebar examples --copy out/configs --replace
     """
     from fivebar_cli.api import copy_examples, examples as shipped
-    from fivebar_cli.mechanisms.base import plural
 
     if copy_to is None:
         if replace:

@@ -21,7 +21,19 @@ from fivebar_cli.io.layout import output_dir
 from fivebar_cli.mechanisms.base import plural  # noqa: F401 - the commands' counts
 
 
-class ConfigPath(click.Path):
+class NamedPath(click.Path):
+    """A path that must name something. An empty value (`-o "$OUT"` with OUT unset) is a usage
+    error, not the current folder, where outputs would land unnoticed, or a folder read where a
+    file was meant; `.` names the current folder."""
+
+    def convert(self, value, param, ctx):
+        if isinstance(value, str) and not value:
+            self.fail("an empty name (an unset shell variable?)" + ("; . is the current folder" if self.dir_okay else ""),
+                      param, ctx)
+        return super().convert(value, param, ctx)
+
+
+class ConfigPath(NamedPath):
     """A mechanism file (YAML), or where no such file exists the name of a shipped example
     (`fivebar examples`: `fivebar aspects m1` after a plain `pip install`), as `fb.load` takes
     it. Resolved here, before a command looks at the file: `cli/dispatch.py` reads its kind."""
@@ -51,7 +63,7 @@ def common_options(func=None, *, single: str | None = None, default: str = "outp
     func = click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors; no progress bar.")(func)
     func = click.option("--no-plot", is_flag=True, help="Skip the PNG figures (faster).")(func)
     func = click.option(
-        "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+        "--out", "-o", "out", type=NamedPath(file_okay=False, path_type=Path), default=None,
         help=f"Output folder [default: {default}]." + dash,
     )(func)
     return func
@@ -164,7 +176,7 @@ def reuse_options(what: str):
     def decorate(func):
         func = click.option("--csv", "as_csv", is_flag=True, help=f"Print the {what} as CSV.")(func)
         return click.option(
-            "--out", "-o", "out", type=click.Path(file_okay=False, path_type=Path), default=None,
+            "--out", "-o", "out", type=NamedPath(file_okay=False, path_type=Path), default=None,
             help="Folder of an earlier `aspects` run to reuse when it holds this mechanism at this depth "
                  "[default: outputs/<config name>/]; otherwise the aspects are computed (nothing is written).",
         )(func)

@@ -10,8 +10,6 @@ to choose the sheet of a `--pose`; the joints of a `--joints` location decide it
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
 from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH

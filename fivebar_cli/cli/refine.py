@@ -11,14 +11,15 @@ from fivebar_cli.analyses import spaces
 from fivebar_cli.api.calls import refine as deepen
 from fivebar_cli.api.trees import compare as fb_compare
 from fivebar_cli.cli.options import (
-    as_flags, common_options, depth_option, option_errors, progress, refuse_stdout, report, save_files, wrote,
+    NamedPath, as_flags, common_options, depth_option, option_errors, progress, refuse_stdout, report, save_files,
+    wrote,
 )
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import check_writable_dir
 from fivebar_cli.io.layout import PAVE_SET, band_path, sibling_paths
 from fivebar_cli.io.outputs import read_runs
 
-QT_FILE = click.Path(path_type=Path, dir_okay=False)
+QT_FILE = NamedPath(path_type=Path, dir_okay=False)
 
 
 @click.command(short_help="Deepen a saved paving, testing only undetermined cells.")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.cli.options import option_errors, report
+from fivebar_cli.cli.options import NamedPath, option_errors, report
 from fivebar_cli.errors import FivebarError
 
 BASES = ("{configs}/rpr3-acute.yaml", "{configs}/rpr3-equilateral.yaml", "{configs}/rpr3-obtuse.yaml")
@@ -62,10 +62,10 @@ FIGURE_STEPS = ("view",)  # commands that only draw: skipped with --no-plot (tab
 
 
 @click.command(short_help="Regenerate every table and figure of both papers.")
-@click.option("--configs", type=click.Path(file_okay=False, path_type=Path), default=None,
+@click.option("--configs", type=NamedPath(file_okay=False, path_type=Path), default=None,
               help="Folder holding m1.yaml, m2.yaml and the rpr3-*.yaml and rrr3-*.yaml cases [default: configs, or "
                    "the shipped examples (fivebar examples) when ./configs does not exist].")
-@click.option("--out", "-o", type=click.Path(file_okay=False, path_type=Path), default=Path("outputs"),
+@click.option("--out", "-o", type=NamedPath(file_okay=False, path_type=Path), default=Path("outputs"),
               show_default=True, help="Output folder.")
 @click.option("--no-plot", is_flag=True, help="Skip the PNG figures and HTML pages (the tables and trees only).")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.cli.options import STDOUT, data_on_stdout, option_errors, plural, report, wrote
+from fivebar_cli.cli.options import STDOUT, NamedPath, data_on_stdout, option_errors, plural, report, wrote
 
 PAGE = "view.html"
 
@@ -17,8 +17,8 @@ def default_page(first: Path) -> Path:
 
 
 @click.command(short_help="One self-contained HTML page to explore the trees in a browser.")
-@click.argument("paths", metavar="PATH...", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("--out", "-o", "out", type=click.Path(dir_okay=False, path_type=Path), default=None,
+@click.argument("paths", metavar="PATH...", nargs=-1, required=True, type=NamedPath(path_type=Path))
+@click.option("--out", "-o", "out", type=NamedPath(dir_okay=False, path_type=Path), default=None,
               help=f"The HTML file to write [default: {PAGE} in the first folder given, or beside the first .qt "
                    "file]; - writes the page to standard output.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
