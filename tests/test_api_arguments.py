@@ -103,6 +103,51 @@ def test_any_value_gives_a_result_or_an_error_naming_the_parameter(k, value):
         assert valid(value), f"{name}={value!r} was taken"
 
 
+@pytest.fixture(scope="module")
+def results():
+    """A small result of each kind that has a `save` (computed once)."""
+    return {"paving": fb.pave("rpr2", "workspace", 2), "aspects": fb.aspects("rpr2", 3),
+            "path": fb.path("rpr2", (0, 8), (0.1, 8), working_mode="++", depth=4),
+            "report": fb.kratio("m1", [2]), "pave set": fb.rpr3.pave("rpr3-general", 1),
+            "table": fb.Table("t", ("a",), ((1,),))}
+
+
+# (the parameter, a call taking a path there, whether None is its default): every public path parameter
+PATH_CALLS = [
+    ("source", lambda r, v: fb.load(v), False),
+    ("path", lambda r, v: fb.read_qt(v), False),
+    ("paving", lambda r, v: fb.refine(v, 3), False),
+    ("paths", lambda r, v: fb.view([v]), False),
+    ("spec", lambda r, v: fb.atlas(v), False),
+    ("folder", lambda r, v: fb.atlas(SPEC, v), True),
+    ("folder", lambda r, v: fb.atlas_plan(SPEC, v), False),
+    ("folder", lambda r, v: fb.copy_examples(v), False),
+    ("folder", lambda r, v: fb.locate("rpr2", pose=(0, 8), depth=3, folder=v), True),
+    ("folder", lambda r, v: fb.path("rpr2", (0, 8), (0.1, 8), working_mode="++", depth=4, folder=v), True),
+    ("folder", lambda r, v: fb.path("rpr3-caro", (8, -9, -5.6), (8.1, -9, -5.6), depth=2, folder=v), True),
+    *(("folder", lambda r, v, kind=kind: r[kind].save(v), False) for kind in ("paving", "aspects", "path", "report", "pave set")),
+    ("path", lambda r, v: r["table"].save(v), False),
+]
+NOT_PATHS = [None, 3, 1.5, ("out",), b"out", "", b""]
+
+
+@pytest.mark.parametrize("k, value", [(k, v) for k, (_, _, default) in enumerate(PATH_CALLS) for v in NOT_PATHS
+                                      if not (v is None and default)],
+                         ids=[f"{c[0]}-{k}-{v!r}" for k, c in enumerate(PATH_CALLS) for v in NOT_PATHS
+                              if not (v is None and c[2])])
+def test_a_path_that_is_none_or_empty_is_an_input_error_naming_it(results, k, value, tmp_path, monkeypatch):
+    """None (where it is not the default), a number, a tuple or bytes where a path goes, or an empty
+    one (which the system's calls take for the current folder: a `save("")` wrote there), is an
+    InputError naming the parameter, and nothing is written in the working folder."""
+    monkeypatch.chdir(tmp_path)
+    name, call, _ = PATH_CALLS[k]
+    with pytest.raises(fb.InputError) as e:
+        call(results, value)
+    assert e.value.field.strip("`") == name, str(e.value)
+    assert ("an empty name" in str(e.value)) == (value in ("", b"")), str(e.value)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_numpy_integers_are_whole_numbers_too(tmp_path):
     """A sweep over `np.arange` gives numpy integers: the depths and counts of every call take them,
     as the Python ints they equal (a depth reaches the JSON manifest that `save` writes), with the

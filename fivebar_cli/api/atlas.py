@@ -17,6 +17,7 @@ from pathlib import Path
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_count, check_depth
 from fivebar_cli.api.values import Drawing, Report
 from fivebar_cli.errors import Text, param
+from fivebar_cli.io.files import user_path
 from fivebar_cli.mechanisms.base import plural
 
 log = logging.getLogger(__name__)
@@ -44,7 +45,7 @@ def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None =
 
     # (checked before the plan starts a folder of parts: `run` checks it again, for its own callers)
     workers = check_count(workers, "workers", 0, none="0: in this process; None: one per core")
-    with (tempfile.TemporaryDirectory() if folder is None else nullcontext(folder)) as where:
+    with (tempfile.TemporaryDirectory() if folder is None else nullcontext(user_path(folder, "folder"))) as where:
         plan = atlas_plan(spec, where, depth=depth, tolerance=tolerance, restart=restart)
         return plan.run(workers=workers, scheduler=scheduler, advance=advance)
 
@@ -58,7 +59,7 @@ def atlas_spec(spec, depth: int | None = None, tolerance: float | None = None):
     from fivebar_cli.analyses.atlas.spec import AtlasSpec, check_tolerance, parse_spec, read_spec
 
     s = spec if isinstance(spec, AtlasSpec) else parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) \
-        else read_spec(spec)
+        else read_spec(user_path(spec, "spec", "a spec file, a mapping or an AtlasSpec"))
     if depth is not None:
         s = dataclasses.replace(s, depth=check_depth(depth, MAX_ASPECT_DEPTH))
     if tolerance is not None:
@@ -73,7 +74,7 @@ def atlas_plan(spec, folder, *, depth: int | None = None, tolerance: float | Non
     (`folder/atlas.parts/`, started here when missing or with `restart`) do not hold yet."""
     from fivebar_cli.analyses.atlas.engine import plan_atlas
 
-    return AtlasPlan(plan_atlas(atlas_spec(spec, depth, tolerance), Path(folder), restart))
+    return AtlasPlan(plan_atlas(atlas_spec(spec, depth, tolerance), user_path(folder, "folder"), restart))
 
 
 class AtlasPlan:

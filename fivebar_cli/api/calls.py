@@ -12,6 +12,7 @@ from fivebar_cli.analyses.limits import (
 )
 from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
+from fivebar_cli.io.files import user_path
 from fivebar_cli.mechanisms.base import Mechanism, article
 
 DEFAULT_DEPTH = 10
@@ -44,7 +45,7 @@ def copy_examples(folder, *, replace: bool = False) -> list[Path]:
     from fivebar_cli.errors import OutputError, Text
     from fivebar_cli.io.files import check_writable_dir, refuse_special, write_text
 
-    folder = check_writable_dir(folder)
+    folder = check_writable_dir(user_path(folder, "folder"))
     shipped = {folder / f"{name}.yaml": path.read_text(encoding="utf-8") for name, path in examples().items()}
     for target in shipped:
         refuse_special(target)  # (a link, a folder, a FIFO in the way: refused before anything is written)
@@ -91,7 +92,7 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
     elif isinstance(source, Mapping):
         m = check_kind(parse(dict(source), "<mapping>"), "<mapping>", kind, space)
     else:
-        path = Path(source)
+        path = user_path(source, "source", "a file path, a mapping or an example's name")
         if not path.exists() and str(source) in examples():
             path = examples()[str(source)]
         m = load_config(path, kind, space)
@@ -194,7 +195,8 @@ def refine(paving, depth: int, *, advance=None) -> Paving:
         p = engine.refine(paving.inside, paving.outside, test, depth, per_level(advance), paving.paving.band)
         return Paving(paving.mechanism, paving.space, depth, paving.procedure, paving.region, p,
                       paving.evaluations + p.evaluations)
-    saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(paving)
+    saved = paving if isinstance(paving, spaces.SavedPaving) else spaces.load_saved(
+        user_path(paving, "paving", "a Paving or the path of a .qt file"))
     depth = check_paving_depth(depth, saved.inside.tree.grid.dim)
     if depth < saved.inside.tree.grid.depth:
         raise InputError(saved.source, param("depth"), f"{depth} is below the saved depth {saved.inside.tree.grid.depth}")
@@ -207,7 +209,7 @@ def read_qt(path):
     """A `.qt` file: its tree (`.tree`: cells, `.area`) and header fields (`.fields`)."""
     from fivebar_cli.io.qtfile import read_qt as read
 
-    return read(path)
+    return read(user_path(path, "path"))
 
 
 # ---------------------------------------------------------------- aspects
@@ -335,7 +337,7 @@ def path(mech, start, goal, *, depth: int | None = None, allow_serial: bool = Fa
         raise InputError(str(source), param("working_mode"), "is that of a pose endpoint: joints decide their own "
                          "working mode")
     first, last = resolve(m, endpoints, assembly_mode, source)
-    trees = Path(folder) if folder is not None else None
+    trees = user_path(folder, "folder") if folder is not None else None
     result = find_path(m, depth, first, last, allow_serial, trees, max_depth=MAX_ASPECT_DEPTH)
     return Path_(m, depth, path_columns(m), path_points(result), result.length, result, _path_notes(result, trees),
                  trees)
@@ -441,4 +443,5 @@ def view(paths) -> str:
     paths = [paths] if isinstance(paths, (str, Path)) else list(paths)
     if not paths:  # (as the command needs one PATH at least)
         raise InputError("", param("paths"), "give at least one .qt file or output folder")
+    paths = [user_path(p, "paths") for p in paths]
     return render_page(gather(paths))

@@ -5,7 +5,6 @@ singularity-free motion joins each pair (`analyses.locate.decide`, the answer `p
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_depth
 from fivebar_cli.api.calls import (
@@ -16,6 +15,7 @@ from fivebar_cli.api.pose_space import (
 )
 from fivebar_cli.api.values import Aspects, finite_points
 from fivebar_cli.errors import InputError, param
+from fivebar_cli.io.files import user_path
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
 
 
@@ -217,7 +217,7 @@ def locate(mech, *, pose=None, joints=None, depth: int | None = None, aspects: A
     from fivebar_cli.analyses.aspect_files import load_aspects
     from fivebar_cli.analyses.locate import aspect_of, configurations, row
 
-    saved = load_aspects(Path(folder), m, depth) if folder is not None and aspects is None else None
+    saved = load_aspects(user_path(folder, "folder"), m, depth) if folder is not None and aspects is None else None
     if aspects is not None:
         found, where = aspects.analysis.aspects, "given"
     elif saved is not None:

@@ -11,6 +11,7 @@ from pathlib import Path
 from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH, check_count, check_depth
 from fivebar_cli.api.values import finite_points
 from fivebar_cli.errors import InputError, param
+from fivebar_cli.io.files import user_path
 from fivebar_cli.mechanisms.base import Mechanism, article
 
 DEFAULT_POSE_DEPTH = 7
@@ -89,7 +90,10 @@ def saved_pose_aspects(m: Mechanism, folder, depth: int):
     folder, or none saved there for them)."""
     from fivebar_cli.analyses.pose_aspect_files import load_pose_aspects
 
-    return load_pose_aspects(Path(folder), m, depth) if folder is not None and Path(folder).is_dir() else None
+    if folder is None:
+        return None
+    folder = user_path(folder, "folder")
+    return load_pose_aspects(folder, m, depth) if folder.is_dir() else None
 
 
 def pose_aspects_for(m: Mechanism, folder, depth: int, budget: int | None = None, advance=None):

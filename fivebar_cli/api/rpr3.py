@@ -358,16 +358,14 @@ class PaveSet:
     def save(self, folder, figures: bool = False) -> list:
         """The files of `rpr3 pave` as one output set: the three pairs and summaries, volumes.csv and
         (with `figures`) workspace.png and singularity-free.png."""
-        from pathlib import Path
-
         from fivebar_cli.analyses import spaces
-        from fivebar_cli.io.files import write_csv
+        from fivebar_cli.io.files import user_path, write_csv
         from fivebar_cli.io.layout import PAVE_SET, VOLUMES_CSV, pave_files, region_stem
         from fivebar_cli.io.outputs import output_set
         from fivebar_cli.mechanisms.rpr3 import volumes
         from fivebar_cli.mechanisms.rpr3.model import REACHABLE
 
-        folder, m = Path(folder), self.mechanism
+        folder, m = user_path(folder, "folder"), self.mechanism
         paths = []
         with output_set(folder, PAVE_SET, pave_files(), "fivebar rpr3 pave"):
             for region, p in self.pavings.items():

@@ -11,6 +11,7 @@ from typing import Callable
 import numpy as np
 
 from fivebar_cli.errors import InputError, param
+from fivebar_cli.io.files import user_path
 from fivebar_cli.mechanisms.base import Mechanism, article, plural
 from fivebar_cli.paving.tree import Tree
 
@@ -83,7 +84,7 @@ def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool
     from fivebar_cli.io.outputs import output_set
     from fivebar_cli.plotting.saving import draw_and_save
 
-    folder = Path(folder)
+    folder = user_path(folder, "folder")
     with output_set(folder, *output):
         paths = [write_csv(folder / file, columns, data) for file, columns, data in tables]
         if figures:
@@ -187,8 +188,9 @@ class Paving:
         from fivebar_cli.io.layout import paving_files
         from fivebar_cli.io.outputs import output_set
 
+        folder = user_path(folder, "folder")
         with output_set(folder, self.stem, paving_files(self.stem), command or f"fivebar {self.space}"):
-            return self.write(Path(folder), figures, geojson)
+            return self.write(folder, figures, geojson)
 
     def write(self, folder: Path, figures: bool = False, geojson: bool = False) -> list[Path]:
         """The files, inside an output set the caller opened (a GeoJSON of three axes refused
@@ -404,7 +406,7 @@ class Aspects:
         from fivebar_cli.analyses.aspect_split import write_split
         from fivebar_cli.analyses.pose_aspect_files import write_pose_aspects
 
-        folder = Path(folder)
+        folder = user_path(folder, "folder")
         with aspect_set(folder):
             if self._pose_kind():
                 paths = write_pose_aspects(folder, self.analysis)
@@ -490,7 +492,7 @@ class Path_:
         from fivebar_cli.io.layout import PATH_CSV, PATH_FILES, PATH_PNG
         from fivebar_cli.io.outputs import output_set
 
-        folder = Path(folder)
+        folder = user_path(folder, "folder")
         with output_set(folder, "path", PATH_FILES, "fivebar path"):
             paths = [write_text(folder / PATH_CSV, path_csv(self.columns, self.points))]
             if figures:
@@ -563,7 +565,7 @@ class Table:
         """The table as CSV at `path`."""
         from fivebar_cli.io.files import write_csv
 
-        return write_csv(Path(path), self.columns, self.data)
+        return write_csv(user_path(path, "path"), self.columns, self.data)
 
     def plot(self, ax=None, *, x: str | None = None, y: str | None = None, by: str | None = None):
         """Column `y` against column `x` (default: the first two numeric columns), one line per value

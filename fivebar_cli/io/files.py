@@ -20,7 +20,7 @@ from contextvars import ContextVar
 from pathlib import Path
 from typing import Callable, Iterable, Sequence
 
-from fivebar_cli.errors import InputError, NotARegularFile, OutputError
+from fivebar_cli.errors import InputError, NotARegularFile, OutputError, param
 
 FLOAT_FORMAT = "%.10g"
 NEEDS_QUOTES = frozenset(',"\n\r')  # RFC 4180: a cell holding one of these is quoted
@@ -87,6 +87,17 @@ def ensure_dir(path: str | Path) -> Path:
     if not os.access(path, os.W_OK | os.X_OK):
         raise OutputError(f"{path}: output folder is not writable")
     return path
+
+
+def user_path(value, field: str, expected: str = "a path (str or os.PathLike)") -> Path:
+    """A path given to a library call (its parameter `field`), as a Path. InputError naming the
+    parameter for anything else (None, a number) and for the empty string, which the system's calls
+    take for the current folder: outputs would land there unnoticed, or a folder be read for a file."""
+    if isinstance(value, (str, bytes)) and not value:
+        raise InputError("", param(field), "an empty name ('.' is the current folder)")
+    if not isinstance(value, (str, os.PathLike)):
+        raise InputError("", param(field), f"expected {expected}, got {value!r}")
+    return Path(value)
 
 
 def check_writable_dir(path: str | Path) -> Path:
