@@ -148,6 +148,18 @@ def test_a_path_that_is_none_or_empty_is_an_input_error_naming_it(results, k, va
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("call, name", [
+    (lambda: fb.kratio(None, [3]), "mechs"), (lambda: fb.kratio(3, [3]), "mechs"), (lambda: fb.kratio([], [3]), "mechs"),
+    (lambda: fb.view(3), "paths"), (lambda: fb.view(None), "paths"), (lambda: fb.view([]), "paths"),
+], ids=["kratio-None", "kratio-3", "kratio-none", "view-3", "view-None", "view-none"])
+def test_no_mechanism_or_path_where_a_sequence_of_them_goes_is_named(call, name):
+    """kratio's mechanisms and view's paths: one of them or a sequence; anything else (None, a
+    number, an empty list) is an InputError naming the parameter, not a TypeError or an empty table."""
+    with pytest.raises(fb.InputError) as e:
+        call()
+    assert e.value.field.strip("`") == name, str(e.value)
+
+
 def test_numpy_integers_are_whole_numbers_too(tmp_path):
     """A sweep over `np.arange` gives numpy integers: the depths and counts of every call take them,
     as the Python ints they equal (a depth reaches the JSON manifest that `save` writes), with the

@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -440,7 +441,7 @@ def view(paths) -> str:
     from fivebar_cli.analyses.view import gather
     from fivebar_cli.webpage.page import render_page
 
-    paths = [paths] if isinstance(paths, (str, Path)) else list(paths)
+    paths = [paths] if isinstance(paths, (str, bytes, os.PathLike)) or not hasattr(paths, "__iter__") else list(paths)
     if not paths:  # (as the command needs one PATH at least)
         raise InputError("", param("paths"), "give at least one .qt file or output folder")
     paths = [user_path(p, "paths") for p in paths]

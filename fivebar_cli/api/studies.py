@@ -8,9 +8,9 @@ the command prints (`notes`) and `save(folder, figures=True)`, which writes the 
 from __future__ import annotations
 
 import math
+import os
 import numbers
 from collections.abc import Mapping
-from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_DEPTH, check_depth
 from fivebar_cli.api.calls import load, source_name
@@ -171,7 +171,13 @@ def kratio(mechs, depths=DEFAULT_DEPTHS, *, advance=None) -> Report:
     from fivebar_cli.analyses.kratio import HEADER, kratio_rows
     from fivebar_cli.io.layout import KRATIO_CSV, KRATIO_FILES, KRATIO_PNG
 
-    ms = [kratio_mechanism(m) for m in ([mechs] if isinstance(mechs, (str, Path, Mechanism, Mapping)) else mechs)]
+    if isinstance(mechs, (str, os.PathLike, Mechanism, Mapping)):
+        mechs = [mechs]
+    elif not hasattr(mechs, "__iter__"):
+        raise InputError("", param("mechs"), f"expected a mechanism or a sequence of them, got {mechs!r}")
+    ms = [kratio_mechanism(m) for m in mechs]
+    if not ms:
+        raise InputError("", param("mechs"), "give at least one mechanism")
     # one depth, as one mechanism; a str is no sequence of depths (its characters were read as depths)
     if isinstance(depths, (str, bytes)) or not (isinstance(depths, numbers.Integral) or hasattr(depths, "__iter__")):
         raise InputError("", param("depths"), f"expected a depth or a sequence of depths, got {depths!r}")
