@@ -43,6 +43,7 @@ from fivebar_cli.mechanisms.fivebar.boxtests import ETA_REL, AngleTables, joint_
 from fivebar_cli.mechanisms.fivebar.constraints import LINKS
 from fivebar_cli.mechanisms.fivebar.kinematics import scale
 from fivebar_cli.numerics.ranges import direction_range, triangle_angle_range
+from fivebar_cli.numerics.verdict import verdict
 
 EMPTY_DEPTH = 6  # `empty_problem` paves the joint space this deep to find constraints that leave nothing
 
@@ -197,7 +198,7 @@ def space_test(m, space: str, base):
             lo_, hi_ = lo[mask], hi[mask]
             legs = shared(m, lo_, hi_)
             s = np.stack([of(m, key, lo_, hi_, legs) for key in keys])
-            return np.where(np.any(s == 1, axis=0), 1, np.where(np.all(s == -1, axis=0), -1, 0))
+            return verdict(np.any(s == 1, axis=0), np.all(s == -1, axis=0))
 
         return restricted(base(lo, hi), combined)
 

@@ -22,6 +22,7 @@ import numpy as np
 
 from fivebar_cli.numerics.interval import Interval, cos, hypot, sin, sqr
 from fivebar_cli.numerics.ranges import direction_range
+from fivebar_cli.numerics.verdict import verdict
 
 
 # ---------------------------------------------------------------- Table 1 as printed
@@ -75,7 +76,7 @@ def paper_joint_space_test(m):
         px, py = b1x + m.L3 * cos(angle), b1y + m.L3 * sin(angle)
         det = (b1x - px) * (b2y - py) - (b1y - py) * (b2x - px)
         inside &= (det.lo > 0) | (det.hi < 0)
-        return np.where(outside, -1, np.where(inside, 1, 0)).astype(np.int8)
+        return verdict(inside & ~outside, outside)
 
     return test
 
@@ -94,6 +95,6 @@ def paper_workspace_test(m):
             c1 = (m.L1**2 + sqr(m1) - m.L3**2) / (2 * m1 * m.L1)
             c2 = (m.L2**2 + sqr(m2) - m.L4**2) / (2 * m2 * m.L2)
         inside &= (c1.lo >= -1) & (c1.hi <= 1) & (c2.lo >= -1) & (c2.hi <= 1)
-        return np.where(outside, -1, np.where(inside, 1, 0)).astype(np.int8)
+        return verdict(inside & ~outside, outside)
 
     return test
