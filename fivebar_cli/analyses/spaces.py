@@ -17,7 +17,7 @@ import numpy as np
 from fivebar_cli.analyses.jobs import run_tasks, workers
 from fivebar_cli.errors import InputError
 from fivebar_cli.io.files import write_csv
-from fivebar_cli.io.layout import band_path, paving_paths, sibling_paths
+from fivebar_cli.io.layout import band_path, paving_paths, sibling_paths, summary_path
 from fivebar_cli.io.qtfile import QtFile, read_qt, write_qt
 from fivebar_cli.mechanisms.base import Mechanism
 from fivebar_cli.mechanisms.registry import from_description
@@ -102,7 +102,7 @@ def write_paving(folder: Path, m: Mechanism, space: str, paving: Paving, procedu
     if has_band(m):
         paths.append(write_qt(band_path(folder, stem), paving.band,
                               **qt_fields(m, space, "band", procedure, evaluations, region)))
-    paths.append(write_csv(folder / f"{stem}.csv", SUMMARY_HEADER,
+    paths.append(write_csv(summary_path(folder, stem), SUMMARY_HEADER,
                            [summary_row(m, space, procedure, paving, evaluations, region)]))
     return paths
 

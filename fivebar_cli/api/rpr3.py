@@ -453,7 +453,7 @@ def refine_pave_set(source, m, old_depth: int, depth: int, advance=None) -> tupl
     from fivebar_cli.analyses.limits import check_paving_depth
     from fivebar_cli.api.calls import per_level
     from fivebar_cli.api.values import Paving
-    from fivebar_cli.io.layout import region_stem
+    from fivebar_cli.io.layout import paving_paths, region_stem
     from fivebar_cli.mechanisms.rpr3.model import REACHABLE
 
     depth = check_paving_depth(depth, 3)
@@ -461,7 +461,7 @@ def refine_pave_set(source, m, old_depth: int, depth: int, advance=None) -> tupl
         raise InputError(str(source), param("depth"), f"{depth} is below the saved depth {old_depth}")
     pavings, saved_total = {}, 0
     for region in m.regions("workspace"):
-        path = Path(source) / f"{region_stem('workspace', None if region == REACHABLE else region)}.qt"
+        path = paving_paths(Path(source), region_stem("workspace", None if region == REACHABLE else region))[0]
         saved = spaces.load_saved(path)
         if saved.mechanism != m or saved.inside.tree.grid.depth != old_depth:
             raise InputError(str(path), "mechanism", "does not belong to the same rpr3 pave run")

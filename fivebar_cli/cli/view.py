@@ -7,19 +7,13 @@ from pathlib import Path
 import click
 
 from fivebar_cli.cli.options import STDOUT, NamedPath, data_on_stdout, option_errors, plural, report, wrote
-
-PAGE = "view.html"
-
-
-def default_page(first: Path) -> Path:
-    """`view.html` in the first folder given, or beside the first `.qt` file given."""
-    return (first if first.is_dir() else first.parent) / PAGE
+from fivebar_cli.io.layout import VIEW_HTML, view_page
 
 
 @click.command(short_help="One self-contained HTML page to explore the trees in a browser.")
 @click.argument("paths", metavar="PATH...", nargs=-1, required=True, type=NamedPath(path_type=Path))
 @click.option("--out", "-o", "out", type=NamedPath(dir_okay=False, path_type=Path), default=None,
-              help=f"The HTML file to write [default: {PAGE} in the first folder given, or beside the first .qt "
+              help=f"The HTML file to write [default: {VIEW_HTML} in the first folder given, or beside the first .qt "
                    "file]; - writes the page to standard output.")
 @click.option("--quiet", "-q", is_flag=True, help="Print nothing but errors.")
 @option_errors()
@@ -52,7 +46,7 @@ def view(paths, out, quiet):
     from fivebar_cli.webpage.page import render_page, write_page
 
     stdout = out is not None and str(out) == STDOUT and data_on_stdout(out)
-    page = out if out is not None else default_page(paths[0])
+    page = out if out is not None else view_page(paths[0])
     data = gather(paths)
     for line in data.ignored_summary():
         warnings.warn(FivebarWarning(line))

@@ -30,6 +30,11 @@ def paving_paths(folder: Path, space: str) -> tuple[Path, Path]:
     return folder / f"{space}.qt", folder / f"{space}{COMPLEMENT}"
 
 
+def summary_path(folder: Path, stem: str) -> Path:
+    """The one-row summary CSV of a paving (`workspace.csv`, `workspace-reachable.csv`)."""
+    return folder / f"{stem}.csv"
+
+
 def band_path(folder: Path, space: str) -> Path:
     """`<space>.band.qt`: the uncertain band of a paving with interval lengths (valid for some
     length vectors, invalid for others)."""
@@ -155,6 +160,13 @@ KRATIO_CSV = "kratio.csv"
 KRATIO_PNG = "kratio.png"
 ATLAS_CSV = "atlas.csv"
 ATLAS_PNG = "atlas.png"
+VIEW_HTML = "view.html"
+
+
+def view_page(first: Path) -> Path:
+    """Where `fivebar view` writes its page without -o: `view.html` in the first folder given, or
+    beside the first `.qt` file given."""
+    return (first if first.is_dir() else first.parent) / VIEW_HTML
 
 
 def aspects_jointspace_figure(assembly: str) -> str:
