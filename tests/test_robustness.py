@@ -793,6 +793,22 @@ def test_unknown_command_or_option(help_runs, words, needle):
     assert r.stdout == ""
 
 
+@pytest.mark.parametrize("words, typed, meant", [("aspcts m1", "aspcts", "aspects"), ("exampels", "exampels", "examples"),
+                                                 ("rpr3 pavee", "pavee", "pave")])
+def test_a_mistyped_command_is_told_the_name_meant(words, typed, meant, monkeypatch):
+    """click (from 8.4) offers the close names of a group's commands; the top group imports its
+    commands on first use, so it offers every command's name, not only those loaded so far (none
+    at the start of a run: emptied here, as in a fresh process)."""
+    import click
+
+    from fivebar_cli.cli import cli
+
+    monkeypatch.setattr(cli, "commands", {})
+    line = one_line(run_cli(*words.split()), 2, f"No such command '{typed}'.")
+    if hasattr(click.exceptions, "NoSuchCommand"):  # (click 8.1-8.3: the line alone)
+        assert line.endswith(f"Did you mean '{meant}'?"), line
+
+
 # ---------------------------------------------------------------- the entry point as a process
 
 

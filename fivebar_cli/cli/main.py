@@ -50,6 +50,17 @@ class LazyGroup(click.Group):
             self.add_command(_load(COMMANDS[name]), name)
         return self.commands.get(name)
 
+    def resolve_command(self, ctx, args):
+        """click's, with its "Did you mean ...?" for an unknown command drawn from every command's
+        name, not only from those loaded so far (none, at that point of a run; click >= 8.4)."""
+        try:
+            return super().resolve_command(ctx, args)
+        except click.UsageError as exc:
+            name = getattr(exc, "command_name", None)  # (click's NoSuchCommand)
+            if name is None:
+                raise
+            raise type(exc)(name, possibilities=self.list_commands(ctx), ctx=ctx) from None
+
 
 def _load(spec):
     """The command `spec` names (`COMMANDS`); the rpr3 group with its commands from other modules."""
