@@ -134,3 +134,25 @@ def test_a_second_copy_never_replaces_an_edited_example(tmp_path):
     (tmp_path / "mine" / "m1.yaml").write_text("name: mine\n")
     one_line(run_cli("examples", "--copy", "mine", "--replace", cwd=tmp_path), 1, "rpr2.yaml: is a symbolic link")
     assert (tmp_path / "mine" / "m1.yaml").read_text() == "name: mine\n"
+
+
+@pytest.mark.parametrize("argv, typed, meant", [
+    (("workspace", "m11", "--depth", "2"), "m11", "m1"), (("aspects", "M1", "--depth", "2"), "M1", "m1"),
+    (("dkp", "rpr3caro", "--joints", "15", "15", "12"), "rpr3caro", "rpr3-caro"),
+])
+def test_a_mistyped_examples_name_is_told_the_name_meant(argv, typed, meant, tmp_path, monkeypatch):
+    """A CONFIG (or `fb.load`'s source) that is no file and no example's name, but close to one
+    (case aside), is a typo: the line names the example meant; a name close to none, or a path,
+    gets the plain line."""
+    import fivebar_cli as fb
+
+    line = f"{typed}: no such file, nor a shipped example's name: did you mean '{meant}'?"
+    one_line(run_cli(*argv, "--no-plot", "-o", "out", cwd=tmp_path), 2, line)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(fb.InputError, match=re.escape(line)):
+        fb.load(typed)
+    for far in ("zz9", "configs/m1.yml"):
+        with pytest.raises(fb.InputError, match=f"^{re.escape(far)}: no such file$"):
+            fb.load(far)
+    assert not (tmp_path / "out").exists()
+

@@ -94,10 +94,23 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
         m = check_kind(parse(dict(source), "<mapping>"), "<mapping>", kind, space)
     else:
         path = user_path(source, "source", "a file path, a mapping or an example's name")
-        if not path.exists() and str(source) in examples():
-            path = examples()[str(source)]
+        if not path.exists():
+            path = examples().get(str(source)) or _no_such_file(path)
         m = load_config(path, kind, space)
     return widened(m, tolerance, source_name(source))
+
+
+def _no_such_file(path: Path):
+    """ConfigError for a source that is no file and no example's name, naming the example meant
+    when one is close (`m11`, `rpr3caro`, `M1`: a typo, not a missing file)."""
+    import difflib
+
+    from fivebar_cli.io.schema import ConfigError
+
+    names = {name.lower(): name for name in examples()}
+    close = difflib.get_close_matches(str(path).lower(), names, n=1)
+    meant = f", nor a shipped example's name: did you mean {names[close[0]]!r}?" if close else ""
+    raise ConfigError(str(path), "", "no such file" + meant)
 
 
 def source_name(source) -> str:

@@ -14,11 +14,11 @@ import click
 
 from fivebar_cli.analyses.limits import MAX_PLANE_DEPTH, MAX_POSE_DEPTH
 from fivebar_cli.analyses.pose_aspects import working_sheets
+from fivebar_cli.api.calls import load
 from fivebar_cli.api.pose_space import DEFAULT_POSE_DEPTH, pose_mechanism
 from fivebar_cli.cli.numbers import NUMBER
 from fivebar_cli.cli.options import CONFIG, budget_option, option_errors  # noqa: F401 - CONFIG: the pose commands
 from fivebar_cli.mechanisms.base import Mechanism
-from fivebar_cli.mechanisms.registry import load_config
 
 
 
@@ -27,7 +27,7 @@ def load_pose_kind(config_path, poses: bool = False, depth: int | None = None) -
     one with an orientation range; with `depth`, one its trees can be paved to), a depth too deep
     named as --depth."""
     with option_errors(depth="'--depth' / '-d'"):
-        return pose_mechanism(load_config(config_path), poses=poses, depth=depth, source=str(config_path))
+        return pose_mechanism(load(config_path), poses=poses, depth=depth, source=str(config_path))
 
 
 def pose_budget_option(func):

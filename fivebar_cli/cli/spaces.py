@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from fivebar_cli.api.calls import pave
+from fivebar_cli.api.calls import load, pave
 from fivebar_cli.api.values import check_geojson
 from fivebar_cli.cli.options import (
     CONFIG, common_options, depth_option, offscreen, option_errors, prepare_out, progress, report, tolerance_option,
@@ -16,7 +16,6 @@ from fivebar_cli.errors import InputError
 from fivebar_cli.io.layout import paving_files
 from fivebar_cli.io.outputs import output_set
 from fivebar_cli.mechanisms.base import article
-from fivebar_cli.mechanisms.registry import load_config
 
 
 def _procedure_option(func):
@@ -45,7 +44,7 @@ def _space_options(func):
 
 def _space_command(space: str, config_path: Path, depth: int, procedure: str, tolerance: float, out, no_plot: bool,
                    quiet: bool, geojson: bool = False) -> None:
-    m = with_tolerance(load_config(config_path, space=space), tolerance, config_path)
+    m = with_tolerance(load(config_path, space=space), tolerance, config_path)
     if procedure not in m.procedures:
         raise InputError(str(config_path), "--procedure", f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
