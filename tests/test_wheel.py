@@ -156,3 +156,15 @@ def test_a_mistyped_examples_name_is_told_the_name_meant(argv, typed, meant, tmp
             fb.load(far)
     assert not (tmp_path / "out").exists()
 
+
+def test_an_atlas_spec_is_an_examples_name_too(tmp_path):
+    """`fb.atlas` and `fb.atlas_plan` take a shipped spec by name, as `fivebar atlas` and `fb.load`
+    do (the library refused it: 'no such file'), and tell a typo the name meant."""
+    import fivebar_cli as fb
+
+    plan = fb.atlas_plan("atlas-small", tmp_path / "plan")
+    assert plan.spec == fb.atlas_plan(fb.examples()["atlas-small"], tmp_path / "plan").spec
+    with pytest.raises(fb.InputError, match="atlas-smal: no such file, nor a shipped example's name: did you mean "
+                                            "'atlas-small'"):
+        fb.atlas_plan("atlas-smal", tmp_path / "typo")
+

@@ -15,6 +15,7 @@ from collections.abc import Mapping
 from pathlib import Path
 
 from fivebar_cli.analyses.limits import MAX_ASPECT_DEPTH, check_count, check_depth
+from fivebar_cli.api.calls import file_or_example
 from fivebar_cli.api.values import Drawing, Report
 from fivebar_cli.errors import Text, param
 from fivebar_cli.io.files import user_path
@@ -25,12 +26,12 @@ log = logging.getLogger(__name__)
 
 def atlas(spec, folder=None, *, workers: int | None = 0, scheduler: str | None = None, depth: int | None = None,
           tolerance: float | None = None, restart: bool = False, advance=None) -> Report:
-    """An atlas of five-bar designs (the `fivebar-atlas` spec: a YAML file or a mapping): one row
-    per design of the metrics of `atlas.csv` (text cells, as written), the lines `fivebar atlas`
-    prints after its run (`notes`) and `save(folder, figures=True)`, its files. The parts are kept
-    in `folder` (a temporary folder when None), so a run resumes; `workers` local Dask processes (0:
-    in this process; None: one per core), or an existing `scheduler` address; `advance(n)`: n more
-    designs done.
+    """An atlas of five-bar designs (the `fivebar-atlas` spec: a YAML file, a shipped example's
+    name or a mapping): one row per design of the metrics of `atlas.csv` (text cells, as written),
+    the lines `fivebar atlas` prints after its run (`notes`) and `save(folder, figures=True)`, its
+    files. The parts are kept in `folder` (a temporary folder when None), so a run resumes;
+    `workers` local Dask processes (0: in this process; None: one per core), or an existing
+    `scheduler` address; `advance(n)`: n more designs done.
 
     Examples
     --------
@@ -59,7 +60,7 @@ def atlas_spec(spec, depth: int | None = None, tolerance: float | None = None):
     from fivebar_cli.analyses.atlas.spec import AtlasSpec, check_tolerance, parse_spec, read_spec
 
     s = spec if isinstance(spec, AtlasSpec) else parse_spec(dict(spec), "<mapping>") if isinstance(spec, Mapping) \
-        else read_spec(user_path(spec, "spec", "a spec file, a mapping or an AtlasSpec"))
+        else read_spec(file_or_example(spec, "spec", "a spec file, an example's name, a mapping or an AtlasSpec"))
     if depth is not None:
         s = dataclasses.replace(s, depth=check_depth(depth, MAX_ASPECT_DEPTH))
     if tolerance is not None:

@@ -93,11 +93,15 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
     elif isinstance(source, Mapping):
         m = check_kind(parse(dict(source), "<mapping>"), "<mapping>", kind, space)
     else:
-        path = user_path(source, "source", "a file path, a mapping or an example's name")
-        if not path.exists():
-            path = examples().get(str(source)) or _no_such_file(path)
-        m = load_config(path, kind, space)
+        m = load_config(file_or_example(source, "source", "a file path, a mapping or an example's name"), kind, space)
     return widened(m, tolerance, source_name(source))
+
+
+def file_or_example(source, field: str, expected: str) -> Path:
+    """The file `source` names (`user_path`), or where no such file exists the shipped example of
+    that name (`examples()`); ConfigError when neither, naming the example meant when one is close."""
+    path = user_path(source, field, expected)
+    return path if path.exists() else examples().get(str(source)) or _no_such_file(path)
 
 
 def _no_such_file(path: Path):
