@@ -9,8 +9,7 @@ from fivebar_cli.api.locations import Location, locate
 from fivebar_cli.api.poses import dkp, verify
 from fivebar_cli.api.studies import kratio, tolerance
 from fivebar_cli.api.trees import Comparison, compare
-from fivebar_cli.api.values import Aspect, Aspects, Paving, Report, Table
-from fivebar_cli.api.values import Path_ as Path
+from fivebar_cli.api.values import Aspect, Aspects, Path, Paving, Report, Table
 from fivebar_cli.errors import FivebarError, InputError
 from fivebar_cli.mechanisms.base import Mechanism
 

@@ -6,12 +6,12 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping
-from pathlib import Path
+import pathlib
 
 from fivebar_cli.analyses.limits import (
     MAX_ASPECT_DEPTH, MAX_DEPTH, check_count, check_depth, check_paving_depth,
 )
-from fivebar_cli.api.values import Aspect, Aspects, Path_, Paving, finite_points, motion_where
+from fivebar_cli.api.values import Aspect, Aspects, Path, Paving, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.io.files import user_path
 from fivebar_cli.mechanisms.base import Mechanism, article
@@ -19,14 +19,14 @@ from fivebar_cli.mechanisms.base import Mechanism, article
 DEFAULT_DEPTH = 10
 
 
-def examples() -> dict[str, Path]:
+def examples() -> dict[str, pathlib.Path]:
     """The mechanisms of both papers shipped with the package, by name (`m1`, `m2`, `rpr3-caro`,
     `rpr3-verify/table1-case1`, ...) -> the path of the YAML file (what `fivebar examples` lists)."""
     root = examples_folder()
     return {p.relative_to(root).with_suffix("").as_posix(): p for p in sorted(root.rglob("*.yaml"))}
 
 
-def copy_examples(folder, *, replace: bool = False) -> list[Path]:
+def copy_examples(folder, *, replace: bool = False) -> list[pathlib.Path]:
     """Copy every shipped example into `folder` as `<name>.yaml` (`rpr3-verify/...` in its
     subfolder), byte for byte, to edit them or to run `reproduce` on them; the paths written.
 
@@ -40,7 +40,7 @@ def copy_examples(folder, *, replace: bool = False) -> list[Path]:
     >>> import tempfile, fivebar_cli as fb
     >>> with tempfile.TemporaryDirectory() as folder:
     ...     written = fb.copy_examples(folder)
-    ...     (Path(folder) / "m1.yaml").read_bytes() == fb.examples()["m1"].read_bytes()
+    ...     (pathlib.Path(folder) / "m1.yaml").read_bytes() == fb.examples()["m1"].read_bytes()
     True
     """
     from fivebar_cli.errors import OutputError, Text
@@ -62,9 +62,9 @@ def copy_examples(folder, *, replace: bool = False) -> list[Path]:
     return [write_text(target, text) for target, text in to_write.items()]
 
 
-def examples_folder() -> Path:
+def examples_folder() -> pathlib.Path:
     """The folder of the shipped examples (the repository's configs/, as package data)."""
-    return Path(__file__).resolve().parent.parent / "examples"
+    return pathlib.Path(__file__).resolve().parent.parent / "examples"
 
 
 def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str | None = None) -> Mechanism:
@@ -72,7 +72,7 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
 
     Parameters
     ----------
-    source : str, Path or Mapping
+    source : str, os.PathLike or Mapping
         A config file (`configs/m1.yaml`), a dict (`{"type": "fivebar", "name": "M1", ...}`) or an
         example's name (`"m1"`, see `examples()`).
     tolerance : float
@@ -97,14 +97,14 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
     return widened(m, tolerance, source_name(source))
 
 
-def file_or_example(source, field: str, expected: str) -> Path:
+def file_or_example(source, field: str, expected: str) -> pathlib.Path:
     """The file `source` names (`user_path`), or where no such file exists the shipped example of
     that name (`examples()`); ConfigError when neither, naming the example meant when one is close."""
     path = user_path(source, field, expected)
     return path if path.exists() else examples().get(str(source)) or _no_such_file(path)
 
 
-def _no_such_file(path: Path):
+def _no_such_file(path: pathlib.Path):
     """ConfigError for a source that is no file and no example's name, naming the example meant
     when one is close (`m11`, `rpr3caro`, `M1`: a typo, not a missing file)."""
     import difflib
@@ -305,7 +305,7 @@ def _aspect(a, signs_text) -> Aspect:
 
 def path(mech, start, goal, *, depth: int | None = None, allow_serial: bool = False,
          assembly_mode: str | None = None, working_mode: str | None = None, joints=None, legs=None,
-         folder=None, source: str | None = None) -> Path_:
+         folder=None, source: str | None = None) -> Path:
     """A certified singularity-free motion from `start` to `goal` (NoPath, a FivebarError, when none
     is found at this depth, with the reason).
 
@@ -357,8 +357,8 @@ def path(mech, start, goal, *, depth: int | None = None, allow_serial: bool = Fa
     first, last = resolve(m, endpoints, assembly_mode, source)
     trees = user_path(folder, "folder") if folder is not None else None
     result = find_path(m, depth, first, last, allow_serial, trees, max_depth=MAX_ASPECT_DEPTH)
-    return Path_(m, depth, path_columns(m), path_points(result), result.length, result, _path_notes(result, trees),
-                 trees)
+    return Path(m, depth, path_columns(m), path_points(result), result.length, result, _path_notes(result, trees),
+                trees)
 
 
 def _endpoint(e, which: str, working_mode: str | None, source):

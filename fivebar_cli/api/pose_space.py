@@ -129,7 +129,7 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
     from fivebar_cli.analyses.pose_aspect_files import joint_columns, pose_columns
     from fivebar_cli.analyses.pose_aspects import motion_sheet, sheet_of
     from fivebar_cli.analyses.pose_paths import find_motion, wrap_pose
-    from fivebar_cli.api.values import Path_, motion_where
+    from fivebar_cli.api.values import Path as Motion, motion_where
 
     m = pose_mechanism(m, poses=True, source=source)
     depth = pose_depth(m, depth)
@@ -165,8 +165,8 @@ def pose_path(m: Mechanism, start, goal, depth: int, working_mode: str | None, j
              f"({motion.motion.checked_cells} cells, checked in exact arithmetic)"]
     if saved is not None:
         notes.append(f"  aspect trees read from {folder}")
-    return Path_(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
-                 motion.length, motion, tuple(notes), Path(folder) if saved is not None else None, labels)
+    return Motion(m, depth, (*pose_columns(m), *joint_columns(m)), np.hstack([motion.poses, motion.joints]),
+                  motion.length, motion, tuple(notes), Path(folder) if saved is not None else None, labels)
 
 
 def _pose(p, which: str, space, source: str):

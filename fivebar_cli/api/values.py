@@ -5,7 +5,7 @@ their files (`save(folder)`, the same files the commands write) and a figure on 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
+import pathlib
 from typing import Callable
 
 import numpy as np
@@ -75,7 +75,7 @@ def check_geojson(m: Mechanism, space: str, geojson: bool, source: str) -> None:
                          f"{article(m.kind)} has {dim} axes")
 
 
-def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool = False) -> list[Path]:
+def save_command_files(folder, output: tuple, tables, drawings=(), figures: bool = False) -> list[pathlib.Path]:
     """A command's files in `folder` as one output set (`output`: its name, the patterns it owns,
     the command): its tables as CSV ((file name, columns, data) each) and, with `figures`, its
     figures ((file name, `Drawing` or any function making the figure) each, drawn on the backend
@@ -180,8 +180,8 @@ class Paving:
         return head + (f"certified inside {'area' if dim == 2 else 'volume'} {p.inside.area:.10g}, "
                        f"undetermined {p.undetermined_area:.4g}")
 
-    def save(self, folder: str | Path, figures: bool = False, command: str | None = None,
-             geojson: bool = False) -> list[Path]:
+    def save(self, folder: str | pathlib.Path, figures: bool = False, command: str | None = None,
+             geojson: bool = False) -> list[pathlib.Path]:
         """The `.qt` pair (and band) and the summary CSV, as `fivebar workspace|jointspace` writes them,
         with `figures` the two PNG figures too (on the backend in use), with `geojson` the inside
         cells as `<space>.geojson` (`--geojson`; a quadtree's only); returns the paths written."""
@@ -192,7 +192,7 @@ class Paving:
         with output_set(folder, self.stem, paving_files(self.stem), command or f"fivebar {self.space}"):
             return self.write(folder, figures, geojson)
 
-    def write(self, folder: Path, figures: bool = False, geojson: bool = False) -> list[Path]:
+    def write(self, folder: pathlib.Path, figures: bool = False, geojson: bool = False) -> list[pathlib.Path]:
         """The files, inside an output set the caller opened (a GeoJSON of three axes refused
         before any is written)."""
         from fivebar_cli.analyses.spaces import write_paving
@@ -396,7 +396,8 @@ class Aspects:
             from fivebar_cli.analyses.aspect_files import aspect_header, aspect_rows
         return _rows(aspect_header(self.mechanism), aspect_rows(self.analysis))
 
-    def save(self, folder: str | Path, figures: bool = False, jobs: int | None = 1, spelled=str) -> list[Path]:
+    def save(self, folder: str | pathlib.Path, figures: bool = False, jobs: int | None = 1,
+             spelled=str) -> list[pathlib.Path]:
         """The files `fivebar aspects` writes: aspects.csv, the adjacency table, the aspect trees
         (and GeoJSON, or PLY surfaces for octrees), with `figures` its figures too (on the backend
         in use); the aspects' files made on `jobs` processes (the same bytes for any);
@@ -415,7 +416,7 @@ class Aspects:
                                                                                  else list(self.split))
             return paths + (self._figures(folder, spelled) if figures else [])
 
-    def _figures(self, folder: Path, spelled) -> list[Path]:
+    def _figures(self, folder: pathlib.Path, spelled) -> list[pathlib.Path]:
         """A five-bar's or 2-RPR's workspace figure (every aspect, its largest circle and square)
         and one joint-space figure per assembly mode; over poses, the slices and the map."""
         from fivebar_cli.io.layout import ASPECTS_MAP_PNG, ASPECTS_SLICES_PNG, ASPECTS_WORKSPACE_PNG
@@ -458,7 +459,7 @@ def motion_where(aspect) -> str:
 
 
 @dataclass(frozen=True, repr=False)
-class Path_:
+class Path:
     """A certified motion: `points` (joints then pose per waypoint, the columns of path.csv),
     `length` in the joint space (five-bar, 2-RPR) or in the space of poses (3-RPR, 3-RRR: x, y and
     phi in degrees alike); `notes`, the lines `fivebar path` prints about it; `labels`, how they
@@ -471,7 +472,7 @@ class Path_:
     length: float
     result: object = field(compare=False)  # the library's PathResult (or pose motion)
     notes: tuple[str, ...] = ()
-    trees: Path | None = field(default=None, compare=False)  # the `aspects` folder whose trees were reused
+    trees: pathlib.Path | None = field(default=None, compare=False)  # the `aspects` folder whose trees were reused
     labels: tuple[str, str] = ("start", "goal")  # how the notes and the figure name the endpoints
 
     def __post_init__(self):
@@ -483,7 +484,7 @@ class Path_:
     def rows(self) -> list[dict]:
         return [dict(zip(self.columns, map(float, p))) for p in self.points]
 
-    def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
+    def save(self, folder: str | pathlib.Path, figures: bool = False) -> list[pathlib.Path]:
         """path.csv, as `fivebar path` writes it (shortest exact floats), and with `figures` path.png
         (on the backend in use): a five-bar's or 2-RPR's motion over the workspace cells of its
         aspect; over a space of poses, the robot along the motion and its joints."""
@@ -499,7 +500,7 @@ class Path_:
                 paths.append(self._figure(folder / PATH_PNG))
         return paths
 
-    def _figure(self, path: Path) -> Path:
+    def _figure(self, path: pathlib.Path) -> pathlib.Path:
         from fivebar_cli.analyses.paths import PathResult, component_of, workspace_backdrop
         from fivebar_cli.plotting.paths import figure_path
         from fivebar_cli.plotting.saving import draw_and_save
@@ -561,7 +562,7 @@ class Table:
         return f"<{self.what}: {plural(len(self.data), 'row')} of {', '.join(self.columns[:6])}" + (
             ", ...>" if len(self.columns) > 6 else ">")
 
-    def save(self, path: str | Path) -> Path:
+    def save(self, path: str | pathlib.Path) -> pathlib.Path:
         """The table as CSV at `path`."""
         from fivebar_cli.io.files import write_csv
 
@@ -617,7 +618,7 @@ class Report(Table):
 
         return csv_text(self.columns, self.data)
 
-    def save(self, folder: str | Path, figures: bool = False) -> list[Path]:
+    def save(self, folder: str | pathlib.Path, figures: bool = False) -> list[pathlib.Path]:
         """The command's files in `folder` as one output set (not `Table.save`'s one CSV file): the
         CSVs and, with `figures`, its PNG figures (drawn on the backend in use); returns the paths
         written."""
