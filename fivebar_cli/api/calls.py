@@ -101,12 +101,17 @@ def file_or_example(source, field: str, expected: str) -> pathlib.Path:
     """The file `source` names (`user_path`), or where no such file exists the shipped example of
     that name (`examples()`); ConfigError when neither, naming the example meant when one is close."""
     path = user_path(source, field, expected)
-    return path if path.exists() else examples().get(str(source)) or _no_such_file(path)
+    if path.exists():
+        return path
+    example = examples().get(str(source))
+    if example is None:
+        raise _no_such_file(path)
+    return example
 
 
-def _no_such_file(path: pathlib.Path):
-    """ConfigError for a source that is no file and no example's name, naming the example meant
-    when one is close (`m11`, `rpr3caro`, `M1`: a typo, not a missing file)."""
+def _no_such_file(path: pathlib.Path) -> InputError:
+    """The ConfigError for a source that is no file and no example's name, naming the example
+    meant when one is close (`m11`, `rpr3caro`, `M1`: a typo, not a missing file)."""
     import difflib
 
     from fivebar_cli.io.schema import ConfigError
@@ -114,7 +119,7 @@ def _no_such_file(path: pathlib.Path):
     names = {name.lower(): name for name in examples()}
     close = difflib.get_close_matches(str(path).lower(), names, n=1)
     meant = f", nor a shipped example's name: did you mean {names[close[0]]!r}?" if close else ""
-    raise ConfigError(str(path), "", "no such file" + meant)
+    return ConfigError(str(path), "", "no such file" + meant)
 
 
 def source_name(source) -> str:
