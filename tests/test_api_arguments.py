@@ -160,6 +160,35 @@ def test_no_mechanism_or_path_where_a_sequence_of_them_goes_is_named(call, name)
     assert e.value.field.strip("`") == name, str(e.value)
 
 
+# (the parameter, a call taking a name there: a space, a region, a mode, a kind, a choice)
+NAME_CALLS = [
+    ("space", lambda v: fb.pave("m1", v, 2)),
+    ("region", lambda v: fb.pave("rpr3-general", "workspace", 1, region=v)),
+    ("procedure", lambda v: fb.pave("m1", "workspace", 2, procedure=v)),
+    ("working_mode", lambda v: fb.locate("rpr2", pose=(0, 8), working_mode=v, depth=3)),
+    ("assembly_mode", lambda v: fb.path("rpr2", (0, 8), (0.1, 8), working_mode="++", assembly_mode=v, depth=4)),
+    ("working_mode", lambda v: fb.verify("rrr3-symmetric", 2, working_mode=v)),
+    ("over", lambda v: fb.rpr3.sweep("rpr3-equilateral", v, steps=3)),
+    ("what", lambda v: fb.dkp("rpr3-caro", (14.98, 15.38, 12), 2, budget=0, what=v)),
+    ("kind", lambda v: fb.load("m1", kind=v)),
+    ("space", lambda v: fb.load("m1", space=v)),
+]
+
+
+@pytest.mark.parametrize("value", [3, 1.5, [], {}, ("workspace",), np.array([1.0, 2.0]), object()],
+                         ids=["int", "float", "list", "dict", "tuple", "array", "object"])
+@pytest.mark.parametrize("k", range(len(NAME_CALLS)), ids=[f"{c[0]}-{k}" for k, c in enumerate(NAME_CALLS)])
+def test_what_is_no_name_where_a_name_goes_is_named(k, value):
+    """A list, a dict or a numpy array where a name goes raised `unhashable type` or numpy's
+    "truth value of an array is ambiguous" from a membership test, and a number where a kind goes
+    "'int' object is not subscriptable": now an InputError naming the parameter, like a name that
+    is none of the choices."""
+    name, call = NAME_CALLS[k]
+    with pytest.raises(fb.InputError) as e:
+        call(value)
+    assert e.value.field.strip("`") == name, str(e.value)
+
+
 def test_numpy_integers_are_whole_numbers_too(tmp_path):
     """A sweep over `np.arange` gives numpy integers: the depths and counts of every call take them,
     as the Python ints they equal (a depth reaches the JSON manifest that `save` writes), with the

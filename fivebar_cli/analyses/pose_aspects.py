@@ -291,7 +291,8 @@ def working_sheets(m: Mechanism, working_mode: str | None) -> list[int]:
     model = pose_model(m)
     if working_mode is None:
         return list(range(len(model.sheets)))
-    found = [k for k, sheet in enumerate(model.sheets) if dict(sheet.fields).get("working_mode") == working_mode]
+    found = [k for k, sheet in enumerate(model.sheets) if isinstance(working_mode, str)
+             and dict(sheet.fields).get("working_mode") == working_mode]
     if not found:
         modes = [dict(sheet.fields).get("working_mode") for sheet in model.sheets]
         known = ", ".join(mode for mode in modes if mode) or "none: its pose decides its class"

@@ -88,6 +88,10 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
     """
     from fivebar_cli.mechanisms.registry import check_kind, load_config, parse
 
+    for name, value in (("kind", kind), ("space", space)):
+        if value is not None and not isinstance(value, str):
+            raise InputError("", param(name), f"expected a name ({'rpr3' if name == 'kind' else 'workspace'}, ...) "
+                             f"or None, got {value!r}")
     if isinstance(source, Mechanism):
         m = check_kind(source, source.name, kind, space)
     elif isinstance(source, Mapping):
@@ -186,15 +190,15 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     depth = check_depth(depth, MAX_DEPTH)
     m = widened(_mechanism(mech), tolerance, source_name(mech))
     # (the call's own arguments: named without a source, as `depth` is)
-    if space not in m.spaces():
+    if not isinstance(space, str) or space not in m.spaces():
         m.check_bounded(source_name(mech))  # (a 3-RPR whose legs are unbounded: why)
         raise InputError("", param("space"), f"{space!r} is not a space of {article(m.kind)} "
                          f"(it has: {', '.join(m.spaces())})")
-    own = None if region is None or region == m.spaces()[space].region else region
-    if own is not None and own not in m.regions(space):
+    own = None if region is None or isinstance(region, str) and region == m.spaces()[space].region else region
+    if own is not None and (not isinstance(own, str) or own not in m.regions(space)):
         raise InputError("", param("region"), f"{region!r} is not a region of its {space} "
                          f"(it has: {', '.join(m.regions(space))})")
-    if procedure not in m.procedures:
+    if not isinstance(procedure, str) or procedure not in m.procedures:
         raise InputError("", param("procedure"), f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
     depth = check_paving_depth(depth, m.spaces()[space].dim)
@@ -400,7 +404,7 @@ def check_modes(m: Mechanism, source, working_modes=(), assembly_mode: str | Non
                                 ("assembly_mode", (assembly_mode,), model.assembly_modes)):
         texts = [signs_text(k) for k in known]
         for value in values:
-            if value is not None and value not in texts:
+            if value is not None and (not isinstance(value, str) or value not in texts):
                 raise InputError(str(source), param(name), f"{value!r} is none of {article(m.kind)}'s: {', '.join(texts)}")
 
 

@@ -62,7 +62,7 @@ def dkp(mech, joints, depth: int | None = None, *, budget: int | None = None, fo
     from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG
 
     source = source or source_name(mech)
-    if what not in ("joints", "legs"):  # (it names the joint values: another word was taken as joints)
+    if not isinstance(what, str) or what not in ("joints", "legs"):  # (it names the joint values: another word was taken as joints)
         raise InputError("", param("what"), f"expected 'joints' or 'legs', got {what!r}")
     m = _mechanism(mech)
     check_aspects(aspects, m, source, depth)

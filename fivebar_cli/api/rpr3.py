@@ -113,7 +113,7 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=None, ad
     """
     from fivebar_cli.io.layout import sweep_files
 
-    if over not in ("phi", "rho_min", "t2"):
+    if not isinstance(over, str) or over not in ("phi", "rho_min", "t2"):
         raise InputError("", param("over"), f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
     if not ms:  # (as the command needs one CONFIG at least)
