@@ -40,7 +40,7 @@ from fivebar_cli.analyses.aspects import DEFAULT_BUDGET, AspectAnalysis, _Count
 from fivebar_cli.analyses.jobs import run_tasks, workers
 from fivebar_cli.analyses.pieces import SPLIT_EXTRA, Budget, ModeSet, undetermined_pairs
 from fivebar_cli.errors import InputError, param
-from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass, article
+from fivebar_cli.mechanisms.base import Mechanism, PoseAspectModel, SignClass, article, is_choice
 from fivebar_cli.paving.engine import Paving, deepen_many, pave, pave_many
 from fivebar_cli.paving.grid import MAX_INDEX_BITS
 from fivebar_cli.paving.tree import Tree
@@ -291,14 +291,12 @@ def working_sheets(m: Mechanism, working_mode: str | None) -> list[int]:
     model = pose_model(m)
     if working_mode is None:
         return list(range(len(model.sheets)))
-    found = [k for k, sheet in enumerate(model.sheets) if isinstance(working_mode, str)
-             and dict(sheet.fields).get("working_mode") == working_mode]
-    if not found:
-        modes = [dict(sheet.fields).get("working_mode") for sheet in model.sheets]
+    modes = [dict(sheet.fields).get("working_mode") for sheet in model.sheets]
+    if not is_choice(working_mode, modes):
         known = ", ".join(mode for mode in modes if mode) or "none: its pose decides its class"
         raise InputError("", param("working_mode"), f"{working_mode!r} is not a working mode of this {m.kind} (its "
                          f"working modes: {known})")
-    return found
+    return [k for k, mode in enumerate(modes) if mode == working_mode]
 
 
 def motion_sheet(m: Mechanism, working_mode: str | None) -> int:

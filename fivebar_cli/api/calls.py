@@ -5,8 +5,8 @@
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
 import pathlib
+from collections.abc import Mapping
 
 from fivebar_cli.analyses.limits import (
     MAX_ASPECT_DEPTH, MAX_DEPTH, check_count, check_depth, check_paving_depth,
@@ -14,7 +14,7 @@ from fivebar_cli.analyses.limits import (
 from fivebar_cli.api.values import Aspect, Aspects, Path, Paving, finite_points, motion_where
 from fivebar_cli.errors import InputError, param
 from fivebar_cli.io.files import user_path
-from fivebar_cli.mechanisms.base import Mechanism, article
+from fivebar_cli.mechanisms.base import Mechanism, article, is_choice
 
 DEFAULT_DEPTH = 10
 
@@ -88,10 +88,9 @@ def load(source, *, tolerance: float = 0.0, kind: str | None = None, space: str 
     """
     from fivebar_cli.mechanisms.registry import check_kind, load_config, parse
 
-    for name, value in (("kind", kind), ("space", space)):
+    for name, value, example in (("kind", kind, "rpr3"), ("space", space, "workspace")):
         if value is not None and not isinstance(value, str):
-            raise InputError("", param(name), f"expected a name ({'rpr3' if name == 'kind' else 'workspace'}, ...) "
-                             f"or None, got {value!r}")
+            raise InputError("", param(name), f"expected a name ({example}, ...) or None, got {value!r}")
     if isinstance(source, Mechanism):
         m = check_kind(source, source.name, kind, space)
     elif isinstance(source, Mapping):
@@ -190,15 +189,15 @@ def pave(mech, space: str = "workspace", depth: int = DEFAULT_DEPTH, *, toleranc
     depth = check_depth(depth, MAX_DEPTH)
     m = widened(_mechanism(mech), tolerance, source_name(mech))
     # (the call's own arguments: named without a source, as `depth` is)
-    if not isinstance(space, str) or space not in m.spaces():
+    if not is_choice(space, m.spaces()):
         m.check_bounded(source_name(mech))  # (a 3-RPR whose legs are unbounded: why)
         raise InputError("", param("space"), f"{space!r} is not a space of {article(m.kind)} "
                          f"(it has: {', '.join(m.spaces())})")
-    own = None if region is None or isinstance(region, str) and region == m.spaces()[space].region else region
-    if own is not None and (not isinstance(own, str) or own not in m.regions(space)):
+    own = None if region is None or is_choice(region, (m.spaces()[space].region,)) else region
+    if own is not None and not is_choice(own, m.regions(space)):
         raise InputError("", param("region"), f"{region!r} is not a region of its {space} "
                          f"(it has: {', '.join(m.regions(space))})")
-    if not isinstance(procedure, str) or procedure not in m.procedures:
+    if not is_choice(procedure, m.procedures):
         raise InputError("", param("procedure"), f"{article(m.kind)} has no {procedure!r} procedure "
                          f"(it has: {', '.join(m.procedures)})")
     depth = check_paving_depth(depth, m.spaces()[space].dim)
@@ -404,7 +403,7 @@ def check_modes(m: Mechanism, source, working_modes=(), assembly_mode: str | Non
                                 ("assembly_mode", (assembly_mode,), model.assembly_modes)):
         texts = [signs_text(k) for k in known]
         for value in values:
-            if value is not None and (not isinstance(value, str) or value not in texts):
+            if value is not None and not is_choice(value, texts):
                 raise InputError(str(source), param(name), f"{value!r} is none of {article(m.kind)}'s: {', '.join(texts)}")
 
 

@@ -12,6 +12,7 @@ from fivebar_cli.api.pose_space import (
 )
 from fivebar_cli.api.values import Drawing, Report, Verified
 from fivebar_cli.errors import InputError, param
+from fivebar_cli.mechanisms.base import is_choice
 
 # ---------------------------------------------------------------- dkp
 
@@ -62,7 +63,7 @@ def dkp(mech, joints, depth: int | None = None, *, budget: int | None = None, fo
     from fivebar_cli.io.layout import DKP_CSV, DKP_FILES, DKP_PNG
 
     source = source or source_name(mech)
-    if not isinstance(what, str) or what not in ("joints", "legs"):  # (it names the joint values: another word was taken as joints)
+    if not is_choice(what, ("joints", "legs")):  # (it names the joint values: another word was taken as joints)
         raise InputError("", param("what"), f"expected 'joints' or 'legs', got {what!r}")
     m = _mechanism(mech)
     check_aspects(aspects, m, source, depth)

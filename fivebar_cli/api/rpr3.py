@@ -20,6 +20,7 @@ from fivebar_cli.io.layout import (
     AREA_CSV, AREA_FILES, COUNTEREXAMPLE_CSV, COUNTEREXAMPLE_PNG, SYNTHESIS_CSV, SYNTHESIS_FILES, TABLE1_CSV, VERIFY_CSV,
     VERIFY_FILES,
 )
+from fivebar_cli.mechanisms.base import is_choice
 
 AREA_HEADER = ("phi_deg", "rho_min", "rho_max", "area")
 SYNTHESIS_HEADER = ("case", "objective", "rho_min", "rho_max", "A1", "A2", "abs_A1_A2", "A_a", "dA_a", "n")
@@ -113,7 +114,7 @@ def sweep(mechs, over: str, span=None, steps: int | None = None, angles=None, ad
     """
     from fivebar_cli.io.layout import sweep_files
 
-    if not isinstance(over, str) or over not in ("phi", "rho_min", "t2"):
+    if not is_choice(over, ("phi", "rho_min", "t2")):
         raise InputError("", param("over"), f"expected phi, rho_min or t2, got {over!r}")
     ms = [similar(m) for m in ([mechs] if not isinstance(mechs, (list, tuple)) else mechs)]
     if not ms:  # (as the command needs one CONFIG at least)

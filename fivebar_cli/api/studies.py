@@ -8,8 +8,8 @@ the command prints (`notes`) and `save(folder, figures=True)`, which writes the 
 from __future__ import annotations
 
 import math
-import os
 import numbers
+import os
 from collections.abc import Mapping
 
 from fivebar_cli.analyses.limits import MAX_DEPTH, check_depth

@@ -4,8 +4,8 @@ their files (`save(folder)`, the same files the commands write) and a figure on 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 import pathlib
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np

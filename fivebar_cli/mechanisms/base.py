@@ -82,6 +82,13 @@ def article(kind: str) -> str:
     return f"{'an' if kind[:1].lower() in 'aeiour' else 'a'} {kind}"
 
 
+def is_choice(value, choices) -> bool:
+    """Whether `value` is one of the names `choices` (a space, a region, a mode): a str among them.
+    Anything else is none, without the membership test's own errors (a list or a dict is
+    unhashable, a numpy array compares element-wise)."""
+    return isinstance(value, str) and value in choices
+
+
 def plural(n: int, word: str, words: str | None = None) -> str:
     """'1 aspect', '2 aspects' (`words`: an irregular plural): counts in messages."""
     return f"{n} {word if n == 1 else (words or word + 's')}"
